@@ -1,0 +1,35 @@
+// Greedy insertion: a terrain TIN from a grid DEM, to a vertical tolerance (papers 000/001;
+// Garland and Heckbert 1995, "Fast polygonal approximation of terrains and height fields").
+//
+// Starts from the grid's corners, keeps for every triangle its worst-approximated DEM sample
+// in a priority queue, and inserts the worst sample of all until every valid sample is within the
+// tolerance (or max_points is reached). Only the triangles an insertion creates are rescanned.
+// The result is a Delaunay triangulation of the chosen cell centres (CGAL). Nodata cells are not
+// approximated; a vertex that falls on a nodata cell takes the mean of the valid cells nearest to
+// it, and triangles whose centroid lies on nodata are invisible. Thread-safety: pure function.
+#pragma once
+
+#include <cstdint>
+
+#include "core/base/status.h"
+#include "core/raster/grid.h"
+#include "core/tin/tin.h"
+
+namespace tinbase {
+
+struct GreedyOptions {
+  double tolerance = 1.0;  // metres; > 0
+  int64_t max_points = 0;  // 0: no limit
+};
+
+struct GreedyReport {
+  double max_error = 0;  // largest |TIN - DEM| over valid cells after the build
+  double rms_error = 0;
+  int64_t points = 0;
+};
+
+// InvalidArgument for a non-positive tolerance, an empty grid or one with no valid cell.
+Result<Tin> BuildGreedyTin(const Grid& dem, const GreedyOptions& options,
+                           GreedyReport* report = nullptr);
+
+}  // namespace tinbase

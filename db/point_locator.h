@@ -1,0 +1,31 @@
+// PointLocator: which stored triangle holds a point, and the surface's z there.
+//
+// Jump-and-walk over the stored neighbour links (DESIGN.md, "Point location"): jump to a triangle
+// whose centroid block is the point's (or the nearest non-empty block around it), then walk across
+// the edge the point lies beyond, choosing among candidate edges at random (Devillers' remembering
+// stochastic walk) so the walk terminates on non-Delaunay surfaces too. Reads O(walk length)
+// rows, never the whole surface, all in one read snapshot. Thread-safety: one per Store.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "core/base/status.h"
+#include "db/store.h"
+#include "db/surface_store.h"
+
+namespace tinbase {
+
+struct Location {
+  int64_t triangle = 0;
+  double z = 0;  // linear interpolation in the triangle (barycentric)
+  bool visible = true;
+  std::optional<std::string> tag;
+  int steps = 0;  // triangles visited by the walk
+};
+
+// NotFound "point (x, y) is outside surface 'name'" when no triangle holds it.
+Result<Location> LocatePoint(Store& store, const SurfaceInfo& surface, double x, double y);
+
+}  // namespace tinbase

@@ -1,0 +1,161 @@
+#include "db/sqlite/sqlite_db.h"
+
+#include <sqlite3.h>
+
+#include <filesystem>
+
+namespace tinbase {
+
+Status StatusFromSqlite(int rc, sqlite3* db, std::string_view context) {
+  if (rc == SQLITE_OK || rc == SQLITE_DONE || rc == SQLITE_ROW) return Status::Ok();
+  std::string msg(context);
+  msg += ": ";
+  msg += db != nullptr ? sqlite3_errmsg(db) : sqlite3_errstr(rc);
+  switch (rc & 0xff) {
+    case SQLITE_BUSY:
+    case SQLITE_LOCKED: return Status::Busy(msg);
+    case SQLITE_CONSTRAINT: return Status::Conflict(msg);
+    case SQLITE_CORRUPT:
+    case SQLITE_NOTADB: return Status::Corruption(msg);
+    case SQLITE_NOTFOUND: return Status::NotFound(msg);
+    case SQLITE_MISMATCH:
+    case SQLITE_RANGE:
+    case SQLITE_TOOBIG:
+    case SQLITE_ERROR: return Status::InvalidArgument(msg);
+    default: return Status::IOError(msg);
+  }
+}
+
+Statement::Statement(sqlite3* db, sqlite3_stmt* stmt, std::string sql)
+    : db_(db), stmt_(stmt), sql_(std::move(sql)) {}
+
+Statement::~Statement() { sqlite3_finalize(stmt_); }
+
+Statement& Statement::Bind(int index, int64_t value) {
+  sqlite3_bind_int64(stmt_, index, value);
+  return *this;
+}
+Statement& Statement::Bind(int index, double value) {
+  sqlite3_bind_double(stmt_, index, value);
+  return *this;
+}
+Statement& Statement::Bind(int index, std::string_view text) {
+  sqlite3_bind_text(stmt_, index, text.data(), static_cast<int>(text.size()), SQLITE_TRANSIENT);
+  return *this;
+}
+Statement& Statement::BindBlob(int index, const void* data, size_t size) {
+  sqlite3_bind_blob64(stmt_, index, data, size, SQLITE_TRANSIENT);
+  return *this;
+}
+Statement& Statement::BindNull(int index) {
+  sqlite3_bind_null(stmt_, index);
+  return *this;
+}
+
+Result<bool> Statement::Step() {
+  const int rc = sqlite3_step(stmt_);
+  if (rc == SQLITE_ROW) return true;
+  if (rc == SQLITE_DONE) return false;
+  return StatusFromSqlite(rc, db_, sql_.substr(0, 60));
+}
+
+Status Statement::Run() {
+  Result<bool> r = Step();
+  while (r.ok() && *r) r = Step();
+  Reset();
+  return r.status();
+}
+
+void Statement::Reset() {
+  sqlite3_reset(stmt_);
+  sqlite3_clear_bindings(stmt_);
+}
+
+int Statement::ColumnCount() const { return sqlite3_column_count(stmt_); }
+int64_t Statement::ColumnInt(int index) const { return sqlite3_column_int64(stmt_, index); }
+double Statement::ColumnDouble(int index) const { return sqlite3_column_double(stmt_, index); }
+std::string Statement::ColumnText(int index) const {
+  const auto* text = sqlite3_column_text(stmt_, index);
+  return text == nullptr ? std::string()
+                         : std::string(reinterpret_cast<const char*>(text),
+                                       static_cast<size_t>(sqlite3_column_bytes(stmt_, index)));
+}
+bool Statement::ColumnIsNull(int index) const {
+  return sqlite3_column_type(stmt_, index) == SQLITE_NULL;
+}
+const uint8_t* Statement::ColumnBlob(int index, size_t* size) const {
+  const void* data = sqlite3_column_blob(stmt_, index);
+  *size = static_cast<size_t>(sqlite3_column_bytes(stmt_, index));
+  return static_cast<const uint8_t*>(data);
+}
+
+Result<std::unique_ptr<SqliteDb>> SqliteDb::Open(const std::string& path, Mode mode) {
+  const bool exists = std::filesystem::exists(path);
+  if (mode == Mode::kCreate && exists)
+    return Status::InvalidArgument(path + ": a file already exists there");
+  if (mode != Mode::kCreate && !exists) return Status::NotFound(path + ": no such store");
+  int flags = SQLITE_OPEN_NOMUTEX;
+  if (mode == Mode::kReadOnly) flags |= SQLITE_OPEN_READONLY;
+  if (mode == Mode::kReadWrite) flags |= SQLITE_OPEN_READWRITE;
+  if (mode == Mode::kCreate) flags |= SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE;
+  sqlite3* raw = nullptr;
+  const int rc = sqlite3_open_v2(path.c_str(), &raw, flags, nullptr);
+  if (rc != SQLITE_OK) {
+    Status s = StatusFromSqlite(rc, raw, path);
+    sqlite3_close(raw);
+    return s;
+  }
+  sqlite3_extended_result_codes(raw, 1);
+  sqlite3_busy_timeout(raw, 10000);
+  return std::unique_ptr<SqliteDb>(new SqliteDb(raw, path));
+}
+
+SqliteDb::~SqliteDb() {
+  cache_.clear();
+  sqlite3_close(db_);
+}
+
+Status SqliteDb::Exec(std::string_view sql) {
+  std::string text(sql);
+  char* err = nullptr;
+  const int rc = sqlite3_exec(db_, text.c_str(), nullptr, nullptr, &err);
+  sqlite3_free(err);
+  return StatusFromSqlite(rc, db_, text.substr(0, 60));
+}
+
+Result<std::unique_ptr<Statement>> SqliteDb::Prepare(std::string_view sql) {
+  sqlite3_stmt* stmt = nullptr;
+  const int rc = sqlite3_prepare_v2(db_, sql.data(), static_cast<int>(sql.size()), &stmt, nullptr);
+  if (rc != SQLITE_OK) {
+    Status s = StatusFromSqlite(rc, db_, std::string("preparing ") + std::string(sql.substr(0, 60)));
+    sqlite3_finalize(stmt);
+    return s;
+  }
+  return std::make_unique<Statement>(db_, stmt, std::string(sql));
+}
+
+Result<Statement*> SqliteDb::Cached(std::string_view sql) {
+  auto it = cache_.find(std::string(sql));
+  if (it != cache_.end()) {
+    it->second->Reset();
+    return it->second.get();
+  }
+  TB_ASSIGN_OR_RETURN(auto stmt, Prepare(sql));
+  Statement* raw = stmt.get();
+  cache_.emplace(std::string(sql), std::move(stmt));
+  return raw;
+}
+
+Result<int64_t> SqliteDb::QueryInt(std::string_view sql) {
+  TB_ASSIGN_OR_RETURN(Statement * stmt, Cached(sql));
+  TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
+  if (!row) return Status::NotFound(std::string("no row for ") + std::string(sql));
+  const int64_t v = stmt->ColumnInt(0);
+  stmt->Reset();
+  return v;
+}
+
+int64_t SqliteDb::LastInsertRowId() const { return sqlite3_last_insert_rowid(db_); }
+int64_t SqliteDb::Changes() const { return sqlite3_changes64(db_); }
+
+}  // namespace tinbase

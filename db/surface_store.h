@@ -1,0 +1,97 @@
+// SurfaceStore: reads and writes triangulated surfaces as the topological tables of
+// docs/format.md (vertices, triangles with neighbour links, tags, constraints).
+//
+// Store ids are global row ids; a Tin's indices are positions. Writing assigns ids up front so
+// neighbour links are written in one pass. Thread-safety: one SurfaceStore per Store.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/base/status.h"
+#include "core/tin/block_grid.h"
+#include "core/tin/tin.h"
+#include "db/store.h"
+
+namespace tinbase {
+
+enum class SurfaceKind { kDelaunay, kFree };
+const char* SurfaceKindName(SurfaceKind kind);  // "delaunay" / "free"
+
+struct SurfaceInfo {
+  int64_t id = 0;
+  std::string name;
+  SurfaceKind kind = SurfaceKind::kDelaunay;
+  std::string method;                // "greedy", ...
+  std::optional<double> tolerance;   // vertical tolerance in metres, when one was asked for
+  std::optional<int64_t> dem;        // the DEM it is draped on
+  BlockGrid blocks;                  // bucket grid of triangle centroids
+};
+
+struct SurfaceCounts {
+  int64_t vertices = 0;
+  int64_t triangles = 0;
+  int64_t visible_triangles = 0;
+  int64_t constraints = 0;
+  int64_t features = 0;
+};
+
+// One row of `triangles`, with the tag's value resolved.
+struct StoredTriangle {
+  int64_t id = 0;
+  std::array<int64_t, 3> v{};
+  std::array<std::optional<int64_t>, 3> n;  // n[i] opposite v[i]; nullopt on the boundary
+  bool visible = true;
+  std::optional<std::string> tag;
+  int64_t block = 0;
+};
+
+struct StoredVertex {
+  int64_t id = 0;
+  double x = 0, y = 0, z = 0;
+  VertexKind kind = VertexKind::kDem;
+};
+
+// A surface loaded whole: the Tin plus the store id of every vertex and triangle.
+struct LoadedSurface {
+  Tin tin;
+  std::vector<int64_t> vertex_ids;    // vertex_ids[i] is the store id of tin.vertices[i]
+  std::vector<int64_t> triangle_ids;  // likewise for tin.triangles
+};
+
+class SurfaceStore {
+ public:
+  explicit SurfaceStore(Store& store) : store_(store) {}
+
+  // Writes `tin` as a new surface named spec.name (Conflict if the name is taken), computing
+  // the block grid and each triangle's block. REQUIRES: inside a WriteTransaction; `tin`'s
+  // neighbour links are consistent (LinkNeighbours).
+  Result<SurfaceInfo> Create(const SurfaceInfo& spec, const Tin& tin);
+  // Replaces every vertex, triangle and constraint row of `surface` by `tin` (features and
+  // changes stay). Returns the new ids. REQUIRES: inside a WriteTransaction.
+  Result<LoadedSurface> Replace(const SurfaceInfo& surface, const Tin& tin);
+
+  Result<std::vector<SurfaceInfo>> List();
+  // NotFound "no surface named 'x'" when absent.
+  Result<SurfaceInfo> Find(const std::string& name);
+  Result<SurfaceCounts> Count(const SurfaceInfo& surface);
+
+  // NotFound naming the triangle and surface when `id` is not a triangle of `surface`.
+  Result<StoredTriangle> Triangle(const SurfaceInfo& surface, int64_t id);
+  Result<StoredVertex> Vertex(const SurfaceInfo& surface, int64_t id);
+  // Some triangle whose block is `block`, if any (the "jump" of jump-and-walk).
+  Result<std::optional<int64_t>> AnyTriangleInBlock(const SurfaceInfo& surface, int64_t block);
+  // Some triangle of the surface; NotFound when it has none.
+  Result<int64_t> AnyTriangle(const SurfaceInfo& surface);
+
+  // The whole surface in memory.
+  Result<LoadedSurface> Load(const SurfaceInfo& surface);
+
+ private:
+  Store& store_;
+};
+
+}  // namespace tinbase

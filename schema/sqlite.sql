@@ -1,0 +1,116 @@
+-- The full current tinbase schema for SQLite: what migrations/sqlite/ produce in order.
+-- tests/db/migrations_test.cc checks that the two agree exactly.
+CREATE TABLE meta(
+  key   TEXT PRIMARY KEY,
+  value TEXT NOT NULL
+) WITHOUT ROWID;
+
+CREATE TABLE dems(
+  id         INTEGER PRIMARY KEY,
+  name       TEXT NOT NULL UNIQUE,
+  crs_wkt    TEXT NOT NULL,
+  origin_x   REAL NOT NULL,
+  origin_y   REAL NOT NULL,
+  cell_x     REAL NOT NULL CHECK (cell_x > 0),
+  cell_y     REAL NOT NULL CHECK (cell_y < 0),
+  width      INTEGER NOT NULL CHECK (width > 0),
+  height     INTEGER NOT NULL CHECK (height > 0),
+  block_size INTEGER NOT NULL CHECK (block_size > 0),
+  nodata     REAL,
+  levels     INTEGER NOT NULL DEFAULT 1,
+  sources    TEXT NOT NULL DEFAULT '[]'
+);
+
+CREATE TABLE dem_blocks(
+  dem   INTEGER NOT NULL REFERENCES dems(id) ON DELETE CASCADE,
+  level INTEGER NOT NULL,
+  bx    INTEGER NOT NULL,
+  by    INTEGER NOT NULL,
+  codec INTEGER NOT NULL,
+  data  BLOB NOT NULL,
+  zmin  REAL,
+  zmax  REAL,
+  PRIMARY KEY (dem, level, bx, by)
+) WITHOUT ROWID;
+CREATE TABLE surfaces(
+  id             INTEGER PRIMARY KEY,
+  name           TEXT NOT NULL UNIQUE,
+  kind           TEXT NOT NULL CHECK (kind IN ('delaunay', 'free')),
+  method         TEXT NOT NULL,
+  tolerance      REAL,
+  dem            INTEGER REFERENCES dems(id),
+  block_origin_x REAL NOT NULL,
+  block_origin_y REAL NOT NULL,
+  block_size     REAL NOT NULL CHECK (block_size > 0),
+  created_tx     INTEGER
+);
+
+CREATE TABLE vertices(
+  id      INTEGER PRIMARY KEY,
+  surface INTEGER NOT NULL REFERENCES surfaces(id) ON DELETE CASCADE,
+  x       REAL NOT NULL,
+  y       REAL NOT NULL,
+  z       REAL NOT NULL,
+  kind    TEXT NOT NULL CHECK (kind IN ('dem', 'lidar', 'ring', 'steiner', 'user'))
+);
+CREATE INDEX vertices_surface_xy ON vertices(surface, x, y);
+
+CREATE TABLE tags(
+  id    INTEGER PRIMARY KEY,
+  value TEXT NOT NULL UNIQUE
+);
+
+CREATE TABLE triangles(
+  id      INTEGER PRIMARY KEY,
+  surface INTEGER NOT NULL REFERENCES surfaces(id) ON DELETE CASCADE,
+  v0      INTEGER NOT NULL,
+  v1      INTEGER NOT NULL,
+  v2      INTEGER NOT NULL,
+  n0      INTEGER,
+  n1      INTEGER,
+  n2      INTEGER,
+  visible INTEGER NOT NULL DEFAULT 1 CHECK (visible IN (0, 1)),
+  tag     INTEGER REFERENCES tags(id),
+  block   INTEGER NOT NULL
+);
+CREATE INDEX triangles_surface_block ON triangles(surface, block);
+
+CREATE TABLE features(
+  id         INTEGER PRIMARY KEY,
+  surface    INTEGER NOT NULL REFERENCES surfaces(id) ON DELETE CASCADE,
+  name       TEXT,
+  mode       TEXT NOT NULL CHECK (mode IN ('clip', 'erase', 'fill', 'replace', 'breakline')),
+  level      REAL,
+  tag        INTEGER REFERENCES tags(id),
+  attributes TEXT NOT NULL DEFAULT '{}',
+  geometry   BLOB NOT NULL,
+  min_x      REAL NOT NULL,
+  min_y      REAL NOT NULL,
+  max_x      REAL NOT NULL,
+  max_y      REAL NOT NULL,
+  tx         INTEGER NOT NULL
+);
+CREATE INDEX features_surface ON features(surface);
+
+CREATE TABLE constraints(
+  surface INTEGER NOT NULL REFERENCES surfaces(id) ON DELETE CASCADE,
+  va      INTEGER NOT NULL,
+  vb      INTEGER NOT NULL,
+  feature INTEGER REFERENCES features(id) ON DELETE CASCADE,
+  CHECK (va < vb)
+);
+CREATE INDEX constraints_surface ON constraints(surface, va, vb);
+
+CREATE TABLE changes(
+  tx      INTEGER PRIMARY KEY,
+  time    TEXT NOT NULL,
+  surface INTEGER,
+  feature INTEGER,
+  action  TEXT NOT NULL,
+  removed INTEGER NOT NULL DEFAULT 0,
+  added   INTEGER NOT NULL DEFAULT 0,
+  min_x   REAL,
+  min_y   REAL,
+  max_x   REAL,
+  max_y   REAL
+);

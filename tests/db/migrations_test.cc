@@ -1,0 +1,142 @@
+// The migrations produce exactly schema/sqlite.sql; stores open, refuse and migrate as promised.
+#include "db/migrations.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "db/store.h"
+#include "tests/support/test_support.h"
+
+namespace tinbase {
+namespace {
+
+using testing::TempDir;
+
+// Every schema object as (type, name, normalised SQL), in name order.
+std::string SchemaOf(SqliteDb& db) {
+  auto stmt = db.Prepare(
+      "SELECT type, name, sql FROM sqlite_master WHERE name NOT LIKE 'sqlite_%' ORDER BY name");
+  EXPECT_TRUE(stmt.ok());
+  std::string out;
+  while (*(*stmt)->Step()) {
+    std::string sql = (*stmt)->ColumnText(2);
+    std::string squeezed;
+    for (char c : sql) {
+      if (std::isspace(static_cast<unsigned char>(c))) {
+        if (!squeezed.empty() && squeezed.back() != ' ') squeezed += ' ';
+      } else {
+        squeezed += c;
+      }
+    }
+    out += (*stmt)->ColumnText(0) + " " + (*stmt)->ColumnText(1) + ": " + squeezed + "\n";
+  }
+  return out;
+}
+
+std::string ReadFile(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+TEST(Migrations, ProduceExactlyTheSchemaFile) {
+  TempDir dir;
+  auto store = Store::Create(dir.Path("a.tinbase"), "");
+  ASSERT_TRUE(store.ok()) << store.status().ToString();
+  auto reference = SqliteDb::Open(dir.Path("ref.sqlite"), SqliteDb::Mode::kCreate);
+  ASSERT_TRUE(reference.ok());
+  ASSERT_TRUE((*reference)->Exec(ReadFile(std::string(TINBASE_SCHEMA_DIR) + "/sqlite.sql")).ok());
+  EXPECT_EQ(SchemaOf((*store)->db()), SchemaOf(**reference));
+  EXPECT_EQ((*store)->SchemaVersion(), LatestSchemaVersion());
+}
+
+TEST(Migrations, AreNumberedWithoutGaps) {
+  const auto& list = SqliteMigrations();
+  ASSERT_GE(list.size(), 2u);
+  for (size_t i = 0; i < list.size(); ++i) EXPECT_EQ(list[i].version, static_cast<int>(i + 1));
+}
+
+TEST(Store, OlderStoreIsMigratedForward) {
+  TempDir dir;
+  const std::string path = dir.Path("old.tinbase");
+  {
+    auto db = SqliteDb::Open(path, SqliteDb::Mode::kCreate);
+    ASSERT_TRUE(db.ok());
+    ASSERT_TRUE((*db)->Exec("PRAGMA application_id = " + std::to_string(kTinbaseApplicationId)).ok());
+    ASSERT_TRUE(MigrateSqlite(**db, 1).ok());
+    ASSERT_TRUE((*db)->Exec("INSERT INTO meta(key, value) VALUES ('note', 'kept')").ok());
+  }
+  auto store = Store::Open(path);
+  ASSERT_TRUE(store.ok()) << store.status().ToString();
+  EXPECT_EQ(*(*store)->db().QueryInt("PRAGMA user_version"), LatestSchemaVersion());
+  auto note = (*store)->GetMeta("note");
+  ASSERT_TRUE(note.ok());
+  EXPECT_EQ(note->value_or(""), "kept");
+  EXPECT_TRUE((*store)->db().QueryInt("SELECT count(*) FROM triangles").ok());
+}
+
+TEST(Store, NewerStoreIsRefusedWithAClearMessage) {
+  TempDir dir;
+  const std::string path = dir.Path("new.tinbase");
+  { ASSERT_TRUE(Store::Create(path, "").ok()); }
+  {
+    auto db = SqliteDb::Open(path, SqliteDb::Mode::kReadWrite);
+    ASSERT_TRUE((*db)->Exec("PRAGMA user_version = 999").ok());
+  }
+  auto store = Store::Open(path);
+  ASSERT_FALSE(store.ok());
+  EXPECT_NE(store.status().message().find("newer tinbase"), std::string::npos)
+      << store.status().message();
+}
+
+TEST(Store, ForeignFilesAreNotStores) {
+  TempDir dir;
+  const std::string text = dir.Path("notes.txt");
+  std::ofstream(text) << "not a database at all, just some text that is long enough\n";
+  auto a = Store::Open(text);
+  ASSERT_FALSE(a.ok());
+  EXPECT_NE(a.status().message().find("not a tinbase store"), std::string::npos);
+
+  const std::string other = dir.Path("other.sqlite");
+  { ASSERT_TRUE((*SqliteDb::Open(other, SqliteDb::Mode::kCreate))->Exec("CREATE TABLE t(x)").ok()); }
+  auto b = Store::Open(other);
+  ASSERT_FALSE(b.ok());
+  EXPECT_NE(b.status().message().find("not a tinbase store"), std::string::npos);
+
+  auto c = Store::Open(dir.Path("missing.tinbase"));
+  ASSERT_FALSE(c.ok());
+  EXPECT_EQ(c.status().code(), StatusCode::kNotFound);
+}
+
+TEST(Store, CreateRecordsTheCrsAndRefusesToOverwrite) {
+  TempDir dir;
+  const std::string path = dir.Path("s.tinbase");
+  auto store = Store::Create(path, "EPSG:32632");
+  ASSERT_TRUE(store.ok()) << store.status().ToString();
+  auto crs = (*store)->GetCrs();
+  ASSERT_TRUE(crs.ok() && crs->has_value());
+  EXPECT_EQ((*crs)->Epsg().value_or(0), 32632);
+  EXPECT_EQ(*(*store)->db().QueryInt("PRAGMA foreign_keys"), 1);
+  auto again = Store::Create(path, "");
+  EXPECT_FALSE(again.ok());
+  auto bad = Store::Create(dir.Path("t.tinbase"), "EPSG:999999999");
+  EXPECT_FALSE(bad.ok());
+}
+
+TEST(Store, UncommittedWriteTransactionRollsBack) {
+  TempDir dir;
+  auto store = Store::Create(dir.Path("s.tinbase"), "");
+  ASSERT_TRUE(store.ok());
+  {
+    auto tx = (*store)->BeginWrite();
+    ASSERT_TRUE(tx.ok());
+    ASSERT_TRUE((*store)->SetMeta("k", "v").ok());
+  }
+  EXPECT_FALSE((*store)->GetMeta("k")->has_value());
+}
+
+}  // namespace
+}  // namespace tinbase

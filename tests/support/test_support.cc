@@ -1,0 +1,101 @@
+#include "tests/support/test_support.h"
+
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <random>
+#include <sstream>
+
+#include "db/sqlite/sqlite_db.h"
+
+namespace tinbase::testing {
+
+std::string DataPath(const std::string& relative) {
+  return std::string(TINBASE_TEST_DATA_DIR) + "/" + relative;
+}
+
+TempDir::TempDir() {
+  std::random_device rd;
+  const auto base = std::filesystem::temp_directory_path();
+  for (;;) {
+    auto candidate = base / ("tinbase-test-" + std::to_string(rd()));
+    if (std::filesystem::create_directory(candidate)) {
+      dir_ = candidate.string();
+      break;
+    }
+  }
+}
+
+TempDir::~TempDir() {
+  std::error_code ec;
+  std::filesystem::remove_all(dir_, ec);
+}
+
+std::map<std::string, std::string> TableChecksums(const std::string& store_path) {
+  std::map<std::string, std::string> sums;
+  auto db = SqliteDb::Open(store_path, SqliteDb::Mode::kReadOnly);
+  if (!db.ok()) return {{"<error>", db.status().ToString()}};
+  auto tables = (*db)->Prepare(
+      "SELECT name FROM sqlite_master WHERE type = 'table' AND name NOT LIKE 'sqlite_%' "
+      "ORDER BY name");
+  if (!tables.ok()) return {{"<error>", tables.status().ToString()}};
+  while (true) {
+    auto row = (*tables)->Step();
+    if (!row.ok() || !*row) break;
+    const std::string table = (*tables)->ColumnText(0);
+    auto rows = (*db)->Prepare("SELECT * FROM \"" + table + "\"");
+    if (!rows.ok()) {
+      sums[table] = rows.status().ToString();
+      continue;
+    }
+    std::hash<std::string> hasher;
+    size_t h = 0;
+    int64_t count = 0;
+    while (true) {
+      auto r = (*rows)->Step();
+      if (!r.ok() || !*r) break;
+      std::string line;
+      for (int c = 0; c < (*rows)->ColumnCount(); ++c) {
+        size_t size = 0;
+        const uint8_t* blob = (*rows)->ColumnBlob(c, &size);
+        if (blob == nullptr && (*rows)->ColumnIsNull(c)) {
+          line += "\x1fN";
+          continue;
+        }
+        line += "\x1f";
+        line.append(reinterpret_cast<const char*>(blob), size);
+      }
+      h += hasher(line) * 0x9E3779B97F4A7C15ull;  // order-independent: rows have no order
+      ++count;
+    }
+    sums[table] = std::to_string(count) + ":" + std::to_string(h);
+  }
+  return sums;
+}
+
+CliResult RunCli(const std::string& args) {
+  TempDir tmp;
+  const std::string out_path = tmp.Path("out");
+  const std::string err_path = tmp.Path("err");
+  const std::string command =
+      std::string(TINBASE_CLI) + " " + args + " >" + out_path + " 2>" + err_path + " </dev/null";
+  const int status = std::system(command.c_str());
+  CliResult result;
+  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128;
+  auto slurp = [](const std::string& path) {
+    std::ifstream in(path);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+  };
+  result.out = slurp(out_path);
+  result.err = slurp(err_path);
+  return result;
+}
+
+}  // namespace tinbase::testing
