@@ -1,0 +1,58 @@
+// Kernel: `export` (a surface to OBJ or GeoJSON).
+#include <iostream>
+
+#include "apps/tinbase/command.h"
+#include "apps/tinbase/output.h"
+#include "core/export/tin_export.h"
+#include "db/surface_store.h"
+
+namespace tinbase::cli {
+
+namespace {
+
+struct ExportArgs {
+  std::string store;
+  std::string surface;
+  std::string format = "obj";
+  std::string output;
+  bool visible_only = false;
+};
+
+int RunExport(const ExportArgs& args) {
+  auto format = ParseExportFormat(args.format);
+  if (!format.ok()) return ReportError(format.status());
+  auto store = Store::Open(args.store, Store::Access::kReadOnly);
+  if (!store.ok()) return ReportError(store.status());
+  SurfaceStore surfaces(**store);
+  auto surface = surfaces.Find(args.surface);
+  if (!surface.ok()) return ReportError(surface.status());
+  auto crs = (*store)->GetCrs();
+  if (!crs.ok()) return ReportError(crs.status());
+  Stopwatch watch;
+  auto loaded = surfaces.Load(*surface);
+  if (!loaded.ok()) return ReportError(loaded.status());
+  ExportOptions options;
+  options.format = *format;
+  options.visible_only = args.visible_only;
+  options.triangle_ids = loaded->triangle_ids;
+  auto report = ExportTin(loaded->tin, crs->has_value() ? &**crs : nullptr, args.output, options);
+  if (!report.ok()) return ReportError(report.status());
+  std::cout << "wrote " << args.output << ": " << report->vertices << " vertices, "
+            << report->triangles << " triangles in " << Num(watch.Seconds(), 3) << " s\n";
+  return kExitOk;
+}
+
+}  // namespace
+
+void RegisterExportCommands(CLI::App& app, int* exit_code) {
+  auto args = std::make_shared<ExportArgs>();
+  CLI::App* cmd = app.add_subcommand("export", "Write a surface to a file (obj, geojson)");
+  cmd->add_option("store", args->store, "Store file")->required();
+  cmd->add_option("--surface", args->surface, "Surface name")->required();
+  cmd->add_option("--format", args->format, "obj or geojson (default obj)");
+  cmd->add_option("-o,--output", args->output, "Output file")->required();
+  cmd->add_flag("--visible-only", args->visible_only, "Leave out invisible triangles");
+  cmd->callback([=] { *exit_code = RunExport(*args); });
+}
+
+}  // namespace tinbase::cli

@@ -1,0 +1,98 @@
+#include "core/vector/feature_wkb.h"
+
+#include <ogr_geometry.h>
+
+#include <memory>
+
+namespace tinbase {
+
+namespace {
+
+OGRLinearRing ToOgrRing(const Ring& ring) {
+  OGRLinearRing out;
+  for (const Point2& p : ring) out.addPoint(p.x, p.y);
+  if (!ring.empty()) out.addPoint(ring.front().x, ring.front().y);  // OGC rings are closed
+  return out;
+}
+
+Ring FromOgrRing(const OGRLinearRing& ring) {
+  Ring out;
+  // Drop the closing vertex: tinbase keeps rings open.
+  for (int i = 0; i + 1 < ring.getNumPoints(); ++i) out.push_back({ring.getX(i), ring.getY(i)});
+  return out;
+}
+
+std::vector<uint8_t> ToWkb(const OGRGeometry& geometry) {
+  std::vector<uint8_t> wkb(geometry.WkbSize());
+  geometry.exportToWkb(wkbNDR, wkb.data(), wkbVariantIso);
+  return wkb;
+}
+
+Result<std::unique_ptr<OGRGeometry>> FromWkb(const std::vector<uint8_t>& wkb) {
+  OGRGeometry* raw = nullptr;
+  if (OGRGeometryFactory::createFromWkb(wkb.data(), nullptr, &raw, wkb.size()) != OGRERR_NONE ||
+      raw == nullptr)
+    return Status::Corruption("feature geometry is not valid WKB");
+  return std::unique_ptr<OGRGeometry>(raw);
+}
+
+}  // namespace
+
+std::vector<uint8_t> PolygonsToWkb(const std::vector<Polygon>& polygons) {
+  OGRMultiPolygon multi;
+  for (const Polygon& polygon : polygons) {
+    OGRPolygon part;
+    OGRLinearRing shell = ToOgrRing(polygon.shell);
+    part.addRing(&shell);
+    for (const Ring& hole : polygon.holes) {
+      OGRLinearRing h = ToOgrRing(hole);
+      part.addRing(&h);
+    }
+    multi.addGeometry(&part);
+  }
+  return ToWkb(multi);
+}
+
+Result<std::vector<Polygon>> PolygonsFromWkb(const std::vector<uint8_t>& wkb) {
+  TB_ASSIGN_OR_RETURN(auto geometry, FromWkb(wkb));
+  std::unique_ptr<OGRGeometry> multi(
+      OGRGeometryFactory::forceToMultiPolygon(geometry.release()));
+  if (multi == nullptr || wkbFlatten(multi->getGeometryType()) != wkbMultiPolygon)
+    return Status::Corruption("feature geometry is not a polygon");
+  std::vector<Polygon> out;
+  for (const OGRPolygon* part : *multi->toMultiPolygon()) {
+    Polygon polygon;
+    polygon.shell = FromOgrRing(*part->getExteriorRing());
+    for (int i = 0; i < part->getNumInteriorRings(); ++i)
+      polygon.holes.push_back(FromOgrRing(*part->getInteriorRing(i)));
+    out.push_back(std::move(polygon));
+  }
+  return out;
+}
+
+std::vector<uint8_t> LinesToWkb(const std::vector<std::vector<Point2>>& lines) {
+  OGRMultiLineString multi;
+  for (const auto& line : lines) {
+    OGRLineString part;
+    for (const Point2& p : line) part.addPoint(p.x, p.y);
+    multi.addGeometry(&part);
+  }
+  return ToWkb(multi);
+}
+
+Result<std::vector<std::vector<Point2>>> LinesFromWkb(const std::vector<uint8_t>& wkb) {
+  TB_ASSIGN_OR_RETURN(auto geometry, FromWkb(wkb));
+  std::unique_ptr<OGRGeometry> multi(
+      OGRGeometryFactory::forceToMultiLineString(geometry.release()));
+  if (multi == nullptr || wkbFlatten(multi->getGeometryType()) != wkbMultiLineString)
+    return Status::Corruption("feature geometry is not a line");
+  std::vector<std::vector<Point2>> out;
+  for (const OGRLineString* part : *multi->toMultiLineString()) {
+    std::vector<Point2> line;
+    for (int i = 0; i < part->getNumPoints(); ++i) line.push_back({part->getX(i), part->getY(i)});
+    out.push_back(std::move(line));
+  }
+  return out;
+}
+
+}  // namespace tinbase

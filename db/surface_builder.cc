@@ -1,0 +1,81 @@
+#include "db/surface_builder.h"
+
+#include <algorithm>
+#include <chrono>
+#include <limits>
+
+#include "db/change_log.h"
+
+namespace tinbase {
+
+namespace {
+
+double SecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+Change BuildChange(const SurfaceInfo& surface, const Tin& tin) {
+  Change change;
+  change.surface = surface.id;
+  change.action = "build";
+  change.added = static_cast<int64_t>(tin.triangles.size());
+  change.min_x = change.min_y = std::numeric_limits<double>::infinity();
+  change.max_x = change.max_y = -std::numeric_limits<double>::infinity();
+  for (const TinVertex& v : tin.vertices) {
+    change.min_x = std::min(change.min_x, v.x);
+    change.min_y = std::min(change.min_y, v.y);
+    change.max_x = std::max(change.max_x, v.x);
+    change.max_y = std::max(change.max_y, v.y);
+  }
+  return change;
+}
+
+}  // namespace
+
+Result<DemInfo> ResolveDem(DemStore& dems, const std::string& name) {
+  if (!name.empty()) return dems.Find(name);
+  TB_ASSIGN_OR_RETURN(auto all, dems.List());
+  if (all.empty()) return Status::NotFound("the store has no DEM: run 'tinbase dem import' first");
+  if (all.size() > 1) {
+    std::string names;
+    for (const auto& d : all) names += (names.empty() ? "" : ", ") + d.name;
+    return Status::InvalidArgument("the store has several DEMs (" + names + "): name one with --dem");
+  }
+  return all.front();
+}
+
+Result<SurfaceBuildReport> BuildSurfaceFromDem(Store& store, const SurfaceBuildOptions& options) {
+  if (options.method != "greedy")
+    return Status::InvalidArgument("unknown TIN method '" + options.method + "' (known: greedy)");
+  if (options.surface.empty()) return Status::InvalidArgument("a surface needs a name");
+  SurfaceStore surfaces(store);
+  if (surfaces.Find(options.surface).ok())
+    return Status::Conflict("a surface named '" + options.surface + "' already exists");
+
+  DemStore dems(store);
+  TB_ASSIGN_OR_RETURN(DemInfo dem, ResolveDem(dems, options.dem));
+  SurfaceBuildReport report;
+  auto start = std::chrono::steady_clock::now();
+  TB_ASSIGN_OR_RETURN(Grid grid, dems.ReadGrid(dem));
+  TB_ASSIGN_OR_RETURN(Tin tin, BuildGreedyTin(grid, options.greedy, &report.quality));
+  report.build_seconds = SecondsSince(start);
+
+  start = std::chrono::steady_clock::now();
+  TB_ASSIGN_OR_RETURN(auto tx, store.BeginWrite());
+  SurfaceInfo spec;
+  spec.name = options.surface;
+  spec.kind = SurfaceKind::kDelaunay;
+  spec.method = options.method;
+  // With a point budget the tolerance may not be reached: record what the surface really keeps.
+  spec.tolerance = std::max(options.greedy.tolerance, report.quality.max_error);
+  spec.dem = dem.id;
+  TB_ASSIGN_OR_RETURN(report.surface, surfaces.Create(spec, tin));
+  TB_ASSIGN_OR_RETURN(report.tx, AppendChange(store, BuildChange(report.surface, tin)));
+  TB_RETURN_IF_ERROR(tx->Commit());
+  report.write_seconds = SecondsSince(start);
+  report.vertices = static_cast<int64_t>(tin.vertices.size());
+  report.triangles = static_cast<int64_t>(tin.triangles.size());
+  return report;
+}
+
+}  // namespace tinbase

@@ -1,0 +1,43 @@
+// SurfaceBuilder: builds a terrain surface from a stored DEM and writes it in one transaction.
+//
+// Reads the DEM's level-0 grid, runs a core TIN builder (greedy insertion today) and writes
+// vertices, triangles, neighbour links, visibility, blocks and a `changes` row together: on any
+// error nothing is written. Thread-safety: through one Store.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "core/base/status.h"
+#include "core/tin/greedy_builder.h"
+#include "db/dem_store.h"
+#include "db/store.h"
+#include "db/surface_store.h"
+
+namespace tinbase {
+
+struct SurfaceBuildOptions {
+  std::string surface;  // new surface name
+  std::string dem;      // DEM name; empty: the store's only DEM
+  std::string method = "greedy";
+  GreedyOptions greedy;
+};
+
+struct SurfaceBuildReport {
+  SurfaceInfo surface;
+  GreedyReport quality;
+  int64_t vertices = 0;
+  int64_t triangles = 0;
+  int64_t tx = 0;
+  double build_seconds = 0;
+  double write_seconds = 0;
+};
+
+// Picks the DEM by name, or the only DEM when `name` is empty (InvalidArgument listing the
+// choices when there are several, NotFound when there is none).
+Result<DemInfo> ResolveDem(DemStore& dems, const std::string& name);
+
+// Conflict when the surface name is taken; InvalidArgument for an unknown method or bad options.
+Result<SurfaceBuildReport> BuildSurfaceFromDem(Store& store, const SurfaceBuildOptions& options);
+
+}  // namespace tinbase

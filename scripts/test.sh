@@ -1,0 +1,11 @@
+#!/usr/bin/env bash
+# Second command of the README (and what .ci/run calls): install dependencies, build everything
+# with warnings as errors, and run the whole test suite with CTest.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/install-deps.sh
+cmake -S . -B build/test -G Ninja -DCMAKE_BUILD_TYPE=Release -DTINBASE_BUILD_TESTS=ON \
+  -DTINBASE_WERROR=ON >/dev/null
+cmake --build build/test -j "$(nproc)"
+cd build/test
+ctest --output-on-failure -j "$(nproc)" --timeout 900

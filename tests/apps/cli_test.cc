@@ -1,0 +1,185 @@
+// The tinbase command line end to end on real data: every command of the walking skeleton, its
+// --json output, `check` after every write, and bad input rejected with one clear line on stderr,
+// a non-zero exit and the store left exactly as it was.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "tests/support/test_support.h"
+
+namespace tinbase {
+namespace {
+
+using testing::CliResult;
+using testing::DataPath;
+using testing::RunCli;
+using testing::TableChecksums;
+using testing::TempDir;
+
+std::string Quote(const std::string& s) { return "'" + s + "'"; }
+
+// Runs a command that must succeed, then `check`, which must pass too.
+CliResult RunWrite(const std::string& store, const std::string& args) {
+  CliResult r = RunCli(args);
+  EXPECT_EQ(r.exit_code, 0) << args << "\n" << r.err;
+  CliResult check = RunCli("check " + Quote(store));
+  EXPECT_EQ(check.exit_code, 0) << "check after: " << args << "\n" << check.err;
+  return r;
+}
+
+// A command that must fail with one line on stderr containing `expected`, changing nothing.
+void ExpectRejected(const std::string& store, const std::string& args, const std::string& expected) {
+  const auto before = TableChecksums(store);
+  CliResult r = RunCli(args);
+  EXPECT_NE(r.exit_code, 0) << args;
+  EXPECT_NE(r.err.find(expected), std::string::npos) << args << "\nstderr: " << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "one line expected: " << r.err;
+  EXPECT_EQ(r.err.rfind("tinbase: ", 0), 0u) << r.err;
+  EXPECT_EQ(TableChecksums(store), before) << "store changed by rejected: " << args;
+}
+
+nlohmann::json Json(const CliResult& r) {
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  return nlohmann::json::parse(r.out);
+}
+
+class CliTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    store_ = dir_.Path("s.tinbase");
+    RunWrite(store_, "init " + Quote(store_));
+    RunWrite(store_, "dem import " + Quote(store_) + " " +
+                         Quote(DataPath("geology/hamersley/dtm_rp.tif")));
+    RunWrite(store_, "tin build " + Quote(store_) + " --surface terrain --tolerance 10");
+  }
+  TempDir dir_;
+  std::string store_;
+};
+
+TEST_F(CliTest, InfoListsTheDemAndTheSurface) {
+  auto j = Json(RunCli("info --json " + Quote(store_)));
+  ASSERT_EQ(j["dems"].size(), 1u);
+  EXPECT_EQ(j["dems"][0]["name"], "dtm_rp");
+  EXPECT_EQ(j["dems"][0]["width"], 197);
+  EXPECT_EQ(j["dems"][0]["height"], 204);
+  EXPECT_EQ(j["crs"], "EPSG:28350");
+  ASSERT_EQ(j["surfaces"].size(), 1u);
+  EXPECT_EQ(j["surfaces"][0]["name"], "terrain");
+  EXPECT_GT(j["surfaces"][0]["triangles"].get<int>(), 100);
+  CliResult text = RunCli("info " + Quote(store_));
+  EXPECT_EQ(text.exit_code, 0);
+  EXPECT_NE(text.out.find("terrain"), std::string::npos);
+}
+
+TEST_F(CliTest, LocateAgreesWithTheDemWithinTheTolerance) {
+  auto info = Json(RunCli("info --json " + Quote(store_)));
+  const auto& bbox = info["dems"][0]["bbox"];
+  for (int i = 1; i < 10; ++i) {
+    const double x = bbox[0].get<double>() + (bbox[2].get<double>() - bbox[0].get<double>()) * i / 10.3;
+    const double y = bbox[1].get<double>() + (bbox[3].get<double>() - bbox[1].get<double>()) * i / 10.7;
+    const std::string xy = " -- " + std::to_string(x) + " " + std::to_string(y);
+    auto where = Json(RunCli("locate --json " + Quote(store_) + " --surface terrain" + xy));
+    auto dem = Json(RunCli("dem sample --json " + Quote(store_) + xy));
+    // The TIN is within 10 m of every DEM cell; between cells the DEM's bilinear surface can
+    // differ from the TIN's plane by a little more than that.
+    EXPECT_NEAR(where["z"].get<double>(), dem["z"].get<double>(), 25.0) << xy;
+    auto nb = Json(RunCli("neighbours --json " + Quote(store_) + " --surface terrain " +
+                          std::to_string(where["triangle"].get<int64_t>())));
+    EXPECT_EQ(nb["triangle"], where["triangle"]);
+    EXPECT_EQ(nb["vertices"].size(), 3u);
+    // Each named neighbour names this triangle back.
+    for (const auto& n : nb["neighbours"]) {
+      if (n.is_null()) continue;
+      auto back = Json(RunCli("neighbours --json " + Quote(store_) + " --surface terrain " +
+                              std::to_string(n.get<int64_t>())));
+      EXPECT_NE(std::find(back["neighbours"].begin(), back["neighbours"].end(), where["triangle"]),
+                back["neighbours"].end());
+    }
+  }
+}
+
+TEST_F(CliTest, ExportsObjAndGeoJson) {
+  const std::string obj = dir_.Path("t.obj");
+  const std::string geojson = dir_.Path("t.geojson");
+  auto info = Json(RunCli("info --json " + Quote(store_)));
+  const int triangles = info["surfaces"][0]["triangles"];
+  ASSERT_EQ(RunCli("export " + Quote(store_) + " --surface terrain --format obj -o " + Quote(obj))
+                .exit_code, 0);
+  std::ifstream in(obj);
+  std::string line;
+  int faces = 0;
+  while (std::getline(in, line)) faces += line.rfind("f ", 0) == 0;
+  EXPECT_EQ(faces, triangles);
+  ASSERT_EQ(RunCli("export " + Quote(store_) + " --surface terrain --format geojson -o " +
+                   Quote(geojson)).exit_code, 0);
+  std::ifstream gj(geojson);
+  auto doc = nlohmann::json::parse(gj);
+  EXPECT_EQ(doc["features"].size(), static_cast<size_t>(triangles));
+}
+
+TEST_F(CliTest, ChangesLogHasTheBuild) {
+  auto j = Json(RunCli("changes --json " + Quote(store_)));
+  ASSERT_EQ(j.size(), 1u);
+  EXPECT_EQ(j[0]["action"], "build");
+  EXPECT_GT(j[0]["added"].get<int>(), 0);
+}
+
+TEST_F(CliTest, BadInputIsRejectedAndChangesNothing) {
+  const std::string s = Quote(store_);
+  ExpectRejected(store_, "dem import " + s + " " + Quote(dir_.Path("missing.tif")), "missing.tif");
+  const std::string text = dir_.Path("notes.tif");
+  std::ofstream(text) << "this is not a raster\n";
+  ExpectRejected(store_, "dem import " + s + " " + Quote(text), "notes.tif");
+  ExpectRejected(store_, "dem sample " + s + " -- 0 0", "outside");
+  ExpectRejected(store_, "locate " + s + " --surface nosuch -- 0 0", "nosuch");
+  ExpectRejected(store_, "locate " + s + " --surface terrain -- 0 0", "outside");
+  ExpectRejected(store_, "neighbours " + s + " --surface terrain 99999999", "99999999");
+  ExpectRejected(store_, "tin build " + s + " --surface terrain --tolerance 5", "terrain");
+  ExpectRejected(store_, "tin build " + s + " --surface t2 --tolerance 0", "tolerance");
+  ExpectRejected(store_, "export " + s + " --surface terrain --format stl -o " +
+                             Quote(dir_.Path("x.stl")), "stl");
+  const std::string other = dir_.Path("other.db");
+  std::ofstream(other) << "SQLite format 3 but not really\n";
+  CliResult r = RunCli("info " + Quote(other));
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("not a tinbase store"), std::string::npos) << r.err;
+}
+
+TEST(CliStandalone, RasterWithoutCrsIsRejected) {
+  TempDir dir;
+  const std::string store = dir.Path("s.tinbase");
+  ASSERT_EQ(RunCli("init " + Quote(store)).exit_code, 0);
+  // An ASCII grid has a geotransform but no CRS.
+  const std::string asc = dir.Path("nocrs.asc");
+  std::ofstream(asc) << "ncols 3\nnrows 3\nxllcorner 0\nyllcorner 0\ncellsize 10\n"
+                        "1 2 3\n4 5 6\n7 8 9\n";
+  ExpectRejected(store, "dem import " + Quote(store) + " " + Quote(asc), "CRS");
+}
+
+TEST(CliStandalone, InitWithCrsAndRefusalToOverwrite) {
+  TempDir dir;
+  const std::string store = dir.Path("s.tinbase");
+  ASSERT_EQ(RunCli("init " + Quote(store) + " --crs EPSG:32632").exit_code, 0);
+  auto j = Json(RunCli("info --json " + Quote(store)));
+  EXPECT_EQ(j["crs"], "EPSG:32632");
+  CliResult again = RunCli("init " + Quote(store));
+  EXPECT_NE(again.exit_code, 0);
+  EXPECT_NE(again.err.find("already exists"), std::string::npos);
+}
+
+TEST(CliStandalone, SrtmTileIsWarpedToUtmAndBuilt) {
+  TempDir dir;
+  const std::string store = dir.Path("s.tinbase");
+  RunWrite(store, "init " + Quote(store));
+  RunWrite(store, "dem import " + Quote(store) + " " + Quote(DataPath("dem/N43E007.hgt")));
+  auto j = Json(RunCli("info --json " + Quote(store)));
+  EXPECT_EQ(j["crs"], "EPSG:32632");  // 7.5E, 43.5N is in UTM zone 32N
+  RunWrite(store, "tin build " + Quote(store) + " --surface alps --tolerance 20");
+}
+
+}  // namespace
+}  // namespace tinbase
