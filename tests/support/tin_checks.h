@@ -72,6 +72,40 @@ inline void ExpectLocallyDelaunay(const Tin& tin) {
   EXPECT_EQ(violations, 0);
 }
 
+// Every pair in tin.constraints is an edge of some triangle, and is listed once.
+inline void ExpectConstraintsAreEdges(const Tin& tin) {
+  std::set<std::pair<uint32_t, uint32_t>> edges;
+  for (const TinTriangle& t : tin.triangles) {
+    for (int i = 0; i < 3; ++i) {
+      const uint32_t a = t.v[i], b = t.v[(i + 1) % 3];
+      edges.insert({std::min(a, b), std::max(a, b)});
+    }
+  }
+  std::set<std::pair<uint32_t, uint32_t>> listed;
+  for (auto [a, b] : tin.constraints) {
+    const std::pair<uint32_t, uint32_t> key{std::min(a, b), std::max(a, b)};
+    EXPECT_TRUE(edges.count(key)) << "constraint " << a << "-" << b << " is not an edge";
+    EXPECT_TRUE(listed.insert(key).second) << "constraint " << a << "-" << b << " listed twice";
+  }
+}
+
+// Euler's formula for a triangulated disc (the convex hull): V - E + F = 1, with every vertex
+// used by some triangle.
+inline void ExpectEulerDisc(const Tin& tin) {
+  std::vector<bool> used(tin.vertices.size(), false);
+  int64_t boundary = 0;
+  for (const TinTriangle& t : tin.triangles) {
+    for (int i = 0; i < 3; ++i) {
+      used[t.v[i]] = true;
+      boundary += t.n[i] == kNoNeighbour;
+    }
+  }
+  for (size_t v = 0; v < used.size(); ++v) EXPECT_TRUE(used[v]) << "vertex " << v << " unused";
+  const int64_t faces = static_cast<int64_t>(tin.triangles.size());
+  const int64_t edges = (3 * faces + boundary) / 2;
+  EXPECT_EQ(static_cast<int64_t>(tin.vertices.size()) - edges + faces, 1);
+}
+
 struct DemFit {
   double max_error = 0;
   int64_t valid_cells = 0;
