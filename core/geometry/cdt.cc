@@ -9,6 +9,7 @@
 #include <CGAL/property_map.h>
 #include <CGAL/spatial_sort.h>
 
+#include <algorithm>
 #include <cassert>
 #include <numeric>
 
@@ -123,9 +124,55 @@ uint32_t Cdt::InsertVertex(const TinVertex& point, FaceRef hint, std::vector<Fac
   return v->info().index;
 }
 
+// CGAL constrains a->b by walking from a, splitting at vertices on the segment and at crossing
+// constraints. A crossing point is constructed inexactly (CGAL#6602), and the walk then goes on
+// from that point, so an existing vertex further along the exact segment may be missed by a
+// hair and the constraint pass beside it. Splitting first at every vertex exactly on a->b keeps
+// each piece anchored at both ends: round-off can then only move a crossing, never the route.
 void Cdt::InsertConstraint(uint32_t a, uint32_t b) {
   assert(a < impl_->handles.size() && b < impl_->handles.size() && a != b);
-  impl_->cdt.insert_constraint(impl_->handles[a], impl_->handles[b]);
+  const VertexHandle va = impl_->handles[a];
+  const VertexHandle vb = impl_->handles[b];
+  Triangulation& cdt = impl_->cdt;
+  if (cdt.dimension() < 2) {
+    cdt.insert_constraint(va, vb);
+    return;
+  }
+  const Point& pa = va->point();
+  const Point& pb = vb->point();
+  // Along a non-vertical segment order by x, else by y: exact for collinear points.
+  const bool by_x = pa.x() != pb.x();
+  const auto key = [by_x](const Point& p) { return by_x ? p.x() : p.y(); };
+  const double lo = std::min(key(pa), key(pb)), hi = std::max(key(pa), key(pb));
+  std::vector<VertexHandle> on_segment;
+  Triangulation::Line_face_circulator face = cdt.line_walk(pa, pb, va->face());
+  for (size_t steps = 0, limit = cdt.number_of_faces(); steps < limit && !face.is_empty();
+       ++steps, ++face) {
+    if (cdt.is_infinite(face)) break;
+    bool reached_b = false;
+    for (int i = 0; i < 3; ++i) {
+      const VertexHandle v = face->vertex(i);
+      if (v == vb) reached_b = true;
+      if (v == va || v == vb) continue;
+      const double k = key(v->point());
+      if (k > lo && k < hi &&
+          cdt.geom_traits().orientation_2_object()(pa, pb, v->point()) == CGAL::COLLINEAR) {
+        on_segment.push_back(v);
+      }
+    }
+    if (reached_b) break;
+  }
+  const bool ascending = key(pa) < key(pb);
+  std::sort(on_segment.begin(), on_segment.end(), [&](VertexHandle p, VertexHandle q) {
+    return ascending ? key(p->point()) < key(q->point()) : key(p->point()) > key(q->point());
+  });
+  on_segment.erase(std::unique(on_segment.begin(), on_segment.end()), on_segment.end());
+  VertexHandle from = va;
+  for (VertexHandle v : on_segment) {
+    cdt.insert_constraint(from, v);
+    from = v;
+  }
+  cdt.insert_constraint(from, vb);
 }
 
 size_t Cdt::FaceCount() const { return impl_->cdt.number_of_faces(); }

@@ -199,6 +199,33 @@ TEST(CdtTest, Issue2999TouchingConstraintsAndVertexOnConstraint) {
   ExpectValid(after);
 }
 
+// CGAL/cgal#6602: the crossing of x = 0 with y = -15 is constructed at x = -1.78e-15; CGAL
+// then walks on from there, passes beside the vertex (0, 0) that lies exactly on the
+// constraint and leaves it unconstrained. Found by the constrained rebuild property test.
+TEST(CdtTest, Issue6602InexactCrossingDoesNotSkipVertexOnConstraint) {
+  Cdt cdt;
+  cdt.InsertVertices({{-20, -20, 0},
+                      {-15, -15, 0},
+                      {20.253100100000001, -15, 0},
+                      {0, -20, 0},
+                      {0, 0, 0},
+                      {0, 10, 0},
+                      {40, 40, 0},
+                      {-40, 40, 0},
+                      {10, 0, 0},
+                      {-10, 0, 0}});
+  cdt.InsertConstraint(1, 2);
+  cdt.InsertConstraint(3, 5);
+  const Tin tin = cdt.ToTin([](double x, double y) { return x + y; });
+  ASSERT_EQ(tin.vertices.size(), 11u);
+  EXPECT_EQ(tin.vertices[10].kind, VertexKind::kSteiner);
+  EXPECT_NEAR(tin.vertices[10].x, 0, 1e-12);
+  EXPECT_EQ(tin.vertices[10].y, -15);
+  EXPECT_EQ(ConstraintSet(tin), (std::set<std::pair<uint32_t, uint32_t>>{
+                                    {1, 10}, {2, 10}, {3, 10}, {4, 10}, {4, 5}}));
+  ExpectValid(tin);
+}
+
 TEST(CdtTest, ManyCrossingConstraintsStayValid) {
   const unsigned seed = std::random_device{}();
   std::printf("ManyCrossingConstraintsStayValid seed %u\n", seed);

@@ -3,6 +3,8 @@
 #include "core/tin/constrained_rebuild.h"
 
 #include <gtest/gtest.h>
+#include <gtest/gtest-spi.h>
+#include <rapidcheck/gtest.h>
 
 #include <algorithm>
 #include <cmath>
@@ -170,6 +172,64 @@ TEST(ConstrainedRebuildTest, NoLinesRebuildsTheBase) {
   ASSERT_EQ(result->constraints.size(), 10u);  // the base constraint, split at each lattice vertex
   ExpectSegmentConstrained(*result, {0, 80, 100, 80});
   testing::ExpectLocallyDelaunay(*result);
+}
+
+void CheckRebuild(const Tin& tin, const std::vector<ConstraintPolyline>& lines);
+
+// Random polylines (some points on lattice vertices, so lines touch existing vertices and each
+// other) over the grid TIN: the result is always a valid CDT holding every segment.
+RC_GTEST_PROP(ConstrainedRebuildTest, RandomPolylinesAlwaysConstrained, ()) {
+  const Tin base = GridTin();
+  const auto point = rc::gen::oneOf(
+      rc::gen::map(rc::gen::pair(rc::gen::inRange(-2, 13), rc::gen::inRange(-2, 13)),
+                   [](std::pair<int, int> p) { return std::make_pair(10.0 * p.first, 10.0 * p.second); }),
+      rc::gen::map(rc::gen::pair(rc::gen::inRange(-150000, 1150000), rc::gen::inRange(-150000, 1150000)),
+                   [](std::pair<int, int> p) { return std::make_pair(p.first / 1e4 + 1e-7, p.second / 1e4); }));
+  const int count = *rc::gen::inRange(1, 5);
+  std::vector<ConstraintPolyline> lines;
+  for (int i = 0; i < count; ++i) {
+    auto xy = *rc::gen::container<std::vector<std::pair<double, double>>>(
+        static_cast<size_t>(*rc::gen::inRange(2, 6)), point);
+    std::set<std::pair<double, double>> distinct(xy.begin(), xy.end());
+    const bool closed = distinct.size() >= 3 && *rc::gen::arbitrary<bool>();
+    RC_PRE(distinct.size() >= 2);
+    lines.push_back(Line(xy, 300 + i, closed));
+  }
+  auto result = InsertConstraints(base, lines, Level);
+  RC_ASSERT(result.ok());
+  const Tin& tin = *result;
+  // The checks report through gtest; collect their failures so RapidCheck sees each case's own
+  // verdict and can shrink.
+  ::testing::TestPartResultArray failures;
+  {
+    ::testing::ScopedFakeTestPartResultReporter reporter(
+        ::testing::ScopedFakeTestPartResultReporter::INTERCEPT_ONLY_CURRENT_THREAD, &failures);
+    CheckRebuild(tin, lines);
+  }
+  for (int i = 0; i < failures.size(); ++i) RC_LOG() << failures.GetTestPartResult(i).message() << "\n";
+  RC_ASSERT(failures.size() == 0);
+}
+
+void CheckRebuild(const Tin& tin, const std::vector<ConstraintPolyline>& lines) {
+  testing::ExpectCounterClockwise(tin);
+  testing::ExpectNeighboursConsistent(tin);
+  testing::ExpectLocallyDelaunay(tin);
+  testing::ExpectConstraintsAreEdges(tin);
+  testing::ExpectEulerDisc(tin);
+  ExpectSegmentConstrained(tin, {0, 80, 100, 80});
+  for (const ConstraintPolyline& line : lines) {
+    const size_t n = line.points.size();
+    for (size_t i = 0; i + (line.closed ? 0 : 1) < n; ++i) {
+      const TinVertex& a = line.points[i];
+      const TinVertex& b = line.points[(i + 1) % n];
+      if (a.x != b.x || a.y != b.y) ExpectSegmentConstrained(tin, {a.x, a.y, b.x, b.y});
+    }
+  }
+  for (const TinVertex& v : tin.vertices) {
+    if (v.kind == VertexKind::kSteiner) {
+      EXPECT_EQ(v.z, Level(v.x, v.y));
+    }
+  }
 }
 
 TEST(ConstrainedRebuildTest, RejectsBadInput) {
