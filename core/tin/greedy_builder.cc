@@ -1,6 +1,7 @@
 #include "core/tin/greedy_builder.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <limits>
 #include <queue>
@@ -180,7 +181,9 @@ class GreedyBuilder {
   void InsertCell(Cell cell, Cdt::FaceRef hint, std::vector<Cdt::FaceRef>* incident) {
     const uint32_t index = cdt_.InsertVertex(VertexAt(cell, dem_.At(cell.col, cell.row)), hint,
                                              incident);
-    (void)index;  // == cells_.size(): a worst sample has error > 0, so it is never a vertex yet
+    // A worst sample is off the surface by more than the tolerance, so it is never a vertex yet.
+    assert(index == cells_.size());
+    (void)index;
     cells_.push_back(cell);
   }
 
