@@ -36,7 +36,8 @@ using Fbb = CGAL::Triangulation_face_base_with_info_2<FaceInfo, Gt>;
 using Fb = CGAL::Constrained_triangulation_face_base_2<Gt, Fbb>;
 using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
 // Exact_predicates_tag: crossing constraints are allowed and split at a constructed point.
-using Triangulation = CGAL::Constrained_Delaunay_triangulation_2<Gt, Tds, CGAL::Exact_predicates_tag>;
+using Triangulation =
+    CGAL::Constrained_Delaunay_triangulation_2<Gt, Tds, CGAL::Exact_predicates_tag>;
 using Point = Triangulation::Point;
 using VertexHandle = Triangulation::Vertex_handle;
 using FaceHandle = Triangulation::Face_handle;
@@ -78,8 +79,8 @@ std::vector<uint32_t> Cdt::InsertVertices(const std::vector<TinVertex>& points) 
   for (const TinVertex& v : points) pts.push_back(ToPoint(v));
   std::vector<size_t> order(points.size());
   std::iota(order.begin(), order.end(), 0);
-  using SortTraits = CGAL::Spatial_sort_traits_adapter_2<
-      Gt, CGAL::Pointer_property_map<Point>::type>;
+  using SortTraits =
+      CGAL::Spatial_sort_traits_adapter_2<Gt, CGAL::Pointer_property_map<Point>::type>;
   CGAL::spatial_sort(order.begin(), order.end(), SortTraits(CGAL::make_property_map(pts)));
 
   std::vector<VertexHandle> by_input(points.size());

@@ -42,10 +42,9 @@ Status Validate(const Tin& base, const std::vector<ConstraintPolyline>& lines,
   for (size_t i = 0; i < base.constraints.size(); ++i) {
     const auto [a, b] = base.constraints[i];
     if (a >= base.vertices.size() || b >= base.vertices.size()) {
-      return Status::InvalidArgument("base constraint " + std::to_string(i) + " (" +
-                                     std::to_string(a) + ", " + std::to_string(b) +
-                                     "): no such vertex among " +
-                                     std::to_string(base.vertices.size()));
+      return Status::InvalidArgument(
+          "base constraint " + std::to_string(i) + " (" + std::to_string(a) + ", " +
+          std::to_string(b) + "): no such vertex among " + std::to_string(base.vertices.size()));
     }
   }
   for (size_t i = 0; i < lines.size(); ++i) TB_RETURN_IF_ERROR(ValidateLine(lines[i], i));

@@ -23,7 +23,7 @@ struct ConstraintPolyline {
 
 // Where the inputs went, as indices into the result's vertices.
 struct ConstrainedRebuildMap {
-  std::vector<uint32_t> base_vertices;              // by base vertex index
+  std::vector<uint32_t> base_vertices;               // by base vertex index
   std::vector<std::vector<uint32_t>> line_vertices;  // by line, then by point
 };
 
@@ -38,7 +38,6 @@ struct ConstrainedRebuildMap {
 // vertex that does not exist, a missing elevation function, or a crossing where it returns a
 // non-finite z.
 Result<Tin> InsertConstraints(const Tin& base, const std::vector<ConstraintPolyline>& lines,
-                              const ElevationFn& elevation,
-                              ConstrainedRebuildMap* map = nullptr);
+                              const ElevationFn& elevation, ConstrainedRebuildMap* map = nullptr);
 
 }  // namespace tinbase

@@ -100,8 +100,9 @@ double MeanOfNearestValid(const Grid& dem, int64_t col, int64_t row) {
 Status Validate(const Grid& dem, const GreedyOptions& options) {
   const GridGeometry& g = dem.geometry;
   if (!(options.tolerance > 0) || !std::isfinite(options.tolerance)) {
-    return Status::InvalidArgument("greedy TIN: tolerance must be a positive number of metres, got " +
-                                   std::to_string(options.tolerance));
+    return Status::InvalidArgument(
+        "greedy TIN: tolerance must be a positive number of metres, got " +
+        std::to_string(options.tolerance));
   }
   if (options.max_points < 0 || (options.max_points > 0 && options.max_points < 4)) {
     return Status::InvalidArgument(
@@ -170,8 +171,8 @@ class GreedyBuilder {
     const int32_t last_row = static_cast<int32_t>(dem_.geometry.height - 1);
     std::vector<TinVertex> corners;
     for (Cell c : {Cell{0, 0}, Cell{last_col, 0}, Cell{0, last_row}, Cell{last_col, last_row}}) {
-      const double z =
-          dem_.IsValid(c.col, c.row) ? dem_.At(c.col, c.row) : MeanOfNearestValid(dem_, c.col, c.row);
+      const double z = dem_.IsValid(c.col, c.row) ? dem_.At(c.col, c.row)
+                                                  : MeanOfNearestValid(dem_, c.col, c.row);
       corners.push_back(VertexAt(c, z));
       cells_.push_back(c);
     }
@@ -179,8 +180,8 @@ class GreedyBuilder {
   }
 
   void InsertCell(Cell cell, Cdt::FaceRef hint, std::vector<Cdt::FaceRef>* incident) {
-    const uint32_t index = cdt_.InsertVertex(VertexAt(cell, dem_.At(cell.col, cell.row)), hint,
-                                             incident);
+    const uint32_t index =
+        cdt_.InsertVertex(VertexAt(cell, dem_.At(cell.col, cell.row)), hint, incident);
     // A worst sample is off the surface by more than the tolerance, so it is never a vertex yet.
     assert(index == cells_.size());
     (void)index;
@@ -244,17 +245,18 @@ class GreedyBuilder {
       const std::array<Cell, 3> p = {cells_[t.v[0]], cells_[t.v[1]], cells_[t.v[2]]};
       Plane plane;
       if (!PlaneThrough(p, {vz(t.v[0]), vz(t.v[1]), vz(t.v[2])}, &plane)) continue;
-      RasteriseTriangle(p, width, dem_.geometry.height, [&](int32_t r, int64_t first, int64_t last) {
-        for (int64_t c = first; c <= last; ++c) {
-          const size_t at = static_cast<size_t>(r * width + c);
-          if (seen[at] || std::isnan(dem_.cells[at])) continue;
-          seen[at] = 1;
-          const double error = std::fabs(plane.At(static_cast<double>(c), r) - dem_.cells[at]);
-          max_error = std::max(max_error, error);
-          sum_sq += error * error;
-          ++count;
-        }
-      });
+      RasteriseTriangle(
+          p, width, dem_.geometry.height, [&](int32_t r, int64_t first, int64_t last) {
+            for (int64_t c = first; c <= last; ++c) {
+              const size_t at = static_cast<size_t>(r * width + c);
+              if (seen[at] || std::isnan(dem_.cells[at])) continue;
+              seen[at] = 1;
+              const double error = std::fabs(plane.At(static_cast<double>(c), r) - dem_.cells[at]);
+              max_error = std::max(max_error, error);
+              sum_sq += error * error;
+              ++count;
+            }
+          });
     }
     report->max_error = max_error;
     report->rms_error = count > 0 ? std::sqrt(sum_sq / static_cast<double>(count)) : 0;

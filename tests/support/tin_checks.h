@@ -64,8 +64,9 @@ inline void ExpectLocallyDelaunay(const Tin& tin) {
       if (CGAL::side_of_oriented_circle(PlanPoint(tin, tri.v[0]), PlanPoint(tin, tri.v[1]),
                                         PlanPoint(tin, tri.v[2]),
                                         PlanPoint(tin, far)) == CGAL::ON_POSITIVE_SIDE) {
-        if (++violations <= 5) ADD_FAILURE() << "edge " << a << "-" << b << " of triangle " << t
-                                             << " is not locally Delaunay";
+        if (++violations <= 5)
+          ADD_FAILURE() << "edge " << a << "-" << b << " of triangle " << t
+                        << " is not locally Delaunay";
       }
     }
   }
@@ -126,8 +127,10 @@ inline DemFit FitToDem(const Tin& tin, const Grid& dem) {
     const double cmin = std::floor(g.ColumnAt(std::min({p0.x, p1.x, p2.x}))) - 1;
     const double cmax = std::ceil(g.ColumnAt(std::max({p0.x, p1.x, p2.x}))) + 1;
     const double ra = g.RowAt(p0.y), rb = g.RowAt(p1.y), rc = g.RowAt(p2.y);
-    const int64_t r0 = std::max<int64_t>(0, static_cast<int64_t>(std::floor(std::min({ra, rb, rc}))) - 1);
-    const int64_t r1 = std::min<int64_t>(g.height - 1, static_cast<int64_t>(std::ceil(std::max({ra, rb, rc}))) + 1);
+    const int64_t r0 =
+        std::max<int64_t>(0, static_cast<int64_t>(std::floor(std::min({ra, rb, rc}))) - 1);
+    const int64_t r1 = std::min<int64_t>(
+        g.height - 1, static_cast<int64_t>(std::ceil(std::max({ra, rb, rc}))) + 1);
     const int64_t c0 = std::max<int64_t>(0, static_cast<int64_t>(cmin));
     const int64_t c1 = std::min<int64_t>(g.width - 1, static_cast<int64_t>(cmax));
     for (int64_t r = r0; r <= r1; ++r) {

@@ -96,7 +96,8 @@ TEST(CdtTest, IncidentFacesAreTheStarOfTheNewVertex) {
   cdt.InsertVertices(RandomPoints(300, rng));
   std::vector<Cdt::FaceRef> incident;
   const std::vector<Cdt::FaceRef> faces = cdt.FiniteFaces();
-  const uint32_t v = cdt.InsertVertex({600500.5, 5100500.25, 7}, faces[faces.size() / 2], &incident);
+  const uint32_t v =
+      cdt.InsertVertex({600500.5, 5100500.25, 7}, faces[faces.size() / 2], &incident);
   ASSERT_GE(incident.size(), 3u);
   std::set<std::array<uint32_t, 3>> star;
   for (Cdt::FaceRef f : incident) {
@@ -146,8 +147,8 @@ TEST(CdtTest, CrossingConstraintsGetASteinerVertexWithCallerElevation) {
   EXPECT_NEAR(s.y, 5, 1e-12);
   EXPECT_EQ(s.z, 1000 + s.x + 2 * s.y);
   EXPECT_EQ(calls, 1);
-  EXPECT_EQ(ConstraintSet(tin), (std::set<std::pair<uint32_t, uint32_t>>{
-                                    {0, 5}, {2, 5}, {1, 5}, {3, 5}}));
+  EXPECT_EQ(ConstraintSet(tin),
+            (std::set<std::pair<uint32_t, uint32_t>>{{0, 5}, {2, 5}, {1, 5}, {3, 5}}));
   ExpectValid(tin);
   // Extraction is repeatable: the crossing keeps its index.
   const Tin again = cdt.ToTin([](double, double) { return -1.0; });
@@ -176,8 +177,8 @@ TEST(CdtTest, Issue2999TouchingConstraintsAndVertexOnConstraint) {
                       {20, 0, 0},
                       {20, 20, 0},
                       {0, 20, 0},
-                      {10, 10, 0},   // 4: on the diagonal 0-2
-                      {10, 3, 0},    // 5
+                      {10, 10, 0},        // 4: on the diagonal 0-2
+                      {10, 3, 0},         // 5
                       {15.0, 15.0, 0}});  // 6: on the diagonal too
   cdt.InsertConstraint(0, 2);
   cdt.InsertConstraint(5, 4);  // touches the diagonal at an existing vertex
@@ -221,8 +222,8 @@ TEST(CdtTest, Issue6602InexactCrossingDoesNotSkipVertexOnConstraint) {
   EXPECT_EQ(tin.vertices[10].kind, VertexKind::kSteiner);
   EXPECT_NEAR(tin.vertices[10].x, 0, 1e-12);
   EXPECT_EQ(tin.vertices[10].y, -15);
-  EXPECT_EQ(ConstraintSet(tin), (std::set<std::pair<uint32_t, uint32_t>>{
-                                    {1, 10}, {2, 10}, {3, 10}, {4, 10}, {4, 5}}));
+  EXPECT_EQ(ConstraintSet(tin),
+            (std::set<std::pair<uint32_t, uint32_t>>{{1, 10}, {2, 10}, {3, 10}, {4, 10}, {4, 5}}));
   ExpectValid(tin);
 }
 

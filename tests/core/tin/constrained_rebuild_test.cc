@@ -2,8 +2,8 @@
 // edges, crossings get Steiner vertices with the caller's z, the rest stays Delaunay.
 #include "core/tin/constrained_rebuild.h"
 
-#include <gtest/gtest.h>
 #include <gtest/gtest-spi.h>
+#include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
 
 #include <algorithm>
@@ -181,10 +181,14 @@ void CheckRebuild(const Tin& tin, const std::vector<ConstraintPolyline>& lines);
 RC_GTEST_PROP(ConstrainedRebuildTest, RandomPolylinesAlwaysConstrained, ()) {
   const Tin base = GridTin();
   const auto point = rc::gen::oneOf(
-      rc::gen::map(rc::gen::pair(rc::gen::inRange(-2, 13), rc::gen::inRange(-2, 13)),
-                   [](std::pair<int, int> p) { return std::make_pair(10.0 * p.first, 10.0 * p.second); }),
-      rc::gen::map(rc::gen::pair(rc::gen::inRange(-150000, 1150000), rc::gen::inRange(-150000, 1150000)),
-                   [](std::pair<int, int> p) { return std::make_pair(p.first / 1e4 + 1e-7, p.second / 1e4); }));
+      rc::gen::map(
+          rc::gen::pair(rc::gen::inRange(-2, 13), rc::gen::inRange(-2, 13)),
+          [](std::pair<int, int> p) { return std::make_pair(10.0 * p.first, 10.0 * p.second); }),
+      rc::gen::map(
+          rc::gen::pair(rc::gen::inRange(-150000, 1150000), rc::gen::inRange(-150000, 1150000)),
+          [](std::pair<int, int> p) {
+            return std::make_pair(p.first / 1e4 + 1e-7, p.second / 1e4);
+          }));
   const int count = *rc::gen::inRange(1, 5);
   std::vector<ConstraintPolyline> lines;
   for (int i = 0; i < count; ++i) {
@@ -206,7 +210,8 @@ RC_GTEST_PROP(ConstrainedRebuildTest, RandomPolylinesAlwaysConstrained, ()) {
         ::testing::ScopedFakeTestPartResultReporter::INTERCEPT_ONLY_CURRENT_THREAD, &failures);
     CheckRebuild(tin, lines);
   }
-  for (int i = 0; i < failures.size(); ++i) RC_LOG() << failures.GetTestPartResult(i).message() << "\n";
+  for (int i = 0; i < failures.size(); ++i)
+    RC_LOG() << failures.GetTestPartResult(i).message() << "\n";
   RC_ASSERT(failures.size() == 0);
 }
 
@@ -255,8 +260,9 @@ TEST(ConstrainedRebuildTest, RejectsBadInput) {
   broken.constraints.push_back({0, 5000});
   expect_invalid({}, Level, "base constraint 1 (0, 5000): no such vertex", broken);
   // A crossing where the elevation is unknown cannot get a z.
-  expect_invalid({Line({{5, 7}, {95, 90}}, 0, false), Line({{5, 93}, {95, 4}}, 0, false)},
-                 [nan](double, double) { return nan; }, "elevation there is not finite", base);
+  expect_invalid(
+      {Line({{5, 7}, {95, 90}}, 0, false), Line({{5, 93}, {95, 4}}, 0, false)},
+      [nan](double, double) { return nan; }, "elevation there is not finite", base);
 }
 
 }  // namespace

@@ -107,9 +107,8 @@ TEST(GreedyBuilderTest, PlaneNeedsOnlyTheCorners) {
 
 TEST(GreedyBuilderTest, ConeGetsItsApex) {
   // Apex at the centre of cell (50, 40).
-  const Grid dem = MakeGrid(101, 81, [](double x, double y) {
-    return 800 - 0.8 * std::hypot(x - 505.0, y + 405.0);
-  });
+  const Grid dem = MakeGrid(
+      101, 81, [](double x, double y) { return 800 - 0.8 * std::hypot(x - 505.0, y + 405.0); });
   GreedyReport report;
   auto tin = BuildGreedyTin(dem, {.tolerance = 2}, &report);
   ASSERT_TRUE(tin.ok()) << tin.status().ToString();
@@ -265,9 +264,7 @@ int CheckRealDem(const std::string& relative, std::initializer_list<double> tole
   return hidden;
 }
 
-TEST(GreedyBuilderTest, VinschgauDem) {
-  CheckRealDem("dem/elev_vinschgau.tif", {20.0, 5.0, 1.0});
-}
+TEST(GreedyBuilderTest, VinschgauDem) { CheckRealDem("dem/elev_vinschgau.tif", {20.0, 5.0, 1.0}); }
 
 // Nodata outside Luxembourg: real holes and nodata corners.
 TEST(GreedyBuilderTest, LuxembourgDemWithNodata) {
