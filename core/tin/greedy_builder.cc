@@ -77,6 +77,13 @@ void RasteriseTriangle(const std::array<Cell, 3>& p, int64_t width, int64_t heig
   }
 }
 
+bool IsVertexOf(const std::array<Cell, 3>& p, int64_t col, int32_t row) {
+  for (const Cell& v : p) {
+    if (v.col == col && v.row == row) return true;
+  }
+  return false;
+}
+
 // Mean of the valid cells in the smallest square window around (col, row) that holds any.
 // REQUIRES: the grid has a valid cell.
 double MeanOfNearestValid(const Grid& dem, int64_t col, int64_t row) {
@@ -209,7 +216,9 @@ class GreedyBuilder {
         const float value = row[c];
         if (std::isnan(value)) continue;
         const double error = std::fabs(z - value);
-        if (error > worst) {
+        // The plane passes through the face's own vertices only up to round-off; with a tiny
+        // tolerance that noise must not pick a vertex again (checked only on a new maximum).
+        if (error > worst && !IsVertexOf(p, c, r)) {
           worst = error;
           worst_cell = Cell{static_cast<int32_t>(c), r};
           found = true;

@@ -167,6 +167,17 @@ TEST(GreedyBuilderTest, MaxPointsHonoured) {
   }
 }
 
+TEST(GreedyBuilderTest, TinyToleranceTakesEveryCell) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> noise(0, 50);
+  const Grid dem = MakeGrid(23, 17, [&](double, double) { return 1000 + noise(rng); });
+  GreedyReport report;
+  auto tin = BuildGreedyTin(dem, {.tolerance = 1e-12}, &report);
+  ASSERT_TRUE(tin.ok()) << tin.status().ToString();
+  EXPECT_EQ(tin->vertices.size(), 23u * 17u);
+  ExpectValidGreedyTin(*tin, dem, 1e-12, report);
+}
+
 TEST(GreedyBuilderTest, RejectsBadInput) {
   const Grid dem = MakeGrid(10, 10, Sines);
   for (double tolerance : {0.0, -1.0, kNaN}) {
