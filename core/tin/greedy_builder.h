@@ -28,7 +28,10 @@ struct GreedyReport {
   int64_t points = 0;
 };
 
-// InvalidArgument for a non-positive tolerance, an empty grid or one with no valid cell.
+// Returns the TIN (vertices in insertion order, the four corners first; all of kind kDem) and
+// fills `report` when given. InvalidArgument for a non-positive tolerance, an empty grid or one
+// with no valid cell, a grid narrower than 2 x 2 cells (its corners span no triangle), or a
+// max_points other than 0 below 4 (the corners alone are 4).
 Result<Tin> BuildGreedyTin(const Grid& dem, const GreedyOptions& options,
                            GreedyReport* report = nullptr);
 

@@ -1,0 +1,235 @@
+#include "core/geometry/cdt.h"
+
+#include <CGAL/Constrained_Delaunay_triangulation_2.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Projection_traits_xy_3.h>
+#include <CGAL/Spatial_sort_traits_adapter_2.h>
+#include <CGAL/Triangulation_face_base_with_info_2.h>
+#include <CGAL/Triangulation_vertex_base_with_info_2.h>
+#include <CGAL/property_map.h>
+#include <CGAL/spatial_sort.h>
+
+#include <algorithm>
+#include <cassert>
+#include <numeric>
+
+namespace tinbase {
+namespace {
+
+// A vertex CGAL created at a constraint crossing has no index until ToTin gives it one.
+constexpr uint32_t kNoIndex = UINT32_MAX;
+// Created by the current insertion call, index not yet assigned.
+constexpr uint32_t kPending = UINT32_MAX - 1;
+
+struct VertexInfo {
+  uint32_t index = kNoIndex;
+};
+struct FaceInfo {
+  uint64_t stamp = 0;
+  int32_t id = kNoNeighbour;  // position in Tin::triangles, set by ToTin
+};
+
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Gt = CGAL::Projection_traits_xy_3<K>;
+using Vb = CGAL::Triangulation_vertex_base_with_info_2<VertexInfo, Gt>;
+using Fbb = CGAL::Triangulation_face_base_with_info_2<FaceInfo, Gt>;
+using Fb = CGAL::Constrained_triangulation_face_base_2<Gt, Fbb>;
+using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
+// Exact_predicates_tag: crossing constraints are allowed and split at a constructed point.
+using Triangulation =
+    CGAL::Constrained_Delaunay_triangulation_2<Gt, Tds, CGAL::Exact_predicates_tag>;
+using Point = Triangulation::Point;
+using VertexHandle = Triangulation::Vertex_handle;
+using FaceHandle = Triangulation::Face_handle;
+
+Point ToPoint(const TinVertex& v) { return Point(v.x, v.y, v.z); }
+
+}  // namespace
+
+struct Cdt::Impl {
+  Triangulation cdt;
+  // Vertex handle by index, so constraints can be given as index pairs.
+  std::vector<VertexHandle> handles;
+
+  static FaceRef Ref(FaceHandle f) { return FaceRef{&*f}; }
+  FaceHandle Handle(FaceRef r) const {
+    return cdt.tds().faces().iterator_to(*static_cast<Triangulation::Face*>(r.opaque));
+  }
+
+  // Inserts p; marks a vertex that is new (or an index-less crossing vertex p landed on) as
+  // pending so the caller can give it an index.
+  VertexHandle Insert(const Point& p, FaceHandle hint) {
+    const size_t before = cdt.number_of_vertices();
+    VertexHandle v = cdt.insert(p, hint);
+    if (cdt.number_of_vertices() != before || v->info().index == kNoIndex) {
+      v->info().index = kPending;
+    }
+    return v;
+  }
+};
+
+Cdt::Cdt() : impl_(std::make_unique<Impl>()) {}
+Cdt::~Cdt() = default;
+Cdt::Cdt(Cdt&&) noexcept = default;
+Cdt& Cdt::operator=(Cdt&&) noexcept = default;
+
+std::vector<uint32_t> Cdt::InsertVertices(const std::vector<TinVertex>& points) {
+  std::vector<Point> pts;
+  pts.reserve(points.size());
+  for (const TinVertex& v : points) pts.push_back(ToPoint(v));
+  std::vector<size_t> order(points.size());
+  std::iota(order.begin(), order.end(), 0);
+  using SortTraits =
+      CGAL::Spatial_sort_traits_adapter_2<Gt, CGAL::Pointer_property_map<Point>::type>;
+  CGAL::spatial_sort(order.begin(), order.end(), SortTraits(CGAL::make_property_map(pts)));
+
+  std::vector<VertexHandle> by_input(points.size());
+  FaceHandle hint;
+  for (size_t i : order) {
+    VertexHandle v = impl_->Insert(pts[i], hint);
+    by_input[i] = v;
+    hint = v->face();
+  }
+  // Indices in input order, so the first of several duplicates in the batch owns the vertex.
+  std::vector<uint32_t> result(points.size());
+  for (size_t i = 0; i < points.size(); ++i) {
+    VertexHandle v = by_input[i];
+    if (v->info().index == kPending) {
+      v->info().index = static_cast<uint32_t>(vertices_.size());
+      vertices_.push_back(points[i]);
+      impl_->handles.push_back(v);
+    }
+    result[i] = v->info().index;
+  }
+  return result;
+}
+
+uint32_t Cdt::InsertVertex(const TinVertex& point, FaceRef hint, std::vector<FaceRef>* incident) {
+  const FaceHandle start = hint.opaque != nullptr ? impl_->Handle(hint) : FaceHandle();
+  VertexHandle v = impl_->Insert(ToPoint(point), start);
+  if (v->info().index == kPending) {
+    v->info().index = static_cast<uint32_t>(vertices_.size());
+    vertices_.push_back(point);
+    impl_->handles.push_back(v);
+  }
+  if (incident != nullptr) {
+    incident->clear();
+    if (impl_->cdt.dimension() == 2) {
+      Triangulation::Face_circulator fc = impl_->cdt.incident_faces(v);
+      const Triangulation::Face_circulator done = fc;
+      do {
+        if (!impl_->cdt.is_infinite(fc)) incident->push_back(Impl::Ref(fc));
+      } while (++fc != done);
+    }
+  }
+  return v->info().index;
+}
+
+// CGAL constrains a->b by walking from a, splitting at vertices on the segment and at crossing
+// constraints. A crossing point is constructed inexactly (CGAL#6602), and the walk then goes on
+// from that point, so an existing vertex further along the exact segment may be missed by a
+// hair and the constraint pass beside it. Splitting first at every vertex exactly on a->b keeps
+// each piece anchored at both ends: round-off can then only move a crossing, never the route.
+void Cdt::InsertConstraint(uint32_t a, uint32_t b) {
+  assert(a < impl_->handles.size() && b < impl_->handles.size() && a != b);
+  const VertexHandle va = impl_->handles[a];
+  const VertexHandle vb = impl_->handles[b];
+  Triangulation& cdt = impl_->cdt;
+  if (cdt.dimension() < 2) {
+    cdt.insert_constraint(va, vb);
+    return;
+  }
+  const Point& pa = va->point();
+  const Point& pb = vb->point();
+  // Along a non-vertical segment order by x, else by y: exact for collinear points.
+  const bool by_x = pa.x() != pb.x();
+  const auto key = [by_x](const Point& p) { return by_x ? p.x() : p.y(); };
+  const double lo = std::min(key(pa), key(pb)), hi = std::max(key(pa), key(pb));
+  std::vector<VertexHandle> on_segment;
+  Triangulation::Line_face_circulator face = cdt.line_walk(pa, pb, va->face());
+  for (size_t steps = 0, limit = cdt.number_of_faces(); steps < limit && !face.is_empty();
+       ++steps, ++face) {
+    if (cdt.is_infinite(face)) break;
+    bool reached_b = false;
+    for (int i = 0; i < 3; ++i) {
+      const VertexHandle v = face->vertex(i);
+      if (v == vb) reached_b = true;
+      if (v == va || v == vb) continue;
+      const double k = key(v->point());
+      if (k > lo && k < hi &&
+          cdt.geom_traits().orientation_2_object()(pa, pb, v->point()) == CGAL::COLLINEAR) {
+        on_segment.push_back(v);
+      }
+    }
+    if (reached_b) break;
+  }
+  const bool ascending = key(pa) < key(pb);
+  std::sort(on_segment.begin(), on_segment.end(), [&](VertexHandle p, VertexHandle q) {
+    return ascending ? key(p->point()) < key(q->point()) : key(p->point()) > key(q->point());
+  });
+  on_segment.erase(std::unique(on_segment.begin(), on_segment.end()), on_segment.end());
+  VertexHandle from = va;
+  for (VertexHandle v : on_segment) {
+    cdt.insert_constraint(from, v);
+    from = v;
+  }
+  cdt.insert_constraint(from, vb);
+}
+
+size_t Cdt::FaceCount() const { return impl_->cdt.number_of_faces(); }
+
+std::vector<Cdt::FaceRef> Cdt::FiniteFaces() const {
+  std::vector<FaceRef> faces;
+  faces.reserve(impl_->cdt.number_of_faces());
+  for (FaceHandle f : impl_->cdt.finite_face_handles()) faces.push_back(Impl::Ref(f));
+  return faces;
+}
+
+std::array<uint32_t, 3> Cdt::FaceVertices(FaceRef face) const {
+  const auto* f = static_cast<const Triangulation::Face*>(face.opaque);
+  return {f->vertex(0)->info().index, f->vertex(1)->info().index, f->vertex(2)->info().index};
+}
+
+uint64_t Cdt::FaceStamp(FaceRef face) const {
+  return static_cast<const Triangulation::Face*>(face.opaque)->info().stamp;
+}
+
+void Cdt::SetFaceStamp(FaceRef face, uint64_t stamp) {
+  static_cast<Triangulation::Face*>(face.opaque)->info().stamp = stamp;
+}
+
+Tin Cdt::ToTin(const ElevationFn& elevation) {
+  Triangulation& cdt = impl_->cdt;
+  for (VertexHandle v : cdt.finite_vertex_handles()) {
+    if (v->info().index != kNoIndex) continue;
+    assert(elevation);
+    const double x = v->point().x();
+    const double y = v->point().y();
+    v->info().index = static_cast<uint32_t>(vertices_.size());
+    vertices_.push_back(TinVertex{x, y, elevation(x, y), VertexKind::kSteiner});
+    impl_->handles.push_back(v);
+  }
+
+  Tin tin;
+  tin.vertices = vertices_;
+  int32_t next_id = 0;
+  for (FaceHandle f : cdt.finite_face_handles()) f->info().id = next_id++;
+  tin.triangles.reserve(static_cast<size_t>(next_id));
+  for (FaceHandle f : cdt.finite_face_handles()) {
+    TinTriangle t;
+    for (int i = 0; i < 3; ++i) {
+      t.v[i] = f->vertex(i)->info().index;
+      const FaceHandle n = f->neighbor(i);
+      t.n[i] = cdt.is_infinite(n) ? kNoNeighbour : n->info().id;
+    }
+    tin.triangles.push_back(t);
+  }
+  for (const auto& [f, i] : cdt.finite_edges()) {
+    if (!f->is_constrained(i)) continue;
+    tin.constraints.emplace_back(f->vertex(Triangulation::cw(i))->info().index,
+                                 f->vertex(Triangulation::ccw(i))->info().index);
+  }
+  return tin;
+}
+
+}  // namespace tinbase

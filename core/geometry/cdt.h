@@ -1,0 +1,96 @@
+// Cdt: the one adapter that owns CGAL's 2.5D constrained Delaunay triangulation.
+//
+// Every CGAL triangulation type of tinbase lives behind this class (STYLE.md, "Geometry"): the
+// kernel is Epick, points are 3D but the triangulation is of their xy projection
+// (Projection_traits_xy_3), and the intersection tag is Exact_predicates_tag, so constraints may
+// cross (CGAL then inserts a vertex at the crossing). Vertices carry our index (their position in
+// vertices()); faces carry a stamp that callers use for lazy invalidation of per-face work
+// (CGAL recycles face memory, so a face reference alone does not say "same triangle").
+//
+// CGAL handles never leave this file pair: callers see vertex indices, TinVertex values and the
+// opaque FaceRef, which is only meaningful to the Cdt that produced it.
+//
+// Ownership: a Cdt owns its triangulation and its copy of the vertices. Not synchronised; one
+// thread at a time.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "core/tin/tin.h"
+
+namespace tinbase {
+
+// Elevation at a plan position, for vertices CGAL constructs (constraint crossings): their z comes
+// from the DEM or a feature's level, never from CGAL's construction.
+using ElevationFn = std::function<double(double x, double y)>;
+
+// An opaque reference to a face of the Cdt that produced it. It stays a valid reference (to some
+// face) for the life of the Cdt, because CGAL keeps face memory in a compact container and
+// insertion by flips reuses faces; whether it is still the *same* triangle is what the stamp
+// tells.
+struct CdtFaceRef {
+  void* opaque = nullptr;
+};
+
+class Cdt {
+ public:
+  using FaceRef = CdtFaceRef;
+
+  Cdt();
+  ~Cdt();
+  Cdt(Cdt&&) noexcept;
+  Cdt& operator=(Cdt&&) noexcept;
+  Cdt(const Cdt&) = delete;
+  Cdt& operator=(const Cdt&) = delete;
+
+  // Inserts `points` in one spatially sorted pass (CGAL's spatial_sort, then hinted insertion:
+  // O(n log n) where one-by-one unhinted insertion is O(n^1.5)). Returns, for each input point
+  // in order, the index of its vertex: a new one, or the existing one when a vertex with the same
+  // x, y is already there (its z and kind are kept). New vertices get consecutive indices in
+  // input order.
+  std::vector<uint32_t> InsertVertices(const std::vector<TinVertex>& points);
+
+  // Inserts one vertex, locating it by walking from `hint` (a face near the point; a default
+  // FaceRef starts anywhere). Returns its index (an existing one on a duplicate x, y). When
+  // `incident` is not null it receives the finite faces around the vertex, which after a
+  // Delaunay insertion are exactly the faces that insertion created or changed.
+  uint32_t InsertVertex(const TinVertex& point, FaceRef hint = {},
+                        std::vector<FaceRef>* incident = nullptr);
+
+  // Constrains the segment between vertices a and b. Vertices lying on the segment split it;
+  // crossings with other constraints create vertices whose index and z are assigned by
+  // ToTin. REQUIRES: a, b < vertices().size() and a != b.
+  void InsertConstraint(uint32_t a, uint32_t b);
+
+  // Vertices that callers inserted, by index (constraint crossings are not among them until
+  // ToTin has run).
+  const std::vector<TinVertex>& vertices() const { return vertices_; }
+  // Number of finite faces.
+  size_t FaceCount() const;
+  std::vector<FaceRef> FiniteFaces() const;
+
+  // The indices of a finite face's vertices, counter-clockwise in plan view. REQUIRES: `face`
+  // is finite and all its vertices have indices (no un-extracted constraint crossing).
+  std::array<uint32_t, 3> FaceVertices(FaceRef face) const;
+  uint64_t FaceStamp(FaceRef face) const;
+  void SetFaceStamp(FaceRef face, uint64_t stamp);
+
+  // The triangulation in our table layout: vertices in index order (vertices() first, then the
+  // vertices CGAL created at constraint crossings, kind kSteiner, z from `elevation`), every
+  // finite face as a counter-clockwise triangle with n[i] opposite v[i] (kNoNeighbour across the
+  // convex hull), every constrained edge once in Tin::constraints, all triangles visible and
+  // untagged. Crossing vertices keep the indices given here from then on.
+  // REQUIRES: `elevation` callable when constraints crossed.
+  Tin ToTin(const ElevationFn& elevation = nullptr);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  std::vector<TinVertex> vertices_;
+};
+
+}  // namespace tinbase

@@ -1,0 +1,288 @@
+// Greedy insertion against an independent evaluator, on generated terrains and real DEMs.
+#include "core/tin/greedy_builder.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <random>
+
+#include "tests/support/read_grid.h"
+#include "tests/support/test_support.h"
+#include "tests/support/tin_checks.h"
+
+namespace tinbase {
+namespace {
+
+using testing::DataPath;
+using testing::FitToDem;
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// A width x height grid with 10 m cells whose origin is away from zero (as real data is), cell
+// values f(x, y) at the cell centres.
+Grid MakeGrid(int64_t width, int64_t height, const std::function<double(double, double)>& f) {
+  Grid grid;
+  grid.geometry = GridGeometry{500000.0, 5200000.0, 10.0, -10.0, width, height};
+  grid.cells.resize(static_cast<size_t>(width * height));
+  for (int64_t r = 0; r < height; ++r) {
+    for (int64_t c = 0; c < width; ++c) {
+      grid.cells[static_cast<size_t>(r * width + c)] = static_cast<float>(
+          f(grid.geometry.CellCenterX(c) - 500000.0, grid.geometry.CellCenterY(r) - 5200000.0));
+    }
+  }
+  return grid;
+}
+
+double Sines(double x, double y) {
+  return 300 + 120 * std::sin(x / 170.0) * std::cos(y / 230.0) + 35 * std::sin((x + 2 * y) / 61.0);
+}
+
+int HiddenTriangles(const Tin& tin) {
+  int hidden = 0;
+  for (const TinTriangle& t : tin.triangles) hidden += !t.visible;
+  return hidden;
+}
+
+// Everything a valid greedy result promises, checked independently of the builder.
+void ExpectValidGreedyTin(const Tin& tin, const Grid& dem, double tolerance,
+                          const GreedyReport& report) {
+  SCOPED_TRACE("tolerance " + std::to_string(tolerance));
+  ASSERT_GE(tin.vertices.size(), 4u);
+  testing::ExpectCounterClockwise(tin);
+  testing::ExpectNeighboursConsistent(tin);
+  testing::ExpectLocallyDelaunay(tin);
+  EXPECT_TRUE(tin.constraints.empty());
+  // Every vertex is a cell centre with the cell's value (or a nodata corner's substitute).
+  const GridGeometry& g = dem.geometry;
+  for (const TinVertex& v : tin.vertices) {
+    EXPECT_EQ(v.kind, VertexKind::kDem);
+    const int64_t c = std::llround(g.ColumnAt(v.x));
+    const int64_t r = std::llround(g.RowAt(v.y));
+    ASSERT_TRUE(c >= 0 && c < g.width && r >= 0 && r < g.height);
+    EXPECT_EQ(v.x, g.CellCenterX(c));
+    EXPECT_EQ(v.y, g.CellCenterY(r));
+    if (dem.IsValid(c, r)) {
+      EXPECT_EQ(v.z, dem.At(c, r));
+    }
+  }
+  // The triangles tile the grid's hull of cell centres: two per cell of the centre lattice.
+  const double hull_area = std::fabs(g.cell_x * (g.width - 1) * g.cell_y * (g.height - 1));
+  double area = 0;
+  for (const TinTriangle& t : tin.triangles) {
+    const TinVertex& a = tin.vertices[t.v[0]];
+    const TinVertex& b = tin.vertices[t.v[1]];
+    const TinVertex& c = tin.vertices[t.v[2]];
+    area += 0.5 * ((b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y));
+  }
+  EXPECT_NEAR(area, hull_area, 1e-9 * hull_area);
+  // A triangle is visible exactly when its centroid's cell holds data.
+  for (const TinTriangle& t : tin.triangles) {
+    double x = 0, y = 0;
+    for (uint32_t v : t.v) x += tin.vertices[v].x / 3, y += tin.vertices[v].y / 3;
+    const int64_t c = std::llround(g.ColumnAt(x));
+    const int64_t r = std::llround(g.RowAt(y));
+    EXPECT_EQ(t.visible, dem.IsValid(c, r));
+  }
+  const testing::DemFit fit = FitToDem(tin, dem);
+  EXPECT_EQ(fit.uncovered_cells, 0);
+  EXPECT_LE(fit.max_error, tolerance + 1e-6);
+  EXPECT_NEAR(report.max_error, fit.max_error, 1e-6);
+  EXPECT_LE(report.rms_error, report.max_error);
+  EXPECT_EQ(report.points, static_cast<int64_t>(tin.vertices.size()));
+}
+
+TEST(GreedyBuilderTest, PlaneNeedsOnlyTheCorners) {
+  const Grid dem = MakeGrid(120, 80, [](double x, double y) { return 100 + 0.3 * x - 0.2 * y; });
+  GreedyReport report;
+  auto tin = BuildGreedyTin(dem, {.tolerance = 0.01}, &report);
+  ASSERT_TRUE(tin.ok()) << tin.status().ToString();
+  EXPECT_EQ(tin->vertices.size(), 4u);
+  EXPECT_EQ(tin->triangles.size(), 2u);
+  ExpectValidGreedyTin(*tin, dem, 0.01, report);
+  EXPECT_LT(report.max_error, 1e-3);
+}
+
+TEST(GreedyBuilderTest, ConeGetsItsApex) {
+  // Apex at the centre of cell (50, 40).
+  const Grid dem = MakeGrid(
+      101, 81, [](double x, double y) { return 800 - 0.8 * std::hypot(x - 505.0, y + 405.0); });
+  GreedyReport report;
+  auto tin = BuildGreedyTin(dem, {.tolerance = 2}, &report);
+  ASSERT_TRUE(tin.ok()) << tin.status().ToString();
+  ExpectValidGreedyTin(*tin, dem, 2, report);
+  bool apex = false;
+  for (const TinVertex& v : tin->vertices) apex |= (v.x == 500505.0 && v.y == 5199595.0);
+  EXPECT_TRUE(apex) << "the apex is the worst sample of the corner triangulation";
+}
+
+TEST(GreedyBuilderTest, SinesWithinEachTolerance) {
+  const Grid dem = MakeGrid(300, 240, Sines);
+  int64_t previous_points = 0;
+  for (double tolerance : {20.0, 5.0, 1.0}) {
+    GreedyReport report;
+    auto tin = BuildGreedyTin(dem, {.tolerance = tolerance}, &report);
+    ASSERT_TRUE(tin.ok()) << tin.status().ToString();
+    ExpectValidGreedyTin(*tin, dem, tolerance, report);
+    EXPECT_GT(report.points, previous_points) << "a finer tolerance needs more points";
+    previous_points = report.points;
+  }
+}
+
+TEST(GreedyBuilderTest, RandomTerrainsReproducibleBySeed) {
+  const unsigned seed = std::random_device{}();
+  std::printf("RandomTerrainsReproducibleBySeed seed %u\n", seed);
+  std::mt19937 rng(seed);
+  for (int round = 0; round < 8; ++round) {
+    SCOPED_TRACE("seed " + std::to_string(seed) + " round " + std::to_string(round));
+    std::uniform_int_distribution<int> size(2, 90);
+    std::uniform_real_distribution<double> unit(0, 1);
+    const double a = 200 * unit(rng), fx = 20 + 300 * unit(rng), fy = 20 + 300 * unit(rng);
+    const double noise = 5 * unit(rng);
+    std::mt19937 cell_rng(rng());
+    const Grid dem = MakeGrid(size(rng), size(rng), [&](double x, double y) {
+      return a * std::sin(x / fx) * std::cos(y / fy) + noise * unit(cell_rng);
+    });
+    const double tolerance = 0.5 + 10 * unit(rng);
+    GreedyReport report;
+    auto tin = BuildGreedyTin(dem, {.tolerance = tolerance}, &report);
+    ASSERT_TRUE(tin.ok()) << tin.status().ToString();
+    ExpectValidGreedyTin(*tin, dem, tolerance, report);
+  }
+}
+
+TEST(GreedyBuilderTest, MaxPointsHonoured) {
+  const Grid dem = MakeGrid(200, 150, Sines);
+  for (int64_t max_points : {4, 5, 37, 200}) {
+    GreedyReport report;
+    auto tin = BuildGreedyTin(dem, {.tolerance = 0.1, .max_points = max_points}, &report);
+    ASSERT_TRUE(tin.ok()) << tin.status().ToString();
+    EXPECT_EQ(static_cast<int64_t>(tin->vertices.size()), max_points);
+    EXPECT_GT(report.max_error, 0.1) << "stopped by the budget, not the tolerance";
+    testing::ExpectCounterClockwise(*tin);
+    testing::ExpectLocallyDelaunay(*tin);
+    EXPECT_NEAR(report.max_error, FitToDem(*tin, dem).max_error, 1e-6);
+  }
+}
+
+TEST(GreedyBuilderTest, TinyToleranceTakesEveryCell) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> noise(0, 50);
+  const Grid dem = MakeGrid(23, 17, [&](double, double) { return 1000 + noise(rng); });
+  GreedyReport report;
+  auto tin = BuildGreedyTin(dem, {.tolerance = 1e-12}, &report);
+  ASSERT_TRUE(tin.ok()) << tin.status().ToString();
+  EXPECT_EQ(tin->vertices.size(), 23u * 17u);
+  ExpectValidGreedyTin(*tin, dem, 1e-12, report);
+}
+
+TEST(GreedyBuilderTest, RejectsBadInput) {
+  const Grid dem = MakeGrid(10, 10, Sines);
+  for (double tolerance : {0.0, -1.0, kNaN}) {
+    auto tin = BuildGreedyTin(dem, {.tolerance = tolerance});
+    ASSERT_FALSE(tin.ok());
+    EXPECT_EQ(tin.status().code(), StatusCode::kInvalidArgument);
+    EXPECT_NE(tin.status().message().find("tolerance"), std::string::npos)
+        << tin.status().message();
+  }
+  for (int64_t max_points : {-1, 1, 3}) {
+    auto tin = BuildGreedyTin(dem, {.tolerance = 1, .max_points = max_points});
+    ASSERT_FALSE(tin.ok());
+    EXPECT_NE(tin.status().message().find("max_points"), std::string::npos);
+  }
+
+  auto empty = BuildGreedyTin(Grid{}, {.tolerance = 1});
+  ASSERT_FALSE(empty.ok());
+  EXPECT_EQ(empty.status().code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(empty.status().message().find("empty"), std::string::npos);
+
+  auto line = BuildGreedyTin(MakeGrid(1, 50, Sines), {.tolerance = 1});
+  ASSERT_FALSE(line.ok());
+  EXPECT_NE(line.status().message().find("2 x 2"), std::string::npos);
+
+  Grid nodata = MakeGrid(20, 20, [](double, double) { return kNaN; });
+  auto all_nan = BuildGreedyTin(nodata, {.tolerance = 1});
+  ASSERT_FALSE(all_nan.ok());
+  EXPECT_EQ(all_nan.status().code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(all_nan.status().message().find("no valid cell"), std::string::npos);
+}
+
+TEST(GreedyBuilderTest, NodataHolesAndCorners) {
+  // A nodata disc in the middle and a nodata band along the top-left corner.
+  const Grid dem = MakeGrid(160, 120, [](double x, double y) {
+    if (std::hypot(x - 800.0, y + 600.0) < 250) return kNaN;
+    if (x + (-y) < 120) return kNaN;
+    return Sines(x, y);
+  });
+  ASSERT_FALSE(dem.IsValid(0, 0));
+  for (double tolerance : {5.0, 1.0}) {
+    GreedyReport report;
+    auto tin = BuildGreedyTin(dem, {.tolerance = tolerance}, &report);
+    ASSERT_TRUE(tin.ok()) << tin.status().ToString();
+    ExpectValidGreedyTin(*tin, dem, tolerance, report);
+    // The nodata corner takes the mean of the nearest valid cells: the first square window
+    // around (0, 0) with any valid cell.
+    const TinVertex& corner = tin->vertices[0];
+    ASSERT_EQ(corner.x, dem.geometry.CellCenterX(0));
+    ASSERT_EQ(corner.y, dem.geometry.CellCenterY(0));
+    double expected = kNaN;
+    for (int64_t radius = 1; std::isnan(expected); ++radius) {
+      double sum = 0;
+      int count = 0;
+      for (int64_t r = 0; r <= radius; ++r) {
+        for (int64_t c = 0; c <= radius; ++c) {
+          if (dem.IsValid(c, r)) sum += dem.At(c, r), ++count;
+        }
+      }
+      if (count > 0) expected = sum / count;
+    }
+    EXPECT_NEAR(corner.z, expected, 1e-9);
+    EXPECT_GT(HiddenTriangles(*tin), 0);
+  }
+}
+
+TEST(GreedyBuilderTest, SouthUpGrid) {
+  Grid dem = MakeGrid(90, 70, Sines);
+  dem.geometry.cell_y = 10;  // rows run northwards
+  GreedyReport report;
+  auto tin = BuildGreedyTin(dem, {.tolerance = 2}, &report);
+  ASSERT_TRUE(tin.ok()) << tin.status().ToString();
+  ExpectValidGreedyTin(*tin, dem, 2, report);
+}
+
+// Returns the number of hidden triangles of the last build.
+int CheckRealDem(const std::string& relative, std::initializer_list<double> tolerances) {
+  auto dem = testing::ReadGridWithGdal(DataPath(relative));
+  EXPECT_TRUE(dem.ok()) << dem.status().ToString();
+  if (!dem.ok()) return -1;
+  int hidden = -1;
+  for (double tolerance : tolerances) {
+    GreedyReport report;
+    const auto start = std::chrono::steady_clock::now();
+    auto tin = BuildGreedyTin(*dem, {.tolerance = tolerance}, &report);
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    EXPECT_TRUE(tin.ok()) << tin.status().ToString();
+    if (!tin.ok()) return -1;
+    std::printf("%s at %.0f m: %lld points, %zu triangles, max %.3f m, rms %.3f m, %.2f s\n",
+                relative.c_str(), tolerance, static_cast<long long>(report.points),
+                tin->triangles.size(), report.max_error, report.rms_error, seconds);
+    ExpectValidGreedyTin(*tin, *dem, tolerance, report);
+    hidden = HiddenTriangles(*tin);
+  }
+  return hidden;
+}
+
+TEST(GreedyBuilderTest, VinschgauDem) { CheckRealDem("dem/elev_vinschgau.tif", {20.0, 5.0, 1.0}); }
+
+// Nodata outside Luxembourg: real holes and nodata corners.
+TEST(GreedyBuilderTest, LuxembourgDemWithNodata) {
+  EXPECT_GT(CheckRealDem("dem/elev.tif", {20.0, 5.0, 1.0}), 0);
+}
+
+TEST(GreedyBuilderTest, SrtmN43E007) { CheckRealDem("dem/N43E007.hgt", {20.0, 5.0, 1.0}); }
+
+}  // namespace
+}  // namespace tinbase
