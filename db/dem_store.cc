@@ -1,7 +1,5 @@
 #include "db/dem_store.h"
 
-#include <nlohmann/json.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -9,6 +7,7 @@
 #include <limits>
 #include <list>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <set>
 #include <span>
 #include <tuple>
@@ -161,8 +160,8 @@ Result<DemStore::Impl::Block> DemStore::Impl::LoadBlock(const DemInfo& dem, int 
   return Block(std::make_shared<const std::vector<float>>(std::move(cells).value()));
 }
 
-Result<DemStore::Impl::Block> DemStore::Impl::CachedBlock(const DemInfo& dem, int level,
-                                                          int64_t bx, int64_t by) {
+Result<DemStore::Impl::Block> DemStore::Impl::CachedBlock(const DemInfo& dem, int level, int64_t bx,
+                                                          int64_t by) {
   const Key key{dem.id, level, bx, by};
   if (auto it = index.find(key); it != index.end()) {
     lru.splice(lru.begin(), lru, it->second);
@@ -217,8 +216,8 @@ Status DemStore::Impl::WriteBlock(const DemInfo& dem, int64_t bx, int64_t by,
   return Status::Ok();
 }
 
-Result<DemImportReport> DemStore::Impl::ImportInTransaction(
-    const std::vector<std::string>& files, const DemImportOptions& options) {
+Result<DemImportReport> DemStore::Impl::ImportInTransaction(const std::vector<std::string>& files,
+                                                            const DemImportOptions& options) {
   // Every file is checked before anything is written, so the common failures cost nothing.
   std::vector<GdalRaster> rasters;
   for (const std::string& file : files) {
@@ -248,9 +247,9 @@ Result<DemImportReport> DemStore::Impl::ImportInTransaction(
     const GridGeometry& g = raster.geometry();
     if (!grid) grid = g;
     if (!SameCellSize(g.cell_x, grid->cell_x) || !SameCellSize(g.cell_y, grid->cell_y))
-      return Status::InvalidArgument(
-          raster.path() + ": cell size " + Point(g.cell_x, g.cell_y) + " differs from DEM " +
-          Quoted(name) + "'s " + Point(grid->cell_x, grid->cell_y));
+      return Status::InvalidArgument(raster.path() + ": cell size " + Point(g.cell_x, g.cell_y) +
+                                     " differs from DEM " + Quoted(name) + "'s " +
+                                     Point(grid->cell_x, grid->cell_y));
     const auto col0 = WholeCells(g.origin_x - grid->origin_x, grid->cell_x);
     const auto row0 = WholeCells(g.origin_y - grid->origin_y, grid->cell_y);
     if (!col0 || !row0)
@@ -294,7 +293,8 @@ Result<DemImportReport> DemStore::Impl::ImportInTransaction(
 
   nlohmann::json sources = nlohmann::json::array();
   if (existing) {
-    TB_ASSIGN_OR_RETURN(Statement * get, store.db().Cached("SELECT sources FROM dems WHERE id = ?"));
+    TB_ASSIGN_OR_RETURN(Statement * get,
+                        store.db().Cached("SELECT sources FROM dems WHERE id = ?"));
     get->Bind(1, existing->id);
     TB_ASSIGN_OR_RETURN(bool row, get->Step());
     if (row) sources = nlohmann::json::parse(get->ColumnText(0), nullptr, false);
@@ -313,15 +313,15 @@ Result<DemImportReport> DemStore::Impl::ImportInTransaction(
 
   Statement* upsert = nullptr;
   if (existing) {
-    TB_ASSIGN_OR_RETURN(upsert, store.db().Cached(
-                                    "UPDATE dems SET origin_x = ?, origin_y = ?, width = ?, "
-                                    "height = ?, sources = ? WHERE id = ?"));
+    TB_ASSIGN_OR_RETURN(upsert,
+                        store.db().Cached("UPDATE dems SET origin_x = ?, origin_y = ?, width = ?, "
+                                          "height = ?, sources = ? WHERE id = ?"));
     upsert->Bind(6, existing->id);
   } else {
-    TB_ASSIGN_OR_RETURN(upsert, store.db().Cached(
-                                    "INSERT INTO dems(origin_x, origin_y, width, height, sources, "
-                                    "name, crs_wkt, cell_x, cell_y, block_size, nodata, levels) "
-                                    "VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, 1)"));
+    TB_ASSIGN_OR_RETURN(
+        upsert, store.db().Cached("INSERT INTO dems(origin_x, origin_y, width, height, sources, "
+                                  "name, crs_wkt, cell_x, cell_y, block_size, nodata, levels) "
+                                  "VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, 1)"));
     upsert->Bind(6, dem.name).Bind(7, dem.crs_wkt).Bind(8, dem.geometry.cell_x);
     upsert->Bind(9, dem.geometry.cell_y).Bind(10, static_cast<int64_t>(dem.block_size));
     if (dem.nodata) {
@@ -391,8 +391,8 @@ Result<DemImportReport> DemStore::Import(const std::vector<std::string>& files,
 }
 
 Result<std::vector<DemInfo>> DemStore::List() {
-  TB_ASSIGN_OR_RETURN(Statement * stmt, impl_->store.db().Cached(std::string(kDemColumns) +
-                                                                 "ORDER BY id"));
+  TB_ASSIGN_OR_RETURN(Statement * stmt,
+                      impl_->store.db().Cached(std::string(kDemColumns) + "ORDER BY id"));
   std::vector<DemInfo> out;
   for (;;) {
     auto row = stmt->Step();
@@ -453,9 +453,8 @@ Result<Grid> DemStore::ReadGrid(const DemInfo& dem) {
   grid.crs_wkt = dem.crs_wkt;
   grid.source_nodata = dem.nodata;
   grid.cells.assign(static_cast<size_t>(dem.geometry.CellCount()), kNaN);
-  TB_ASSIGN_OR_RETURN(Statement * stmt,
-                      impl_->store.db().Cached("SELECT bx, by FROM dem_blocks "
-                                               "WHERE dem = ? AND level = 0"));
+  TB_ASSIGN_OR_RETURN(Statement * stmt, impl_->store.db().Cached("SELECT bx, by FROM dem_blocks "
+                                                                 "WHERE dem = ? AND level = 0"));
   stmt->Bind(1, dem.id);
   std::vector<std::pair<int64_t, int64_t>> blocks;
   for (;;) {

@@ -37,9 +37,9 @@ uint32_t Crc32(const uint8_t* data, size_t size) {
 std::vector<uint8_t> EncodeBlock(std::span<const float> cells, BlockCodec /*codec*/) {
   const size_t nbytes = cells.size_bytes();
   std::vector<uint8_t> out(nbytes + BLOSC_MAX_OVERHEAD + kCrcBytes);
-  const int written = blosc_compress_ctx(kBloscLevel, BLOSC_SHUFFLE, sizeof(float), nbytes,
-                                         cells.data(), out.data(), nbytes + BLOSC_MAX_OVERHEAD,
-                                         BLOSC_ZSTD_COMPNAME, 0, 1);
+  const int written =
+      blosc_compress_ctx(kBloscLevel, BLOSC_SHUFFLE, sizeof(float), nbytes, cells.data(),
+                         out.data(), nbytes + BLOSC_MAX_OVERHEAD, BLOSC_ZSTD_COMPNAME, 0, 1);
   // With a destination of nbytes + BLOSC_MAX_OVERHEAD Blosc always succeeds (blosc.h).
   out.resize(static_cast<size_t>(written));
   const uint32_t crc = Crc32(reinterpret_cast<const uint8_t*>(cells.data()), nbytes);
@@ -63,9 +63,11 @@ Result<std::vector<float>> DecodeBlock(int codec, std::span<const uint8_t> data,
   std::vector<float> cells(count);
   const int got = blosc_decompress_ctx(data.data(), cells.data(), expected, 1);
   if (got < 0 || static_cast<size_t>(got) != expected)
-    return Status::Corruption("block does not decompress (Blosc error " + std::to_string(got) + ")");
+    return Status::Corruption("block does not decompress (Blosc error " + std::to_string(got) +
+                              ")");
   uint32_t stored = 0;
-  for (size_t i = 0; i < kCrcBytes; ++i) stored |= static_cast<uint32_t>(data[frame + i]) << (8 * i);
+  for (size_t i = 0; i < kCrcBytes; ++i)
+    stored |= static_cast<uint32_t>(data[frame + i]) << (8 * i);
   if (stored != Crc32(reinterpret_cast<const uint8_t*>(cells.data()), expected))
     return Status::Corruption("block fails its checksum");
   return cells;

@@ -21,7 +21,8 @@ namespace tinbase {
 enum class BlockCodec : int { kBloscZstd = 1 };
 
 // The bytes of `cells` under `codec`. Never fails for a valid codec.
-std::vector<uint8_t> EncodeBlock(std::span<const float> cells, BlockCodec codec = BlockCodec::kBloscZstd);
+std::vector<uint8_t> EncodeBlock(std::span<const float> cells,
+                                 BlockCodec codec = BlockCodec::kBloscZstd);
 
 // Decodes `data` (stored with codec id `codec`) into exactly `count` cells. Corruption when the
 // bytes are not a valid frame, hold another number of cells, or fail the checksum; InvalidArgument

@@ -53,7 +53,8 @@ Result<GdalRaster> GdalRaster::Open(const std::string& path) {
   QuietGdal quiet;
   VSIStatBufL stat;
   if (VSIStatL(path.c_str(), &stat) != 0) return Status::NotFound(path + ": no such file");
-  if (VSI_ISDIR(stat.st_mode)) return Status::InvalidArgument(path + ": is a directory, not a raster");
+  if (VSI_ISDIR(stat.st_mode))
+    return Status::InvalidArgument(path + ": is a directory, not a raster");
   GDALDataset* raw = GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY);
   if (raw == nullptr)
     return Status::InvalidArgument(path + ": not a raster GDAL can read" + QuietGdal::Detail());
@@ -64,7 +65,8 @@ Result<GdalRaster> GdalRaster::FromDataset(std::shared_ptr<GDALDataset> dataset,
                                            const std::string& path) {
   if (dataset->GetRasterCount() < 1) return Status::InvalidArgument(path + ": raster has no band");
   const OGRSpatialReference* srs = dataset->GetSpatialRef();
-  if (srs == nullptr || srs->IsEmpty()) return Status::InvalidArgument(path + ": raster has no CRS");
+  if (srs == nullptr || srs->IsEmpty())
+    return Status::InvalidArgument(path + ": raster has no CRS");
   char* wkt = nullptr;
   const char* wkt_options[] = {"FORMAT=WKT2_2018", nullptr};
   srs->exportToWkt(&wkt, wkt_options);
@@ -77,15 +79,16 @@ Result<GdalRaster> GdalRaster::FromDataset(std::shared_ptr<GDALDataset> dataset,
     return Status::InvalidArgument(path + ": raster has no geotransform");
   if (gt[2] != 0 || gt[4] != 0)
     return Status::InvalidArgument(path + ": rotated geotransform (row/column terms " + Num(gt[2]) +
-                                   ", " + Num(gt[4]) + ") is not supported; warp it north-up first");
+                                   ", " + Num(gt[4]) +
+                                   ") is not supported; warp it north-up first");
   if (!(gt[1] > 0) || !(gt[5] < 0))
     return Status::InvalidArgument(path + ": geotransform is not north-up (cell " + Num(gt[1]) +
                                    " x " + Num(gt[5]) + "); warp it north-up first");
 
   GdalRaster raster;
   raster.path_ = path;
-  raster.geometry_ = GridGeometry{gt[0], gt[3], gt[1], gt[5], dataset->GetRasterXSize(),
-                                  dataset->GetRasterYSize()};
+  raster.geometry_ = GridGeometry{
+      gt[0], gt[3], gt[1], gt[5], dataset->GetRasterXSize(), dataset->GetRasterYSize()};
   raster.crs_ = std::move(crs).value();
   int has_nodata = 0;
   const double nodata = dataset->GetRasterBand(1)->GetNoDataValue(&has_nodata);
@@ -108,8 +111,7 @@ Result<std::vector<float>> GdalRaster::ReadWindow(int64_t col, int64_t row, int6
       GF_Read, static_cast<int>(c0), static_cast<int>(r0), static_cast<int>(c1 - c0),
       static_cast<int>(r1 - r0), first, static_cast<int>(c1 - c0), static_cast<int>(r1 - r0),
       GDT_Float32, sizeof(float), static_cast<GSpacing>(width * sizeof(float)), nullptr);
-  if (err != CE_None)
-    return Status::IOError(path_ + ": cannot read cells" + QuietGdal::Detail());
+  if (err != CE_None) return Status::IOError(path_ + ": cannot read cells" + QuietGdal::Detail());
   if (nodata_ && !std::isnan(*nodata_)) {
     // Compare as float: that is the type the cells were converted to.
     const float nodata = static_cast<float>(*nodata_);
@@ -153,9 +155,9 @@ Result<GdalRaster> GdalRaster::WarpTo(const Crs& target, const GridGeometry* ali
     double extent[4];
     int pixels = 0;
     int lines = 0;
-    const CPLErr err = GDALSuggestedWarpOutput2(GDALDataset::ToHandle(dataset_.get()),
-                                                GDALGenImgProjTransform, transformer, gt, &pixels,
-                                                &lines, extent, 0);
+    const CPLErr err =
+        GDALSuggestedWarpOutput2(GDALDataset::ToHandle(dataset_.get()), GDALGenImgProjTransform,
+                                 transformer, gt, &pixels, &lines, extent, 0);
     GDALDestroyGenImgProjTransformer(transformer);
     if (err != CE_None)
       return Status::InvalidArgument(path_ + ": cannot transform onto " + target.Label() +

@@ -11,6 +11,7 @@
 #include <fstream>
 #include <limits>
 #include <random>
+#include <set>
 
 #include "core/raster/gdal_raster.h"
 #include "db/store.h"
@@ -89,6 +90,8 @@ double GdalBilinear(GDALDataset* ds, double x, double y) {
   return value;
 }
 
+int64_t FloorDivForTest(int64_t a, int64_t b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
+
 // Number of cells that differ (NaN equals only NaN); the first few are reported.
 int64_t CountDifferences(const Grid& stored, const Grid& source) {
   EXPECT_EQ(stored.geometry.width, source.geometry.width);
@@ -155,7 +158,7 @@ int CompareSamples(DemStore& dems, const DemInfo& dem, GDALDataset* source_datas
 
 // Blocks that hold at least one valid cell, and their zmin/zmax, computed from the source grid.
 std::map<std::pair<int64_t, int64_t>, std::pair<float, float>> ExpectedBlocks(const Grid& source,
-                                                                               int b) {
+                                                                              int b) {
   std::map<std::pair<int64_t, int64_t>, std::pair<float, float>> blocks;
   for (int64_t r = 0; r < source.geometry.height; ++r)
     for (int64_t c = 0; c < source.geometry.width; ++c) {
@@ -172,8 +175,12 @@ struct RealFile {
   std::string file;
   std::string store_crs;  // "" = the store adopts the file's CRS
   int block_size;
-  int expected_epsg;      // the store's CRS afterwards
+  int expected_epsg;  // the store's CRS afterwards
 };
+
+void PrintTo(const RealFile& p, std::ostream* os) {
+  *os << p.file << " (store CRS '" << p.store_crs << "', block " << p.block_size << ")";
+}
 
 class ImportRealFile : public ::testing::TestWithParam<RealFile> {};
 
@@ -230,18 +237,18 @@ TEST_P(ImportRealFile, StoresTheSourceCellByCellAndSamplesLikeGdal) {
   EXPECT_EQ(CompareSamples(dems, *found, raster.dataset(), *source, 20240611, 300), 300);
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    RealFiles, ImportRealFile,
-    ::testing::Values(RealFile{"dem/elev_vinschgau.tif", "", 64, 32632},
-                      RealFile{"geology/hamersley/dtm_rp.tif", "", 64, 28350},
-                      RealFile{"dem/elev.tif", "EPSG:4326", 16, 4326},
-                      RealFile{"dem/N43E007.hgt", "EPSG:4326", 256, 4326}),
-    [](const auto& info) {
-      std::string name = std::filesystem::path(info.param.file).stem().string();
-      for (char& c : name)
-        if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-      return name;
-    });
+INSTANTIATE_TEST_SUITE_P(RealFiles, ImportRealFile,
+                         ::testing::Values(RealFile{"dem/elev_vinschgau.tif", "", 64, 32632},
+                                           RealFile{"geology/hamersley/dtm_rp.tif", "", 64, 28350},
+                                           RealFile{"dem/elev.tif", "EPSG:4326", 16, 4326},
+                                           RealFile{"dem/N43E007.hgt", "EPSG:4326", 256, 4326}),
+                         [](const auto& info) {
+                           std::string name =
+                               std::filesystem::path(info.param.file).stem().string();
+                           for (char& c : name)
+                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+                           return name;
+                         });
 
 TEST(DemStore, GeographicSourceIntoStoreWithoutCrsIsWarpedToItsUtmZone) {
   TempDir dir;
@@ -260,7 +267,7 @@ TEST(DemStore, GeographicSourceIntoStoreWithoutCrsIsWarpedToItsUtmZone) {
   ASSERT_TRUE(warped.ok()) << warped.status().ToString();
   const GridGeometry& g = warped->geometry();
   EXPECT_EQ(g.cell_x, -g.cell_y);  // square cells
-  EXPECT_NEAR(g.cell_x, 75, 10);    // 3 arc-seconds is about 92 m N-S, 67 m E-W at 43.5 N
+  EXPECT_NEAR(g.cell_x, 75, 10);   // 3 arc-seconds is about 92 m N-S, 67 m E-W at 43.5 N
 
   auto dem = dems.Find("N43E007");
   ASSERT_TRUE(dem.ok());
@@ -454,6 +461,184 @@ TEST(DemStore, FailureAfterWritingRollsEverythingBack) {
   EXPECT_EQ(TableChecksums(store->path()), before);
   EXPECT_FALSE(store->GetCrs()->has_value());
   EXPECT_EQ(dems.Find("v").status().code(), StatusCode::kNotFound);
+}
+
+// ---- Mosaics: several sheets of one grid in one DEM.
+
+// Cuts `source` with gdal_translate -srcwin (col, row, width, height) into `path`.
+void CutSheet(const std::string& source, const std::string& path, int col, int row, int width,
+              int height) {
+  EnsureGdalRegistered();
+  const std::vector<std::string> args = {"-of",
+                                         "GTiff",
+                                         "-srcwin",
+                                         std::to_string(col),
+                                         std::to_string(row),
+                                         std::to_string(width),
+                                         std::to_string(height)};
+  std::vector<char*> argv;
+  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  GDALDatasetH in = GDALOpen(source.c_str(), GA_ReadOnly);
+  ASSERT_NE(in, nullptr);
+  GDALTranslateOptions* options = GDALTranslateOptionsNew(argv.data(), nullptr);
+  GDALDatasetH out = GDALTranslate(path.c_str(), in, options, nullptr);
+  GDALTranslateOptionsFree(options);
+  ASSERT_NE(out, nullptr);
+  GDALClose(out);
+  GDALClose(in);
+}
+
+struct SheetCut {
+  const char* name;
+  int col, row, width, height;
+};
+// elev_vinschgau is 252 x 194: four sheets overlapping by 20 columns and 10 rows.
+constexpr SheetCut kVinschgauSheets[] = {{"nw", 0, 0, 140, 110},
+                                         {"ne", 120, 0, 132, 110},
+                                         {"sw", 0, 100, 140, 94},
+                                         {"se", 120, 100, 132, 94}};
+
+class Mosaic : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    for (const SheetCut& s : kVinschgauSheets) {
+      paths_[s.name] = dir_.Path(std::string(s.name) + ".tif");
+      CutSheet(DataPath("dem/elev_vinschgau.tif"), paths_[s.name], s.col, s.row, s.width, s.height);
+    }
+    original_ = *OpenRaster(DataPath("dem/elev_vinschgau.tif")).Read();
+  }
+
+  TempDir dir_;
+  std::map<std::string, std::string> paths_;
+  Grid original_;
+};
+
+TEST_F(Mosaic, FourSheetsInOneImportRebuildTheOriginal) {
+  auto store = MakeStore(dir_, "");
+  DemStore dems(*store);
+  auto report = dems.Import({paths_["nw"], paths_["ne"], paths_["sw"], paths_["se"]},
+                            Options("vinschgau", 64));
+  ASSERT_TRUE(report.ok()) << report.status().ToString();
+  auto dem = dems.Find("vinschgau");
+  ASSERT_TRUE(dem.ok());
+  auto stored = dems.ReadGrid(*dem);
+  ASSERT_TRUE(stored.ok()) << stored.status().ToString();
+  EXPECT_EQ(CountDifferences(*stored, original_), 0);
+  EXPECT_EQ(report->blocks_written, static_cast<int64_t>(ExpectedBlocks(original_, 64).size()));
+}
+
+// Importing the sheets one by one from the south-east grows the DEM west and north; blocks stay
+// anchored at the first sheet's origin, so each import writes only the blocks its sheet touches.
+TEST_F(Mosaic, SheetsAddedOneByOneGrowTheDemAndWriteOnlyTouchedBlocks) {
+  auto store = MakeStore(dir_, "");
+  DemStore dems(*store);
+  constexpr int kBlock = 32;
+  const SheetCut& first = kVinschgauSheets[3];  // se
+  for (int i : {3, 1, 2, 0}) {
+    const SheetCut& s = kVinschgauSheets[i];
+    SCOPED_TRACE(s.name);
+    auto report = dems.Import({paths_[s.name]}, Options("grown", kBlock));
+    ASSERT_TRUE(report.ok()) << report.status().ToString();
+    // Blocks are counted from the first sheet's corner in the original's columns and rows.
+    std::set<std::pair<int64_t, int64_t>> touched;
+    for (int r = s.row; r < s.row + s.height; ++r)
+      for (int c = s.col; c < s.col + s.width; ++c)
+        if (original_.IsValid(c, r))
+          touched.emplace(FloorDivForTest(c - first.col, kBlock),
+                          FloorDivForTest(r - first.row, kBlock));
+    EXPECT_EQ(report->blocks_written, static_cast<int64_t>(touched.size()));
+    EXPECT_EQ(report->dem.block_col0 + report->dem.geometry.origin_x / 250,
+              first.col + original_.geometry.origin_x / 250);
+  }
+  auto dem = dems.Find("grown");
+  ASSERT_TRUE(dem.ok());
+  auto stored = dems.ReadGrid(*dem);
+  ASSERT_TRUE(stored.ok()) << stored.status().ToString();
+  EXPECT_EQ(CountDifferences(*stored, original_), 0);
+  EXPECT_EQ(dem->block_col0, first.col);
+  EXPECT_EQ(dem->block_row0, first.row);
+  auto sources = store->db().Prepare("SELECT json_array_length(sources) FROM dems");
+  ASSERT_TRUE(sources.ok() && *(*sources)->Step());
+  EXPECT_EQ((*sources)->ColumnInt(0), 4);
+  EXPECT_EQ(CompareSamples(dems, *dem, OpenRaster(DataPath("dem/elev_vinschgau.tif")).dataset(),
+                           original_, 99, 200),
+            200);
+}
+
+// Writes `grid` (in `crs`) as a float32 GeoTIFF with NaN nodata.
+void WriteGrid(const std::string& path, const Grid& grid, const std::string& crs_wkt) {
+  GDALDriver* gtiff = GetGDALDriverManager()->GetDriverByName("GTiff");
+  const auto& g = grid.geometry;
+  GDALDataset* ds = gtiff->Create(path.c_str(), static_cast<int>(g.width),
+                                  static_cast<int>(g.height), 1, GDT_Float32, nullptr);
+  ASSERT_NE(ds, nullptr);
+  double gt[6] = {g.origin_x, g.cell_x, 0, g.origin_y, 0, g.cell_y};
+  ds->SetGeoTransform(gt);
+  OGRSpatialReference srs;
+  srs.importFromWkt(crs_wkt.c_str());
+  ds->SetSpatialRef(&srs);
+  ds->GetRasterBand(1)->SetNoDataValue(std::nan(""));
+  ASSERT_EQ(ds->GetRasterBand(1)->RasterIO(
+                GF_Write, 0, 0, static_cast<int>(g.width), static_cast<int>(g.height),
+                const_cast<float*>(grid.cells.data()), static_cast<int>(g.width),
+                static_cast<int>(g.height), GDT_Float32, 0, 0, nullptr),
+            CE_None);
+  GDALClose(ds);
+}
+
+TEST_F(Mosaic, LaterSheetsWinUnlessKeepFirst) {
+  // The north-east sheet raised by 1000 m: in the overlap its cells tell which sheet won.
+  Grid raised = *OpenRaster(paths_["ne"]).Read();
+  for (float& v : raised.cells) v += 1000;
+  const std::string raised_path = dir_.Path("ne_raised.tif");
+  WriteGrid(raised_path, raised, raised.crs_wkt);
+  const SheetCut& nw = kVinschgauSheets[0];
+  const SheetCut& ne = kVinschgauSheets[1];
+  for (bool keep_first : {false, true}) {
+    SCOPED_TRACE(keep_first ? "keep_first" : "later wins");
+    TempDir dir;
+    auto store = MakeStore(dir, "");
+    DemStore dems(*store);
+    DemImportOptions options = Options("m", 64);
+    options.keep_first = keep_first;
+    auto report = dems.Import({paths_["nw"], raised_path}, options);
+    ASSERT_TRUE(report.ok()) << report.status().ToString();
+    auto grid = dems.ReadGrid(report->dem);
+    ASSERT_TRUE(grid.ok());
+    int64_t checked = 0;
+    for (int r = 0; r < nw.height; ++r)
+      for (int c = 0; c < ne.col + ne.width; ++c) {
+        if (!original_.IsValid(c, r)) continue;
+        const bool in_nw = c < nw.col + nw.width;
+        const bool in_ne = c >= ne.col;
+        const float expected = original_.At(c, r) + ((in_ne && (!in_nw || !keep_first)) ? 1000 : 0);
+        ASSERT_EQ(grid->At(c, r), expected) << c << ", " << r;
+        ++checked;
+      }
+    EXPECT_GT(checked, 20000);
+  }
+}
+
+TEST_F(Mosaic, SheetWarpedForAnExistingDemLandsOnItsGrid) {
+  auto store = MakeStore(dir_, "EPSG:4326");
+  DemStore dems(*store);
+  auto first = dems.Import({paths_["nw"]}, Options("geo", 64));
+  ASSERT_TRUE(first.ok()) << first.status().ToString();
+  auto second = dems.Import({paths_["se"]}, Options("geo", 64));
+  ASSERT_TRUE(second.ok()) << second.status().ToString();
+  EXPECT_TRUE(second->warped);
+  const GridGeometry& a = first->dem.geometry;
+  const GridGeometry& b = second->dem.geometry;
+  EXPECT_EQ(a.cell_x, b.cell_x);
+  EXPECT_GT(b.width, a.width);
+  EXPECT_GT(b.height, a.height);
+  EXPECT_NEAR(std::remainder((b.origin_x - a.origin_x) / a.cell_x, 1.0), 0, 1e-6);
+  // The south-east corner of the Vinschgau lies in the second sheet only; it has data.
+  const double lon = b.MaxX() - 20 * b.cell_x;
+  const double lat = b.MinY() - 20 * b.cell_y;
+  auto z = dems.Sample(second->dem, lon, lat);
+  EXPECT_TRUE(z.ok()) << z.status().ToString();
 }
 
 }  // namespace

@@ -55,13 +55,14 @@ TEST(BlockCodec, AllNodataBlockIsTiny) {
 
 TEST(BlockCodec, RoundTripOfArbitraryBlocks) {
   // RapidCheck prints the seed of a failing case; rerun with RC_PARAMS="seed=..." to reproduce.
-  const bool ok = rc::check("decode(encode(cells)) == cells", [](const std::vector<uint32_t>& bits) {
-    std::vector<float> cells(bits.size());
-    std::memcpy(cells.data(), bits.data(), bits.size() * sizeof(float));
-    auto decoded = DecodeBlock(1, EncodeBlock(cells), cells.size());
-    RC_ASSERT(decoded.ok());
-    RC_ASSERT(Bits(*decoded) == bits);
-  });
+  const bool ok =
+      rc::check("decode(encode(cells)) == cells", [](const std::vector<uint32_t>& bits) {
+        std::vector<float> cells(bits.size());
+        std::memcpy(cells.data(), bits.data(), bits.size() * sizeof(float));
+        auto decoded = DecodeBlock(1, EncodeBlock(cells), cells.size());
+        RC_ASSERT(decoded.ok());
+        RC_ASSERT(Bits(*decoded) == bits);
+      });
   EXPECT_TRUE(ok);
 }
 
