@@ -15,6 +15,7 @@
 #include "core/raster/bilinear.h"
 #include "core/raster/block_codec.h"
 #include "core/raster/gdal_raster.h"
+#include "core/raster/grid.h"
 
 namespace tinbase {
 
@@ -57,6 +58,78 @@ struct Sheet {
   int64_t row0 = 0;
 };
 
+// Levels until one block holds the whole level: each level halves the one below.
+int LevelCount(const DemInfo& dem) {
+  constexpr int kMaxLevels = 31;
+  for (int level = 0; level + 1 < kMaxLevels; ++level) {
+    const DemLevel lv = LevelOf(dem, level);
+    const int64_t b = dem.block_size;
+    const bool one_column =
+        FloorDiv(-lv.block_col0, b) == FloorDiv(lv.geometry.width - 1 - lv.block_col0, b);
+    const bool one_row =
+        FloorDiv(-lv.block_row0, b) == FloorDiv(lv.geometry.height - 1 - lv.block_row0, b);
+    if (one_column && one_row) return level + 1;
+  }
+  return kMaxLevels;
+}
+
+// The cells [col_lo, col_hi] x [row_lo, row_hi] of a level grid.
+struct CellRange {
+  int64_t col_lo, col_hi, row_lo, row_hi;
+};
+
+// The cells of `g` that intersect `box`; InvalidArgument naming the DEM when there are none.
+Result<CellRange> CellsIn(const GridGeometry& g, const DemBox& box, const std::string& dem) {
+  const std::string where =
+      "box " + Point(box.min_x, box.min_y) + " - " + Point(box.max_x, box.max_y);
+  if (!std::isfinite(box.min_x) || !std::isfinite(box.min_y) || !std::isfinite(box.max_x) ||
+      !std::isfinite(box.max_y) || box.min_x > box.max_x || box.min_y > box.max_y)
+    return Status::InvalidArgument(where + " is not a box");
+  if (box.max_x < g.MinX() || box.min_x > g.MaxX() || box.max_y < g.MinY() || box.min_y > g.MaxY())
+    return Status::InvalidArgument(where + " does not overlap DEM " + Quoted(dem));
+  const auto lo = [](double v) { return static_cast<int64_t>(std::floor(v)); };
+  // A box edge on a cell edge does not take in the cell beyond it; a zero-width box takes one.
+  const auto hi = [](double v, int64_t low) {
+    return std::max(low, static_cast<int64_t>(std::ceil(v)) - 1);
+  };
+  CellRange r;
+  r.col_lo = lo((box.min_x - g.origin_x) / g.cell_x);
+  r.col_hi = hi((box.max_x - g.origin_x) / g.cell_x, r.col_lo);
+  r.row_lo = lo((box.max_y - g.origin_y) / g.cell_y);
+  r.row_hi = hi((box.min_y - g.origin_y) / g.cell_y, r.row_lo);
+  r.col_lo = std::clamp<int64_t>(r.col_lo, 0, g.width - 1);
+  r.col_hi = std::clamp<int64_t>(r.col_hi, 0, g.width - 1);
+  r.row_lo = std::clamp<int64_t>(r.row_lo, 0, g.height - 1);
+  r.row_hi = std::clamp<int64_t>(r.row_hi, 0, g.height - 1);
+  return r;
+}
+
+// The parent cells of four child blocks (nullptr: not stored): each the mean of the valid cells of
+// the 2 x 2 below it. children[dy * 2 + dx] is child (2 bx + dx, 2 by + dy).
+std::vector<float> Downsample(const std::vector<float>* const children[4], int64_t b) {
+  std::vector<float> parent(static_cast<size_t>(b * b), kNaN);
+  const int64_t half = b / 2;
+  for (int64_t r = 0; r < b; ++r) {
+    for (int64_t c = 0; c < b; ++c) {
+      const std::vector<float>* child = children[(r / half) * 2 + c / half];
+      if (child == nullptr) continue;
+      const int64_t cr = (r % half) * 2;
+      const int64_t cc = (c % half) * 2;
+      double sum = 0;
+      int valid = 0;
+      for (int64_t dr = 0; dr < 2; ++dr)
+        for (int64_t dc = 0; dc < 2; ++dc) {
+          const float v = (*child)[static_cast<size_t>((cr + dr) * b + cc + dc)];
+          if (std::isnan(v)) continue;
+          sum += v;
+          ++valid;
+        }
+      if (valid > 0) parent[static_cast<size_t>(r * b + c)] = static_cast<float>(sum / valid);
+    }
+  }
+  return parent;
+}
+
 constexpr const char* kDemColumns =
     "SELECT id, name, crs_wkt, origin_x, origin_y, cell_x, cell_y, width, height, block_size, "
     "nodata, levels, sources FROM dems ";
@@ -88,6 +161,26 @@ Result<DemInfo> InfoFromRow(const Statement& row) {
 
 }  // namespace
 
+DemLevel LevelOf(const DemInfo& dem, int level) {
+  const int64_t f = int64_t{1} << level;
+  const GridGeometry& g = dem.geometry;
+  // The level's first and last cells, counted from the anchor.
+  const int64_t c0 = FloorDiv(-dem.block_col0, f);
+  const int64_t c1 = FloorDiv(g.width - 1 - dem.block_col0, f);
+  const int64_t r0 = FloorDiv(-dem.block_row0, f);
+  const int64_t r1 = FloorDiv(g.height - 1 - dem.block_row0, f);
+  DemLevel out;
+  out.geometry.origin_x = g.origin_x + static_cast<double>(dem.block_col0 + c0 * f) * g.cell_x;
+  out.geometry.origin_y = g.origin_y + static_cast<double>(dem.block_row0 + r0 * f) * g.cell_y;
+  out.geometry.cell_x = g.cell_x * static_cast<double>(f);
+  out.geometry.cell_y = g.cell_y * static_cast<double>(f);
+  out.geometry.width = c1 - c0 + 1;
+  out.geometry.height = r1 - r0 + 1;
+  out.block_col0 = -c0;
+  out.block_row0 = -r0;
+  return out;
+}
+
 struct DemStore::Impl {
   explicit Impl(Store& s) : store(s) {}
 
@@ -107,8 +200,16 @@ struct DemStore::Impl {
   Result<DemImportReport> ImportInTransaction(const std::vector<std::string>& files,
                                               const DemImportOptions& options);
   Result<Crs> StoreCrsFor(const GdalRaster& first);
-  Status WriteBlock(const DemInfo& dem, int64_t bx, int64_t by, const std::vector<float>& cells,
-                    DemImportReport* report);
+  // Stores the block, or deletes it when it holds no data.
+  Status WriteBlock(const DemInfo& dem, int level, int64_t bx, int64_t by,
+                    const std::vector<float>& cells, DemImportReport* report);
+  // Recomputes overview levels 1.. above the level-0 blocks `touched` ((by, bx) pairs); levels
+  // the DEM did not have before (from `old_levels` on) are computed whole.
+  Status UpdateOverviews(const DemInfo& dem, int old_levels,
+                         std::set<std::pair<int64_t, int64_t>> touched, DemImportReport* report);
+  Result<Grid> ReadCells(const DemInfo& dem, int level, const CellRange& range);
+  Status VisitBlocks(const DemInfo& dem, int level, const CellRange& range,
+                     const std::function<Status(const DemBlock&)>& fn);
 
   Store& store;
   std::list<std::pair<Key, Block>> lru;  // most recently used first
@@ -191,7 +292,7 @@ Result<Crs> DemStore::Impl::StoreCrsFor(const GdalRaster& first) {
   return adopted;
 }
 
-Status DemStore::Impl::WriteBlock(const DemInfo& dem, int64_t bx, int64_t by,
+Status DemStore::Impl::WriteBlock(const DemInfo& dem, int level, int64_t bx, int64_t by,
                                   const std::vector<float>& cells, DemImportReport* report) {
   float zmin = std::numeric_limits<float>::infinity();
   float zmax = -zmin;
@@ -200,19 +301,64 @@ Status DemStore::Impl::WriteBlock(const DemInfo& dem, int64_t bx, int64_t by,
     zmin = std::min(zmin, v);
     zmax = std::max(zmax, v);
   }
-  if (zmin > zmax) return Status::Ok();  // all nodata: a missing block reads as NaN
+  if (zmin > zmax) {  // all nodata: not stored, a missing block reads as NaN
+    TB_ASSIGN_OR_RETURN(Statement * del,
+                        store.db().Cached("DELETE FROM dem_blocks "
+                                          "WHERE dem = ? AND level = ? AND bx = ? AND by = ?"));
+    del->Bind(1, dem.id).Bind(2, static_cast<int64_t>(level)).Bind(3, bx).Bind(4, by);
+    return del->Run();
+  }
   const std::vector<uint8_t> bytes = EncodeBlock(cells);
   TB_ASSIGN_OR_RETURN(Statement * stmt,
                       store.db().Cached("INSERT OR REPLACE INTO dem_blocks"
                                         "(dem, level, bx, by, codec, data, zmin, zmax) "
-                                        "VALUES (?, 0, ?, ?, ?, ?, ?, ?)"));
-  stmt->Bind(1, dem.id).Bind(2, bx).Bind(3, by);
-  stmt->Bind(4, static_cast<int64_t>(BlockCodec::kBloscZstd));
-  stmt->BindBlob(5, bytes.data(), bytes.size());
-  stmt->Bind(6, static_cast<double>(zmin)).Bind(7, static_cast<double>(zmax));
+                                        "VALUES (?, ?, ?, ?, ?, ?, ?, ?)"));
+  stmt->Bind(1, dem.id).Bind(2, static_cast<int64_t>(level)).Bind(3, bx).Bind(4, by);
+  stmt->Bind(5, static_cast<int64_t>(BlockCodec::kBloscZstd));
+  stmt->BindBlob(6, bytes.data(), bytes.size());
+  stmt->Bind(7, static_cast<double>(zmin)).Bind(8, static_cast<double>(zmax));
   TB_RETURN_IF_ERROR(stmt->Run());
-  ++report->blocks_written;
-  report->bytes_stored += static_cast<int64_t>(bytes.size());
+  if (level == 0) {
+    ++report->blocks_written;
+    report->bytes_stored += static_cast<int64_t>(bytes.size());
+  } else {
+    ++report->overview_blocks_written;
+  }
+  return Status::Ok();
+}
+
+Status DemStore::Impl::UpdateOverviews(const DemInfo& dem, int old_levels,
+                                       std::set<std::pair<int64_t, int64_t>> touched,
+                                       DemImportReport* report) {
+  for (int level = 1; level < dem.levels; ++level) {
+    if (level >= old_levels) {  // a new level: every block of the level below has a parent here
+      touched.clear();
+      TB_ASSIGN_OR_RETURN(Statement * all, store.db().Cached("SELECT bx, by FROM dem_blocks "
+                                                             "WHERE dem = ? AND level = ?"));
+      all->Bind(1, dem.id).Bind(2, static_cast<int64_t>(level - 1));
+      for (;;) {
+        auto row = all->Step();
+        if (!row.ok() || !*row) {
+          all->Reset();
+          TB_RETURN_IF_ERROR(row.status());
+          break;
+        }
+        touched.emplace(all->ColumnInt(1), all->ColumnInt(0));
+      }
+    }
+    std::set<std::pair<int64_t, int64_t>> parents;
+    for (const auto& [by, bx] : touched) parents.emplace(FloorDiv(by, 2), FloorDiv(bx, 2));
+    for (const auto& [by, bx] : parents) {
+      Block children[4];
+      const std::vector<float>* cells[4];
+      for (int i = 0; i < 4; ++i) {
+        TB_ASSIGN_OR_RETURN(children[i], LoadBlock(dem, level - 1, 2 * bx + i % 2, 2 * by + i / 2));
+        cells[i] = children[i].get();
+      }
+      TB_RETURN_IF_ERROR(WriteBlock(dem, level, bx, by, Downsample(cells, dem.block_size), report));
+    }
+    touched = std::move(parents);
+  }
   return Status::Ok();
 }
 
@@ -291,6 +437,9 @@ Result<DemImportReport> DemStore::Impl::ImportInTransaction(const std::vector<st
     dem.block_row0 = sheets.front().row0;
   }
 
+  const int old_levels = existing ? existing->levels : 1;
+  dem.levels = LevelCount(dem);
+
   nlohmann::json sources = nlohmann::json::array();
   if (existing) {
     TB_ASSIGN_OR_RETURN(Statement * get,
@@ -311,27 +460,31 @@ Result<DemImportReport> DemStore::Impl::ImportInTransaction(const std::vector<st
                        {"height", g.height}});
   }
 
+  // The geometry, sources and levels change with every import; the rest is set at creation.
   Statement* upsert = nullptr;
   if (existing) {
-    TB_ASSIGN_OR_RETURN(upsert,
-                        store.db().Cached("UPDATE dems SET origin_x = ?, origin_y = ?, width = ?, "
-                                          "height = ?, sources = ? WHERE id = ?"));
-    upsert->Bind(6, existing->id);
+    TB_ASSIGN_OR_RETURN(upsert, store.db().Cached("UPDATE dems SET origin_x = ?1, origin_y = ?2, "
+                                                  "width = ?3, height = ?4, sources = ?5, "
+                                                  "levels = ?6 WHERE id = ?7"));
+    upsert->Bind(7, existing->id);
   } else {
-    TB_ASSIGN_OR_RETURN(
-        upsert, store.db().Cached("INSERT INTO dems(origin_x, origin_y, width, height, sources, "
-                                  "name, crs_wkt, cell_x, cell_y, block_size, nodata, levels) "
-                                  "VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, 1)"));
-    upsert->Bind(6, dem.name).Bind(7, dem.crs_wkt).Bind(8, dem.geometry.cell_x);
-    upsert->Bind(9, dem.geometry.cell_y).Bind(10, static_cast<int64_t>(dem.block_size));
+    TB_ASSIGN_OR_RETURN(upsert,
+                        store.db().Cached("INSERT INTO dems(origin_x, origin_y, width, height, "
+                                          "sources, levels, name, crs_wkt, cell_x, cell_y, "
+                                          "block_size, nodata) "
+                                          "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, "
+                                          "?12)"));
+    upsert->Bind(7, dem.name).Bind(8, dem.crs_wkt).Bind(9, dem.geometry.cell_x);
+    upsert->Bind(10, dem.geometry.cell_y).Bind(11, static_cast<int64_t>(dem.block_size));
     if (dem.nodata) {
-      upsert->Bind(11, *dem.nodata);
+      upsert->Bind(12, *dem.nodata);
     } else {
-      upsert->BindNull(11);
+      upsert->BindNull(12);
     }
   }
   upsert->Bind(1, dem.geometry.origin_x).Bind(2, dem.geometry.origin_y);
   upsert->Bind(3, dem.geometry.width).Bind(4, dem.geometry.height).Bind(5, sources.dump());
+  upsert->Bind(6, static_cast<int64_t>(dem.levels));
   TB_RETURN_IF_ERROR(upsert->Run());
   if (!existing) dem.id = store.db().LastInsertRowId();
 
@@ -366,8 +519,9 @@ Result<DemImportReport> DemStore::Impl::ImportInTransaction(const std::vector<st
         cells[i] = window[i];
       }
     }
-    TB_RETURN_IF_ERROR(WriteBlock(dem, bx, by, cells, &report));
+    TB_RETURN_IF_ERROR(WriteBlock(dem, 0, bx, by, cells, &report));
   }
+  TB_RETURN_IF_ERROR(UpdateOverviews(dem, old_levels, touched, &report));
   report.dem = dem;
   return report;
 }
@@ -447,37 +601,113 @@ Result<double> DemStore::Sample(const DemInfo& dem, double x, double y) {
   return z;
 }
 
-Result<Grid> DemStore::ReadGrid(const DemInfo& dem) {
+Status DemStore::Impl::VisitBlocks(const DemInfo& dem, int level, const CellRange& range,
+                                   const std::function<Status(const DemBlock&)>& fn) {
+  const DemLevel lv = LevelOf(dem, level);
+  const int64_t b = dem.block_size;
+  // Not a cached statement: `fn` may itself read blocks, which would reset a shared one.
+  TB_ASSIGN_OR_RETURN(auto stmt,
+                      store.db().Prepare("SELECT bx, by, zmin, zmax, codec, data FROM dem_blocks "
+                                         "WHERE dem = ? AND level = ? AND bx BETWEEN ? AND ? "
+                                         "AND by BETWEEN ? AND ? ORDER BY by, bx"));
+  stmt->Bind(1, dem.id).Bind(2, static_cast<int64_t>(level));
+  stmt->Bind(3, FloorDiv(range.col_lo - lv.block_col0, b));
+  stmt->Bind(4, FloorDiv(range.col_hi - lv.block_col0, b));
+  stmt->Bind(5, FloorDiv(range.row_lo - lv.block_row0, b));
+  stmt->Bind(6, FloorDiv(range.row_hi - lv.block_row0, b));
+  for (;;) {
+    TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
+    if (!row) return Status::Ok();
+    DemBlock block;
+    block.level = level;
+    block.bx = stmt->ColumnInt(0);
+    block.by = stmt->ColumnInt(1);
+    block.zmin = static_cast<float>(stmt->ColumnDouble(2));
+    block.zmax = static_cast<float>(stmt->ColumnDouble(3));
+    block.geometry = lv.geometry;
+    block.geometry.origin_x +=
+        static_cast<double>(lv.block_col0 + block.bx * b) * lv.geometry.cell_x;
+    block.geometry.origin_y +=
+        static_cast<double>(lv.block_row0 + block.by * b) * lv.geometry.cell_y;
+    block.geometry.width = b;
+    block.geometry.height = b;
+    size_t size = 0;
+    const uint8_t* data = stmt->ColumnBlob(5, &size);
+    auto cells = DecodeBlock(static_cast<int>(stmt->ColumnInt(4)), std::span(data, size),
+                             static_cast<size_t>(b * b));
+    if (!cells.ok())
+      return cells.status().WithContext(
+          "DEM " + Quoted(dem.name) + ", level " + std::to_string(level) + " block (" +
+          std::to_string(block.bx) + ", " + std::to_string(block.by) + ")");
+    block.cells = &*cells;
+    TB_RETURN_IF_ERROR(fn(block));
+  }
+}
+
+Result<Grid> DemStore::Impl::ReadCells(const DemInfo& dem, int level, const CellRange& range) {
+  const DemLevel lv = LevelOf(dem, level);
   Grid grid;
-  grid.geometry = dem.geometry;
+  grid.geometry = lv.geometry;
+  grid.geometry.origin_x += static_cast<double>(range.col_lo) * lv.geometry.cell_x;
+  grid.geometry.origin_y += static_cast<double>(range.row_lo) * lv.geometry.cell_y;
+  grid.geometry.width = range.col_hi - range.col_lo + 1;
+  grid.geometry.height = range.row_hi - range.row_lo + 1;
   grid.crs_wkt = dem.crs_wkt;
   grid.source_nodata = dem.nodata;
-  grid.cells.assign(static_cast<size_t>(dem.geometry.CellCount()), kNaN);
-  TB_ASSIGN_OR_RETURN(Statement * stmt, impl_->store.db().Cached("SELECT bx, by FROM dem_blocks "
-                                                                 "WHERE dem = ? AND level = 0"));
-  stmt->Bind(1, dem.id);
-  std::vector<std::pair<int64_t, int64_t>> blocks;
-  for (;;) {
-    auto row = stmt->Step();
-    if (!row.ok()) {
-      stmt->Reset();
-      return row.status();
-    }
-    if (!*row) break;
-    blocks.emplace_back(stmt->ColumnInt(0), stmt->ColumnInt(1));
-  }
-  stmt->Reset();
+  grid.cells.assign(static_cast<size_t>(grid.geometry.CellCount()), kNaN);
   const int64_t b = dem.block_size;
-  for (const auto& [bx, by] : blocks) {
-    TB_ASSIGN_OR_RETURN(Impl::Block block, impl_->LoadBlock(dem, 0, bx, by));
-    const int64_t col0 = dem.block_col0 + bx * b;
-    const int64_t row0 = dem.block_row0 + by * b;
-    for (int64_t r = std::max<int64_t>(row0, 0); r < std::min(row0 + b, dem.geometry.height); ++r)
-      for (int64_t c = std::max<int64_t>(col0, 0); c < std::min(col0 + b, dem.geometry.width); ++c)
-        grid.cells[static_cast<size_t>(r * dem.geometry.width + c)] =
-            (*block)[static_cast<size_t>((r - row0) * b + (c - col0))];
-  }
+  TB_RETURN_IF_ERROR(VisitBlocks(dem, level, range, [&](const DemBlock& block) {
+    const int64_t col0 = lv.block_col0 + block.bx * b;  // the block's first cell in the level
+    const int64_t row0 = lv.block_row0 + block.by * b;
+    for (int64_t r = std::max(row0, range.row_lo); r <= std::min(row0 + b - 1, range.row_hi); ++r)
+      for (int64_t c = std::max(col0, range.col_lo); c <= std::min(col0 + b - 1, range.col_hi); ++c)
+        grid.cells[static_cast<size_t>((r - range.row_lo) * grid.geometry.width + c -
+                                       range.col_lo)] =
+            (*block.cells)[static_cast<size_t>((r - row0) * b + (c - col0))];
+    return Status::Ok();
+  }));
   return grid;
+}
+
+namespace {
+Status CheckLevel(const DemInfo& dem, int level) {
+  if (level < 0 || level >= dem.levels)
+    return Status::InvalidArgument("DEM " + Quoted(dem.name) + " has no level " +
+                                   std::to_string(level) + " (levels 0 to " +
+                                   std::to_string(dem.levels - 1) + ")");
+  return Status::Ok();
+}
+}  // namespace
+
+Result<Grid> DemStore::ReadGrid(const DemInfo& dem) {
+  return impl_->ReadCells(dem, 0, CellRange{0, dem.geometry.width - 1, 0, dem.geometry.height - 1});
+}
+
+Result<Grid> DemStore::ReadWindow(const DemInfo& dem, const DemBox& box, int level) {
+  TB_RETURN_IF_ERROR(CheckLevel(dem, level));
+  TB_ASSIGN_OR_RETURN(CellRange range, CellsIn(LevelOf(dem, level).geometry, box, dem.name));
+  return impl_->ReadCells(dem, level, range);
+}
+
+Status DemStore::ForEachBlock(const DemInfo& dem, const DemBox& box, int level,
+                              const std::function<Status(const DemBlock&)>& fn) {
+  TB_RETURN_IF_ERROR(CheckLevel(dem, level));
+  TB_ASSIGN_OR_RETURN(CellRange range, CellsIn(LevelOf(dem, level).geometry, box, dem.name));
+  return impl_->VisitBlocks(dem, level, range, fn);
+}
+
+Result<DemClip> DemStore::Clip(const DemInfo& dem, const DemBox& box, int64_t max_cells,
+                               const std::string& path) {
+  int level = 0;
+  CellRange range{};
+  for (;; ++level) {
+    TB_ASSIGN_OR_RETURN(range, CellsIn(LevelOf(dem, level).geometry, box, dem.name));
+    const int64_t cells = (range.col_hi - range.col_lo + 1) * (range.row_hi - range.row_lo + 1);
+    if (cells <= max_cells || level + 1 >= dem.levels) break;
+  }
+  TB_ASSIGN_OR_RETURN(Grid grid, impl_->ReadCells(dem, level, range));
+  TB_RETURN_IF_ERROR(WriteGeoTiff(grid, path));
+  return DemClip{level, grid.geometry};
 }
 
 }  // namespace tinbase

@@ -6,10 +6,14 @@
 // geographic one replaced by the UTM zone of the raster's centre (GeographicLib). Sampling reads
 // only the blocks it needs, through a small cache of decoded blocks owned by the DemStore (cleared
 // by every Import). Several files imported into one DEM are sheets of a mosaic on one grid.
+// Overview levels 1..levels-1 each halve the one below (a cell is the mean of the valid cells of
+// the 2 x 2 below it) until one block holds the level; Import keeps them up to date, recomputing
+// only the overview blocks above the level-0 blocks it wrote.
 // Thread-safety: one DemStore per Store, one thread at a time.
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -38,6 +42,42 @@ struct DemInfo {
   int64_t block_row0 = 0;
 };
 
+// Overview `level` of a DEM (0 = full resolution): its grid, and the column and row of that grid
+// where block (0, 0) begins. Level L's cell k covers level-0 columns
+// [block_col0 + k * 2^L, block_col0 + (k + 1) * 2^L) of the anchor, so levels stay aligned with the
+// blocks below as the DEM grows. REQUIRES: 0 <= level < dem.levels.
+struct DemLevel {
+  GridGeometry geometry;
+  int64_t block_col0 = 0;
+  int64_t block_row0 = 0;
+};
+DemLevel LevelOf(const DemInfo& dem, int level);
+
+// An axis-aligned box in the store's CRS.
+struct DemBox {
+  double min_x = 0;
+  double min_y = 0;
+  double max_x = 0;
+  double max_y = 0;
+};
+
+// One stored block as ForEachBlock hands it out: valid only during the call.
+struct DemBlock {
+  int level = 0;
+  int64_t bx = 0;
+  int64_t by = 0;
+  GridGeometry geometry;  // the block's block_size x block_size cells in the world
+  float zmin = 0;         // of its valid cells
+  float zmax = 0;
+  const std::vector<float>* cells = nullptr;  // row-major, NaN = nodata
+};
+
+// What Clip wrote.
+struct DemClip {
+  int level = 0;          // the overview level the cells came from
+  GridGeometry geometry;  // of the written raster
+};
+
 struct DemImportOptions {
   std::string name;      // DEM to create or extend; empty: the first file's stem
   int block_size = 256;  // power of two in [8, 4096], used when the DEM is created
@@ -48,10 +88,11 @@ struct DemImportOptions {
 
 struct DemImportReport {
   DemInfo dem;
-  int64_t cells = 0;           // cells read from the sources
-  int64_t blocks_written = 0;  // level 0 blocks stored
-  int64_t bytes_stored = 0;    // compressed bytes of those blocks
-  bool warped = false;         // a source was reprojected onto the store's CRS
+  int64_t cells = 0;                    // cells read from the sources
+  int64_t blocks_written = 0;           // level 0 blocks stored
+  int64_t overview_blocks_written = 0;  // blocks of levels >= 1 stored (recomputed)
+  int64_t bytes_stored = 0;             // compressed bytes of those blocks
+  bool warped = false;                  // a source was reprojected onto the store's CRS
 };
 
 class DemStore {
@@ -83,6 +124,20 @@ class DemStore {
   Result<double> Sample(const DemInfo& dem, double x, double y);
   // The whole level-0 grid in memory (REQUIRES: it fits).
   Result<Grid> ReadGrid(const DemInfo& dem);
+  // The cells of overview `level` that intersect `box` (clipped to the DEM), NaN where no data.
+  // InvalidArgument naming the DEM when the level does not exist or the box is empty, not finite
+  // or does not overlap the DEM.
+  Result<Grid> ReadWindow(const DemInfo& dem, const DemBox& box, int level = 0);
+  // Calls `fn` for every stored block of `level` that intersects `box`, row by row from the north
+  // west; blocks without data are not stored and not visited. Stops at and returns the first
+  // error of `fn`; errors as ReadWindow.
+  Status ForEachBlock(const DemInfo& dem, const DemBox& box, int level,
+                      const std::function<Status(const DemBlock&)>& fn);
+  // Writes the cells of `box` to a float32 GeoTIFF at `path` (nodata: the DEM's, else NaN) from
+  // the finest level whose window holds at most `max_cells` cells (the coarsest if none does).
+  // Errors as ReadWindow; IOError naming `path` when GDAL cannot write it.
+  Result<DemClip> Clip(const DemInfo& dem, const DemBox& box, int64_t max_cells,
+                       const std::string& path);
 
  private:
   struct Impl;

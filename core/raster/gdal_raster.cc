@@ -192,3 +192,45 @@ Result<GdalRaster> GdalRaster::WarpTo(const Crs& target, const GridGeometry* ali
 }
 
 }  // namespace tinbase
+
+namespace tinbase {
+
+Status WriteGeoTiff(const Grid& grid, const std::string& path) {
+  EnsureGdalRegistered();
+  QuietGdal quiet;
+  GDALDriver* gtiff = GetGDALDriverManager()->GetDriverByName("GTiff");
+  const GridGeometry& g = grid.geometry;
+  const char* options[] = {"COMPRESS=DEFLATE", "PREDICTOR=3", nullptr};
+  std::unique_ptr<GDALDataset, void (*)(GDALDataset*)> ds(
+      gtiff == nullptr
+          ? nullptr
+          : gtiff->Create(path.c_str(), static_cast<int>(g.width), static_cast<int>(g.height), 1,
+                          GDT_Float32, const_cast<char**>(options)),
+      CloseDataset);
+  if (ds == nullptr) return Status::IOError(path + ": cannot create GeoTIFF" + QuietGdal::Detail());
+  double gt[6] = {g.origin_x, g.cell_x, 0, g.origin_y, 0, g.cell_y};
+  ds->SetGeoTransform(gt);
+  if (!grid.crs_wkt.empty()) {
+    OGRSpatialReference srs;
+    if (srs.importFromWkt(grid.crs_wkt.c_str()) == OGRERR_NONE) ds->SetSpatialRef(&srs);
+  }
+  GDALRasterBand* band = ds->GetRasterBand(1);
+  std::vector<float> cells = grid.cells;
+  const double nodata = grid.source_nodata.value_or(std::numeric_limits<double>::quiet_NaN());
+  if (!std::isnan(nodata))
+    for (float& v : cells)
+      if (std::isnan(v)) v = static_cast<float>(nodata);
+  band->SetNoDataValue(nodata);
+  if (band->RasterIO(GF_Write, 0, 0, static_cast<int>(g.width), static_cast<int>(g.height),
+                     cells.data(), static_cast<int>(g.width), static_cast<int>(g.height),
+                     GDT_Float32, 0, 0, nullptr) != CE_None)
+    return Status::IOError(path + ": cannot write cells" + QuietGdal::Detail());
+  // Closing flushes the cells; GDALClose reports a failed flush only through the error state.
+  CPLErrorReset();
+  ds.reset();
+  if (CPLGetLastErrorType() >= CE_Failure)
+    return Status::IOError(path + ": cannot finish GeoTIFF" + QuietGdal::Detail());
+  return Status::Ok();
+}
+
+}  // namespace tinbase

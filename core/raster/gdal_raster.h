@@ -26,6 +26,11 @@ namespace tinbase {
 // Registers GDAL's drivers once per process; every entry point here calls it.
 void EnsureGdalRegistered();
 
+// Writes `grid` as a float32 GeoTIFF (DEFLATE) at `path` with its CRS and geotransform; NaN cells
+// are written as grid.source_nodata when it has one, which then becomes the band's nodata (else
+// NaN is). IOError naming `path` when GDAL cannot write it.
+Status WriteGeoTiff(const Grid& grid, const std::string& path);
+
 class GdalRaster {
  public:
   // NotFound when nothing exists at `path`; InvalidArgument naming `path` when GDAL cannot read it

@@ -2,11 +2,13 @@
 // own bilinear read, bad input is refused with a message naming it and leaves the store as it was.
 #include "db/dem_store.h"
 
+#include <cpl_vsi.h>
 #include <gdal_priv.h>
 #include <gdal_utils.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -639,6 +641,271 @@ TEST_F(Mosaic, SheetWarpedForAnExistingDemLandsOnItsGrid) {
   const double lat = b.MinY() - 20 * b.cell_y;
   auto z = dems.Sample(second->dem, lon, lat);
   EXPECT_TRUE(z.ok()) << z.status().ToString();
+}
+
+// ---- Overview levels, windows, blocks and clips.
+
+// Level L+1 of `g` from level L the slow, obvious way: each cell the mean of the valid cells of
+// the 2 x 2 below it (the grid's corner is the block anchor, as for a single-file import).
+Grid HalveForTest(const Grid& g) {
+  Grid out;
+  out.geometry = g.geometry;
+  out.geometry.cell_x *= 2;
+  out.geometry.cell_y *= 2;
+  out.geometry.width = (g.geometry.width + 1) / 2;
+  out.geometry.height = (g.geometry.height + 1) / 2;
+  out.cells.assign(static_cast<size_t>(out.geometry.CellCount()), std::nanf(""));
+  for (int64_t r = 0; r < out.geometry.height; ++r)
+    for (int64_t c = 0; c < out.geometry.width; ++c) {
+      double sum = 0;
+      int n = 0;
+      for (int64_t rr = 2 * r; rr < std::min(2 * r + 2, g.geometry.height); ++rr)
+        for (int64_t cc = 2 * c; cc < std::min(2 * c + 2, g.geometry.width); ++cc)
+          if (g.IsValid(cc, rr)) {
+            sum += g.At(cc, rr);
+            ++n;
+          }
+      if (n > 0) out.cells[static_cast<size_t>(r * out.geometry.width + c)] = float(sum / n);
+    }
+  return out;
+}
+
+DemBox WholeBox(const GridGeometry& g) { return DemBox{g.MinX(), g.MinY(), g.MaxX(), g.MaxY()}; }
+
+TEST(DemOverviews, EachLevelIsTheMeanOfTheValidCellsBelow) {
+  TempDir dir;
+  auto store = MakeStore(dir, "");
+  DemStore dems(*store);
+  auto report = dems.Import({DataPath("dem/elev_vinschgau.tif")}, Options("v", 32));
+  ASSERT_TRUE(report.ok()) << report.status().ToString();
+  const DemInfo& dem = report->dem;
+  Grid expected = *OpenRaster(DataPath("dem/elev_vinschgau.tif")).Read();
+  int levels = 1;  // until one 32 x 32 block holds the level
+  for (int64_t w = 252, h = 194; w > 32 || h > 32; w = (w + 1) / 2, h = (h + 1) / 2) ++levels;
+  EXPECT_EQ(levels, 4);
+  EXPECT_EQ(dem.levels, levels);
+  EXPECT_EQ(dems.Find("v")->levels, levels);
+  EXPECT_GT(report->overview_blocks_written, 0);
+  for (int level = 1; level < dem.levels; ++level) {
+    SCOPED_TRACE("level " + std::to_string(level));
+    expected = HalveForTest(expected);
+    auto window = dems.ReadWindow(dem, WholeBox(dem.geometry), level);
+    ASSERT_TRUE(window.ok()) << window.status().ToString();
+    EXPECT_EQ(CountDifferences(*window, expected), 0);
+  }
+  auto stored = store->db().QueryInt("SELECT count(*) FROM dem_blocks WHERE level = 3");
+  EXPECT_EQ(*stored, 1);
+  auto beyond = dems.ReadWindow(dem, WholeBox(dem.geometry), dem.levels);
+  EXPECT_EQ(beyond.status().code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(beyond.status().message().find("DEM 'v' has no level 4 (levels 0 to 3)"),
+            std::string::npos)
+      << beyond.status().message();
+}
+
+// Sheets added one at a time keep the overviews equal to those computed over the whole mosaic
+// at once, while each import recomputes only the overview blocks above what it wrote.
+TEST_F(Mosaic, OverviewsStayUpToDateAsSheetsAreAdded) {
+  auto store = MakeStore(dir_, "");
+  DemStore dems(*store);
+  // A first sheet of one 16 x 16 block has one level; the next ones add levels as well as blocks.
+  const std::string tiny = dir_.Path("tiny.tif");
+  CutSheet(DataPath("dem/elev_vinschgau.tif"), tiny, 130, 110, 16, 16);
+  const std::vector<std::string> order = {tiny, paths_["se"], paths_["ne"], paths_["sw"],
+                                          paths_["nw"]};
+  int64_t total_overview_blocks = 0;
+  int64_t last_overview_blocks = 0;
+  for (const std::string& path : order) {
+    auto report = dems.Import({path}, Options("step", 16));
+    ASSERT_TRUE(report.ok()) << report.status().ToString();
+    if (path == tiny) {
+      EXPECT_EQ(report->dem.levels, 1);
+    }
+    last_overview_blocks = report->overview_blocks_written;
+  }
+  auto once = dems.Import(order, Options("once", 16));
+  ASSERT_TRUE(once.ok()) << once.status().ToString();
+  total_overview_blocks = once->overview_blocks_written;
+  EXPECT_LT(last_overview_blocks, total_overview_blocks);
+  auto step = dems.Find("step");
+  ASSERT_TRUE(step.ok());
+  ASSERT_EQ(step->levels, once->dem.levels);
+  EXPECT_GE(step->levels, 4);
+  for (int level = 0; level < step->levels; ++level) {
+    SCOPED_TRACE("level " + std::to_string(level));
+    auto a = dems.ReadWindow(*step, WholeBox(step->geometry), level);
+    auto b = dems.ReadWindow(once->dem, WholeBox(once->dem.geometry), level);
+    ASSERT_TRUE(a.ok() && b.ok());
+    EXPECT_EQ(CountDifferences(*a, *b), 0);
+  }
+}
+
+TEST(DemWindow, WindowsAndBlocksMatchTheSource) {
+  TempDir dir;
+  auto store = MakeStore(dir, "");
+  DemStore dems(*store);
+  auto report = dems.Import({DataPath("dem/elev_vinschgau.tif")}, Options("v", 32));
+  ASSERT_TRUE(report.ok());
+  const DemInfo& dem = report->dem;
+  const Grid source = *OpenRaster(DataPath("dem/elev_vinschgau.tif")).Read();
+  const GridGeometry& g = source.geometry;
+
+  // Columns 40..99 and rows 30..69, the box edges a quarter cell inside those cells.
+  const DemBox box{g.origin_x + 40.25 * g.cell_x, g.origin_y + 69.75 * g.cell_y,
+                   g.origin_x + 99.75 * g.cell_x, g.origin_y + 30.25 * g.cell_y};
+  auto window = dems.ReadWindow(dem, box);
+  ASSERT_TRUE(window.ok()) << window.status().ToString();
+  ASSERT_EQ(window->geometry.width, 60);
+  ASSERT_EQ(window->geometry.height, 40);
+  EXPECT_DOUBLE_EQ(window->geometry.origin_x, g.origin_x + 40 * g.cell_x);
+  EXPECT_DOUBLE_EQ(window->geometry.origin_y, g.origin_y + 30 * g.cell_y);
+  for (int64_t r = 0; r < 40; ++r)
+    for (int64_t c = 0; c < 60; ++c) {
+      const float a = window->At(c, r);
+      const float b = source.At(c + 40, r + 30);
+      ASSERT_TRUE(a == b || (std::isnan(a) && std::isnan(b))) << c << ", " << r;
+    }
+
+  // A box hanging over the north-west corner is clipped to the DEM.
+  auto corner = dems.ReadWindow(dem, DemBox{g.MinX() - 1000, g.MaxY() - 5 * 250 + 1,
+                                            g.MinX() + 3 * 250 - 1, g.MaxY() + 1000});
+  ASSERT_TRUE(corner.ok());
+  EXPECT_EQ(corner->geometry.width, 3);
+  EXPECT_EQ(corner->geometry.height, 5);
+  EXPECT_DOUBLE_EQ(corner->geometry.origin_x, g.origin_x);
+
+  auto away = dems.ReadWindow(dem, DemBox{0, 0, 10, 10});
+  EXPECT_EQ(away.status().code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(away.status().message().find("does not overlap DEM 'v'"), std::string::npos);
+  auto inverted = dems.ReadWindow(dem, DemBox{box.max_x, box.min_y, box.min_x, box.max_y});
+  EXPECT_EQ(inverted.status().code(), StatusCode::kInvalidArgument);
+
+  // Blocks: columns 40..99 are blocks 1..3, rows 30..69 blocks 0..2, where they hold data.
+  std::set<std::pair<int64_t, int64_t>> expected;
+  for (const auto& [key, range] : ExpectedBlocks(source, 32))
+    if (key.first >= 1 && key.first <= 3 && key.second <= 2) expected.insert(key);
+  std::set<std::pair<int64_t, int64_t>> visited;
+  std::pair<int64_t, int64_t> previous{-1, -1};
+  Status status = dems.ForEachBlock(dem, box, 0, [&](const DemBlock& block) {
+    EXPECT_LT(std::make_pair(previous.second, previous.first), std::make_pair(block.by, block.bx));
+    previous = {block.bx, block.by};
+    visited.emplace(block.bx, block.by);
+    EXPECT_EQ(block.geometry.width, 32);
+    EXPECT_DOUBLE_EQ(block.geometry.origin_x, g.origin_x + 32.0 * block.bx * g.cell_x);
+    for (int64_t r = 0; r < 32; ++r)
+      for (int64_t c = 0; c < 32; ++c) {
+        const int64_t sc = block.bx * 32 + c;
+        const int64_t sr = block.by * 32 + r;
+        const float v = (*block.cells)[static_cast<size_t>(r * 32 + c)];
+        if (sc >= g.width || sr >= g.height) {
+          EXPECT_TRUE(std::isnan(v));
+          continue;
+        }
+        const float want = source.At(sc, sr);
+        EXPECT_TRUE(v == want || (std::isnan(v) && std::isnan(want)));
+        if (!std::isnan(v)) {
+          EXPECT_LE(block.zmin, v);
+          EXPECT_GE(block.zmax, v);
+        }
+      }
+    return Status::Ok();
+  });
+  EXPECT_TRUE(status.ok()) << status.ToString();
+  EXPECT_EQ(visited, expected);
+
+  int calls = 0;
+  Status stop = dems.ForEachBlock(dem, box, 0, [&](const DemBlock&) {
+    ++calls;
+    return Status::Conflict("enough");
+  });
+  EXPECT_EQ(stop.code(), StatusCode::kConflict);
+  EXPECT_EQ(calls, 1);
+}
+
+// gdal_translate of `source` with `args` into an in-memory GeoTIFF, read back as a Grid.
+Grid TranslateForTest(const std::string& source, const std::vector<std::string>& args) {
+  static int serial = 0;
+  const std::string path = "/vsimem/clip_reference_" + std::to_string(++serial) + ".tif";
+  std::vector<char*> argv;
+  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  GDALDatasetH in = GDALOpen(source.c_str(), GA_ReadOnly);
+  EXPECT_NE(in, nullptr);
+  GDALTranslateOptions* options = GDALTranslateOptionsNew(argv.data(), nullptr);
+  GDALDatasetH out = GDALTranslate(path.c_str(), in, options, nullptr);
+  GDALTranslateOptionsFree(options);
+  EXPECT_NE(out, nullptr);
+  GDALClose(out);
+  GDALClose(in);
+  Grid grid = *OpenRaster(path).Read();
+  VSIUnlink(path.c_str());
+  return grid;
+}
+
+std::string Num17(double v) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+
+TEST(DemClip, WritesTheWindowLikeGdalTranslate) {
+  TempDir dir;
+  auto store = MakeStore(dir, "");
+  DemStore dems(*store);
+  auto report = dems.Import({DataPath("dem/elev_vinschgau.tif")}, Options("v", 32));
+  ASSERT_TRUE(report.ok());
+  const DemInfo& dem = report->dem;
+  const GridGeometry& g = dem.geometry;
+  // Columns 20..119, rows 10..89: on even cells, so level 1 windows line up too.
+  const DemBox box{g.origin_x + 20 * g.cell_x, g.origin_y + 90 * g.cell_y,
+                   g.origin_x + 120 * g.cell_x, g.origin_y + 10 * g.cell_y};
+  const std::vector<std::string> projwin = {"-projwin", Num17(box.min_x), Num17(box.max_y),
+                                            Num17(box.max_x), Num17(box.min_y)};
+
+  const std::string full = dir.Path("full.tif");
+  auto clip = dems.Clip(dem, box, 100 * 80, full);
+  ASSERT_TRUE(clip.ok()) << clip.status().ToString();
+  EXPECT_EQ(clip->level, 0);
+  std::vector<std::string> args = {"-of", "GTiff", "-ot", "Float32"};
+  args.insert(args.end(), projwin.begin(), projwin.end());
+  const Grid reference = TranslateForTest(DataPath("dem/elev_vinschgau.tif"), args);
+  const GdalRaster written = OpenRaster(full);
+  EXPECT_TRUE(written.crs().IsSame(OpenRaster(DataPath("dem/elev_vinschgau.tif")).crs()));
+  EXPECT_EQ(written.nodata().has_value(), true);
+  EXPECT_EQ(CountDifferences(*written.Read(), reference), 0);
+
+  // Fewer cells allowed: the finest overview that fits, against gdal_translate's averaging.
+  const std::string half = dir.Path("half.tif");
+  clip = dems.Clip(dem, box, 100 * 80 / 4, half);
+  ASSERT_TRUE(clip.ok()) << clip.status().ToString();
+  EXPECT_EQ(clip->level, 1);
+  args = {"-of",
+          "GTiff",
+          "-ot",
+          "Float32",
+          "-r",
+          "average",
+          "-tr",
+          Num17(2 * g.cell_x),
+          Num17(-2 * g.cell_y)};
+  args.insert(args.end(), projwin.begin(), projwin.end());
+  const Grid averaged = TranslateForTest(DataPath("dem/elev_vinschgau.tif"), args);
+  const Grid level1 = *OpenRaster(half).Read();
+  ASSERT_EQ(level1.geometry.width, 50);
+  ASSERT_EQ(averaged.cells.size(), level1.cells.size());
+  EXPECT_DOUBLE_EQ(level1.geometry.origin_x, averaged.geometry.origin_x);
+  EXPECT_DOUBLE_EQ(level1.geometry.cell_x, averaged.geometry.cell_x);
+  int64_t compared = 0;
+  for (size_t i = 0; i < averaged.cells.size(); ++i) {
+    ASSERT_EQ(std::isnan(level1.cells[i]), std::isnan(averaged.cells[i])) << i;
+    if (std::isnan(averaged.cells[i])) continue;
+    EXPECT_NEAR(level1.cells[i], averaged.cells[i], 1e-3) << i;
+    ++compared;
+  }
+  EXPECT_GT(compared, 1500);  // of the 50 x 40 cells, most hold data
+
+  auto bad = dems.Clip(dem, box, 1000, dir.Path("no/such/dir/x.tif"));
+  EXPECT_EQ(bad.status().code(), StatusCode::kIOError);
+  EXPECT_NE(bad.status().message().find(dir.Path("no/such/dir/x.tif")), std::string::npos);
 }
 
 }  // namespace
