@@ -188,8 +188,9 @@ struct DemStore::Impl {
   using Block = std::shared_ptr<const std::vector<float>>;
   using Key = std::tuple<int64_t, int, int64_t, int64_t>;  // dem, level, bx, by
 
-  Result<std::optional<DemInfo>> FindWhere(const std::string& where, const std::string& text,
-                                           int64_t id);
+  // The DEM of the row `where` selects after `bind` has bound its parameters, if any.
+  Result<std::optional<DemInfo>> FindWhere(const std::string& where,
+                                           const std::function<void(Statement&)>& bind);
   Result<Block> LoadBlock(const DemInfo& dem, int level, int64_t bx, int64_t by);
   Result<Block> CachedBlock(const DemInfo& dem, int level, int64_t bx, int64_t by);
   void ClearCache() {
@@ -216,14 +217,10 @@ struct DemStore::Impl {
   std::map<Key, std::list<std::pair<Key, Block>>::iterator> index;
 };
 
-Result<std::optional<DemInfo>> DemStore::Impl::FindWhere(const std::string& where,
-                                                         const std::string& text, int64_t id) {
+Result<std::optional<DemInfo>> DemStore::Impl::FindWhere(
+    const std::string& where, const std::function<void(Statement&)>& bind) {
   TB_ASSIGN_OR_RETURN(Statement * stmt, store.db().Cached(kDemColumns + where));
-  if (where.find("name") != std::string::npos) {
-    stmt->Bind(1, text);
-  } else {
-    stmt->Bind(1, id);
-  }
+  bind(*stmt);
   TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
   std::optional<DemInfo> info;
   if (row) {
@@ -375,7 +372,8 @@ Result<DemImportReport> DemStore::Impl::ImportInTransaction(const std::vector<st
   if (name.empty()) return Status::InvalidArgument(files.front() + ": no name for the DEM");
 
   DemImportReport report;
-  TB_ASSIGN_OR_RETURN(std::optional<DemInfo> existing, FindWhere("WHERE name = ?", name, 0));
+  TB_ASSIGN_OR_RETURN(std::optional<DemInfo> existing,
+                      FindWhere("WHERE name = ?", [&](Statement& st) { st.Bind(1, name); }));
   TB_ASSIGN_OR_RETURN(Crs crs, StoreCrsFor(rasters.front()));
 
   // Place every sheet on the DEM's grid: the existing DEM's, else the first sheet's.
@@ -566,13 +564,15 @@ Result<std::vector<DemInfo>> DemStore::List() {
 }
 
 Result<DemInfo> DemStore::Find(const std::string& name) {
-  TB_ASSIGN_OR_RETURN(auto info, impl_->FindWhere("WHERE name = ?", name, 0));
+  TB_ASSIGN_OR_RETURN(auto info,
+                      impl_->FindWhere("WHERE name = ?", [&](Statement& st) { st.Bind(1, name); }));
   if (!info) return Status::NotFound("no DEM named " + Quoted(name));
   return std::move(*info);
 }
 
 Result<DemInfo> DemStore::FindById(int64_t id) {
-  TB_ASSIGN_OR_RETURN(auto info, impl_->FindWhere("WHERE id = ?", "", id));
+  TB_ASSIGN_OR_RETURN(auto info,
+                      impl_->FindWhere("WHERE id = ?", [&](Statement& st) { st.Bind(1, id); }));
   if (!info) return Status::NotFound("no DEM with id " + std::to_string(id));
   return std::move(*info);
 }
