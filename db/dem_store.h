@@ -4,10 +4,16 @@
 // Import reads any GDAL raster; rasters in another CRS than the store's are warped onto it with
 // GDAL (bilinear). A store without a CRS adopts the first DEM's: a projected CRS as is, a
 // geographic one replaced by the UTM zone of the raster's centre (GeographicLib). Sampling reads
-// only the blocks it needs. Thread-safety: one DemStore per Store, one thread at a time.
+// only the blocks it needs, through a small cache of decoded blocks owned by the DemStore (cleared
+// by every Import). Several files imported into one DEM are sheets of a mosaic on one grid.
+// Overview levels 1..levels-1 each halve the one below (a cell is the mean of the valid cells of
+// the 2 x 2 below it) until one block holds the level; Import keeps them up to date, recomputing
+// only the overview blocks above the level-0 blocks it wrote.
+// Thread-safety: one DemStore per Store, one thread at a time.
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -28,19 +34,65 @@ struct DemInfo {
   int block_size = 256;
   std::optional<double> nodata;  // the first source's declared nodata, for writing rasters out
   int levels = 1;
+  // The level-0 column and row where block (0, 0) begins: the first sheet's origin. Blocks stay
+  // anchored there when later sheets grow the DEM west or north (their bx, by go negative), so
+  // extending a DEM writes only new and touched blocks. Block (bx, by) covers columns
+  // [block_col0 + bx * block_size, block_col0 + (bx + 1) * block_size) and likewise rows.
+  int64_t block_col0 = 0;
+  int64_t block_row0 = 0;
+};
+
+// Overview `level` of a DEM (0 = full resolution): its grid, and the column and row of that grid
+// where block (0, 0) begins. Level L's cell k covers level-0 columns
+// [block_col0 + k * 2^L, block_col0 + (k + 1) * 2^L) of the anchor, so levels stay aligned with the
+// blocks below as the DEM grows. REQUIRES: 0 <= level < dem.levels.
+struct DemLevel {
+  GridGeometry geometry;
+  int64_t block_col0 = 0;
+  int64_t block_row0 = 0;
+};
+DemLevel LevelOf(const DemInfo& dem, int level);
+
+// An axis-aligned box in the store's CRS.
+struct DemBox {
+  double min_x = 0;
+  double min_y = 0;
+  double max_x = 0;
+  double max_y = 0;
+};
+
+// One stored block as ForEachBlock hands it out: valid only during the call.
+struct DemBlock {
+  int level = 0;
+  int64_t bx = 0;
+  int64_t by = 0;
+  GridGeometry geometry;  // the block's block_size x block_size cells in the world
+  float zmin = 0;         // of its valid cells
+  float zmax = 0;
+  const std::vector<float>* cells = nullptr;  // row-major, NaN = nodata
+};
+
+// What Clip wrote.
+struct DemClip {
+  int level = 0;          // the overview level the cells came from
+  GridGeometry geometry;  // of the written raster
 };
 
 struct DemImportOptions {
   std::string name;      // DEM to create or extend; empty: the first file's stem
-  int block_size = 256;  // power of two, used when the DEM is created
+  int block_size = 256;  // power of two in [8, 4096], used when the DEM is created
+  // Where sheets overlap (each other or the DEM being extended), the later sheet's valid cells
+  // win; with keep_first, a later sheet only fills cells that are still nodata.
+  bool keep_first = false;
 };
 
 struct DemImportReport {
   DemInfo dem;
-  int64_t cells = 0;           // cells read from the sources
-  int64_t blocks_written = 0;  // level 0 blocks stored
-  int64_t bytes_stored = 0;    // compressed bytes of those blocks
-  bool warped = false;         // a source was reprojected onto the store's CRS
+  int64_t cells = 0;                    // cells read from the sources
+  int64_t blocks_written = 0;           // level 0 blocks stored
+  int64_t overview_blocks_written = 0;  // blocks of levels >= 1 stored (recomputed)
+  int64_t bytes_stored = 0;             // compressed bytes of those blocks
+  bool warped = false;                  // a source was reprojected onto the store's CRS
 };
 
 class DemStore {
@@ -49,7 +101,15 @@ class DemStore {
   ~DemStore();
 
   // Imports `files` into one DEM in a single transaction; on any error nothing is stored.
-  // Errors name the file: missing/unreadable, no CRS, no geotransform, rotated geotransform.
+  // The files are sheets of one grid: the DEM named options.name is created, or extended when it
+  // exists, to the union of its extent and the sheets'. Each sheet must line up with the DEM's
+  // grid (same cell size, origin a whole number of cells away) once warped onto the store's CRS;
+  // a sheet warped for an existing DEM is warped straight onto its grid. All-nodata blocks are
+  // not stored. Returns what was written.
+  // Errors name the file: missing (NotFound), unreadable or not a raster, no CRS, no
+  // geotransform, rotated geotransform, grid not lining up (InvalidArgument); a block size that is
+  // not a power of two in [8, 4096] or no files give InvalidArgument.
+  // REQUIRES: no write transaction is open on the store.
   Result<DemImportReport> Import(const std::vector<std::string>& files,
                                  const DemImportOptions& options);
 
@@ -64,6 +124,20 @@ class DemStore {
   Result<double> Sample(const DemInfo& dem, double x, double y);
   // The whole level-0 grid in memory (REQUIRES: it fits).
   Result<Grid> ReadGrid(const DemInfo& dem);
+  // The cells of overview `level` that intersect `box` (clipped to the DEM), NaN where no data.
+  // InvalidArgument naming the DEM when the level does not exist or the box is empty, not finite
+  // or does not overlap the DEM.
+  Result<Grid> ReadWindow(const DemInfo& dem, const DemBox& box, int level = 0);
+  // Calls `fn` for every stored block of `level` that intersects `box`, row by row from the north
+  // west; blocks without data are not stored and not visited. Stops at and returns the first
+  // error of `fn`; errors as ReadWindow.
+  Status ForEachBlock(const DemInfo& dem, const DemBox& box, int level,
+                      const std::function<Status(const DemBlock&)>& fn);
+  // Writes the cells of `box` to a float32 GeoTIFF at `path` (nodata: the DEM's, else NaN) from
+  // the finest level whose window holds at most `max_cells` cells (the coarsest if none does).
+  // Errors as ReadWindow; IOError naming `path` when GDAL cannot write it.
+  Result<DemClip> Clip(const DemInfo& dem, const DemBox& box, int64_t max_cells,
+                       const std::string& path);
 
  private:
   struct Impl;

@@ -1,0 +1,713 @@
+#include "db/dem_store.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <limits>
+#include <list>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <span>
+#include <tuple>
+
+#include "core/raster/bilinear.h"
+#include "core/raster/block_codec.h"
+#include "core/raster/gdal_raster.h"
+#include "core/raster/grid.h"
+
+namespace tinbase {
+
+namespace {
+
+constexpr int kMinBlockSize = 8;
+constexpr int kMaxBlockSize = 4096;
+// Decoded blocks kept for Sample: 64 blocks of 256 x 256 float32 are 16 MiB.
+constexpr size_t kBlockCacheCapacity = 64;
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+
+// Floor division for block indices left of or above the anchor (negative numerators).
+int64_t FloorDiv(int64_t a, int64_t b) {
+  const int64_t q = a / b;
+  return (a % b != 0 && (a < 0) != (b < 0)) ? q - 1 : q;
+}
+
+std::string Point(double x, double y) {
+  char buf[80];
+  std::snprintf(buf, sizeof buf, "(%.10g, %.10g)", x, y);
+  return buf;
+}
+
+std::string Quoted(const std::string& name) { return "'" + name + "'"; }
+
+// A whole number of cells `offset / cell` away, or nullopt when the grids do not line up. The
+// tolerance (1e-6 of a cell) absorbs the round-off of origins written as decimal text.
+std::optional<int64_t> WholeCells(double offset, double cell) {
+  const double cells = offset / cell;
+  const double rounded = std::round(cells);
+  if (std::abs(cells - rounded) > 1e-6) return std::nullopt;
+  return static_cast<int64_t>(rounded);
+}
+
+bool SameCellSize(double a, double b) { return std::abs(a - b) <= 1e-9 * std::abs(b); }
+
+struct Sheet {
+  GdalRaster raster;
+  int64_t col0 = 0;  // the sheet's first column in the DEM's (final) level-0 grid
+  int64_t row0 = 0;
+};
+
+// Levels until one block holds the whole level: each level halves the one below.
+int LevelCount(const DemInfo& dem) {
+  constexpr int kMaxLevels = 31;
+  for (int level = 0; level + 1 < kMaxLevels; ++level) {
+    const DemLevel lv = LevelOf(dem, level);
+    const int64_t b = dem.block_size;
+    const bool one_column =
+        FloorDiv(-lv.block_col0, b) == FloorDiv(lv.geometry.width - 1 - lv.block_col0, b);
+    const bool one_row =
+        FloorDiv(-lv.block_row0, b) == FloorDiv(lv.geometry.height - 1 - lv.block_row0, b);
+    if (one_column && one_row) return level + 1;
+  }
+  return kMaxLevels;
+}
+
+// The cells [col_lo, col_hi] x [row_lo, row_hi] of a level grid.
+struct CellRange {
+  int64_t col_lo, col_hi, row_lo, row_hi;
+};
+
+// The cells of `g` that intersect `box`; InvalidArgument naming the DEM when there are none.
+Result<CellRange> CellsIn(const GridGeometry& g, const DemBox& box, const std::string& dem) {
+  const std::string where =
+      "box " + Point(box.min_x, box.min_y) + " - " + Point(box.max_x, box.max_y);
+  if (!std::isfinite(box.min_x) || !std::isfinite(box.min_y) || !std::isfinite(box.max_x) ||
+      !std::isfinite(box.max_y) || box.min_x > box.max_x || box.min_y > box.max_y)
+    return Status::InvalidArgument(where + " is not a box");
+  if (box.max_x < g.MinX() || box.min_x > g.MaxX() || box.max_y < g.MinY() || box.min_y > g.MaxY())
+    return Status::InvalidArgument(where + " does not overlap DEM " + Quoted(dem));
+  const auto lo = [](double v) { return static_cast<int64_t>(std::floor(v)); };
+  // A box edge on a cell edge does not take in the cell beyond it; a zero-width box takes one.
+  const auto hi = [](double v, int64_t low) {
+    return std::max(low, static_cast<int64_t>(std::ceil(v)) - 1);
+  };
+  CellRange r;
+  r.col_lo = lo((box.min_x - g.origin_x) / g.cell_x);
+  r.col_hi = hi((box.max_x - g.origin_x) / g.cell_x, r.col_lo);
+  r.row_lo = lo((box.max_y - g.origin_y) / g.cell_y);
+  r.row_hi = hi((box.min_y - g.origin_y) / g.cell_y, r.row_lo);
+  r.col_lo = std::clamp<int64_t>(r.col_lo, 0, g.width - 1);
+  r.col_hi = std::clamp<int64_t>(r.col_hi, 0, g.width - 1);
+  r.row_lo = std::clamp<int64_t>(r.row_lo, 0, g.height - 1);
+  r.row_hi = std::clamp<int64_t>(r.row_hi, 0, g.height - 1);
+  return r;
+}
+
+// The parent cells of four child blocks (nullptr: not stored): each the mean of the valid cells of
+// the 2 x 2 below it. children[dy * 2 + dx] is child (2 bx + dx, 2 by + dy).
+std::vector<float> Downsample(const std::vector<float>* const children[4], int64_t b) {
+  std::vector<float> parent(static_cast<size_t>(b * b), kNaN);
+  const int64_t half = b / 2;
+  for (int64_t r = 0; r < b; ++r) {
+    for (int64_t c = 0; c < b; ++c) {
+      const std::vector<float>* child = children[(r / half) * 2 + c / half];
+      if (child == nullptr) continue;
+      const int64_t cr = (r % half) * 2;
+      const int64_t cc = (c % half) * 2;
+      double sum = 0;
+      int valid = 0;
+      for (int64_t dr = 0; dr < 2; ++dr)
+        for (int64_t dc = 0; dc < 2; ++dc) {
+          const float v = (*child)[static_cast<size_t>((cr + dr) * b + cc + dc)];
+          if (std::isnan(v)) continue;
+          sum += v;
+          ++valid;
+        }
+      if (valid > 0) parent[static_cast<size_t>(r * b + c)] = static_cast<float>(sum / valid);
+    }
+  }
+  return parent;
+}
+
+constexpr const char* kDemColumns =
+    "SELECT id, name, crs_wkt, origin_x, origin_y, cell_x, cell_y, width, height, block_size, "
+    "nodata, levels, sources FROM dems ";
+
+Result<DemInfo> InfoFromRow(const Statement& row) {
+  DemInfo info;
+  info.id = row.ColumnInt(0);
+  info.name = row.ColumnText(1);
+  info.crs_wkt = row.ColumnText(2);
+  info.geometry = GridGeometry{row.ColumnDouble(3), row.ColumnDouble(4), row.ColumnDouble(5),
+                               row.ColumnDouble(6), row.ColumnInt(7),    row.ColumnInt(8)};
+  info.block_size = static_cast<int>(row.ColumnInt(9));
+  if (!row.ColumnIsNull(10)) info.nodata = row.ColumnDouble(10);
+  info.levels = static_cast<int>(row.ColumnInt(11));
+  const auto sources = nlohmann::json::parse(row.ColumnText(12), nullptr, false);
+  if (sources.is_discarded() || !sources.is_array())
+    return Status::Corruption("DEM " + Quoted(info.name) + ": sources is not a JSON list");
+  if (!sources.empty()) {
+    const auto& first = sources.front();
+    if (!first.contains("origin_x") || !first.contains("origin_y"))
+      return Status::Corruption("DEM " + Quoted(info.name) + ": first source has no origin");
+    info.block_col0 = std::llround((first["origin_x"].get<double>() - info.geometry.origin_x) /
+                                   info.geometry.cell_x);
+    info.block_row0 = std::llround((first["origin_y"].get<double>() - info.geometry.origin_y) /
+                                   info.geometry.cell_y);
+  }
+  return info;
+}
+
+}  // namespace
+
+DemLevel LevelOf(const DemInfo& dem, int level) {
+  const int64_t f = int64_t{1} << level;
+  const GridGeometry& g = dem.geometry;
+  // The level's first and last cells, counted from the anchor.
+  const int64_t c0 = FloorDiv(-dem.block_col0, f);
+  const int64_t c1 = FloorDiv(g.width - 1 - dem.block_col0, f);
+  const int64_t r0 = FloorDiv(-dem.block_row0, f);
+  const int64_t r1 = FloorDiv(g.height - 1 - dem.block_row0, f);
+  DemLevel out;
+  out.geometry.origin_x = g.origin_x + static_cast<double>(dem.block_col0 + c0 * f) * g.cell_x;
+  out.geometry.origin_y = g.origin_y + static_cast<double>(dem.block_row0 + r0 * f) * g.cell_y;
+  out.geometry.cell_x = g.cell_x * static_cast<double>(f);
+  out.geometry.cell_y = g.cell_y * static_cast<double>(f);
+  out.geometry.width = c1 - c0 + 1;
+  out.geometry.height = r1 - r0 + 1;
+  out.block_col0 = -c0;
+  out.block_row0 = -r0;
+  return out;
+}
+
+struct DemStore::Impl {
+  explicit Impl(Store& s) : store(s) {}
+
+  // A decoded block, or null when none is stored there (all nodata).
+  using Block = std::shared_ptr<const std::vector<float>>;
+  using Key = std::tuple<int64_t, int, int64_t, int64_t>;  // dem, level, bx, by
+
+  // The DEM of the row `where` selects after `bind` has bound its parameters, if any.
+  Result<std::optional<DemInfo>> FindWhere(const std::string& where,
+                                           const std::function<void(Statement&)>& bind);
+  Result<Block> LoadBlock(const DemInfo& dem, int level, int64_t bx, int64_t by);
+  Result<Block> CachedBlock(const DemInfo& dem, int level, int64_t bx, int64_t by);
+  void ClearCache() {
+    lru.clear();
+    index.clear();
+  }
+
+  Result<DemImportReport> ImportInTransaction(const std::vector<std::string>& files,
+                                              const DemImportOptions& options);
+  Result<Crs> StoreCrsFor(const GdalRaster& first);
+  // Stores the block, or deletes it when it holds no data.
+  Status WriteBlock(const DemInfo& dem, int level, int64_t bx, int64_t by,
+                    const std::vector<float>& cells, DemImportReport* report);
+  // Recomputes overview levels 1.. above the level-0 blocks `touched` ((by, bx) pairs); levels
+  // the DEM did not have before (from `old_levels` on) are computed whole.
+  Status UpdateOverviews(const DemInfo& dem, int old_levels,
+                         std::set<std::pair<int64_t, int64_t>> touched, DemImportReport* report);
+  Result<Grid> ReadCells(const DemInfo& dem, int level, const CellRange& range);
+  Status VisitBlocks(const DemInfo& dem, int level, const CellRange& range,
+                     const std::function<Status(const DemBlock&)>& fn);
+
+  Store& store;
+  std::list<std::pair<Key, Block>> lru;  // most recently used first
+  std::map<Key, std::list<std::pair<Key, Block>>::iterator> index;
+};
+
+Result<std::optional<DemInfo>> DemStore::Impl::FindWhere(
+    const std::string& where, const std::function<void(Statement&)>& bind) {
+  TB_ASSIGN_OR_RETURN(Statement * stmt, store.db().Cached(kDemColumns + where));
+  bind(*stmt);
+  TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
+  std::optional<DemInfo> info;
+  if (row) {
+    auto parsed = InfoFromRow(*stmt);
+    if (!parsed.ok()) {
+      stmt->Reset();
+      return parsed.status();
+    }
+    info = std::move(parsed).value();
+  }
+  stmt->Reset();
+  return info;
+}
+
+Result<DemStore::Impl::Block> DemStore::Impl::LoadBlock(const DemInfo& dem, int level, int64_t bx,
+                                                        int64_t by) {
+  TB_ASSIGN_OR_RETURN(Statement * stmt,
+                      store.db().Cached("SELECT codec, data FROM dem_blocks "
+                                        "WHERE dem = ? AND level = ? AND bx = ? AND by = ?"));
+  stmt->Bind(1, dem.id).Bind(2, static_cast<int64_t>(level)).Bind(3, bx).Bind(4, by);
+  TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
+  if (!row) {
+    stmt->Reset();
+    return Block();
+  }
+  size_t size = 0;
+  const uint8_t* data = stmt->ColumnBlob(1, &size);
+  auto cells = DecodeBlock(static_cast<int>(stmt->ColumnInt(0)), std::span(data, size),
+                           static_cast<size_t>(dem.block_size) * dem.block_size);
+  stmt->Reset();
+  if (!cells.ok())
+    return cells.status().WithContext("DEM " + Quoted(dem.name) + ", level " +
+                                      std::to_string(level) + " block (" + std::to_string(bx) +
+                                      ", " + std::to_string(by) + ")");
+  return Block(std::make_shared<const std::vector<float>>(std::move(cells).value()));
+}
+
+Result<DemStore::Impl::Block> DemStore::Impl::CachedBlock(const DemInfo& dem, int level, int64_t bx,
+                                                          int64_t by) {
+  const Key key{dem.id, level, bx, by};
+  if (auto it = index.find(key); it != index.end()) {
+    lru.splice(lru.begin(), lru, it->second);
+    return it->second->second;
+  }
+  TB_ASSIGN_OR_RETURN(Block block, LoadBlock(dem, level, bx, by));
+  lru.emplace_front(key, block);
+  index[key] = lru.begin();
+  if (lru.size() > kBlockCacheCapacity) {
+    index.erase(lru.back().first);
+    lru.pop_back();
+  }
+  return block;
+}
+
+Result<Crs> DemStore::Impl::StoreCrsFor(const GdalRaster& first) {
+  TB_ASSIGN_OR_RETURN(std::optional<Crs> crs, store.GetCrs());
+  if (crs) return std::move(*crs);
+  Crs adopted = first.crs();
+  if (adopted.IsGeographic()) {
+    const GridGeometry& g = first.geometry();
+    auto utm = Crs::UtmFor((g.MinX() + g.MaxX()) / 2, (g.MinY() + g.MaxY()) / 2);
+    if (!utm.ok()) return utm.status().WithContext(first.path());
+    adopted = std::move(utm).value();
+  }
+  TB_RETURN_IF_ERROR(store.SetCrs(adopted));
+  return adopted;
+}
+
+Status DemStore::Impl::WriteBlock(const DemInfo& dem, int level, int64_t bx, int64_t by,
+                                  const std::vector<float>& cells, DemImportReport* report) {
+  float zmin = std::numeric_limits<float>::infinity();
+  float zmax = -zmin;
+  for (float v : cells) {
+    if (std::isnan(v)) continue;
+    zmin = std::min(zmin, v);
+    zmax = std::max(zmax, v);
+  }
+  if (zmin > zmax) {  // all nodata: not stored, a missing block reads as NaN
+    TB_ASSIGN_OR_RETURN(Statement * del,
+                        store.db().Cached("DELETE FROM dem_blocks "
+                                          "WHERE dem = ? AND level = ? AND bx = ? AND by = ?"));
+    del->Bind(1, dem.id).Bind(2, static_cast<int64_t>(level)).Bind(3, bx).Bind(4, by);
+    return del->Run();
+  }
+  const std::vector<uint8_t> bytes = EncodeBlock(cells);
+  TB_ASSIGN_OR_RETURN(Statement * stmt,
+                      store.db().Cached("INSERT OR REPLACE INTO dem_blocks"
+                                        "(dem, level, bx, by, codec, data, zmin, zmax) "
+                                        "VALUES (?, ?, ?, ?, ?, ?, ?, ?)"));
+  stmt->Bind(1, dem.id).Bind(2, static_cast<int64_t>(level)).Bind(3, bx).Bind(4, by);
+  stmt->Bind(5, static_cast<int64_t>(BlockCodec::kBloscZstd));
+  stmt->BindBlob(6, bytes.data(), bytes.size());
+  stmt->Bind(7, static_cast<double>(zmin)).Bind(8, static_cast<double>(zmax));
+  TB_RETURN_IF_ERROR(stmt->Run());
+  if (level == 0) {
+    ++report->blocks_written;
+    report->bytes_stored += static_cast<int64_t>(bytes.size());
+  } else {
+    ++report->overview_blocks_written;
+  }
+  return Status::Ok();
+}
+
+Status DemStore::Impl::UpdateOverviews(const DemInfo& dem, int old_levels,
+                                       std::set<std::pair<int64_t, int64_t>> touched,
+                                       DemImportReport* report) {
+  for (int level = 1; level < dem.levels; ++level) {
+    if (level >= old_levels) {  // a new level: every block of the level below has a parent here
+      touched.clear();
+      TB_ASSIGN_OR_RETURN(Statement * all, store.db().Cached("SELECT bx, by FROM dem_blocks "
+                                                             "WHERE dem = ? AND level = ?"));
+      all->Bind(1, dem.id).Bind(2, static_cast<int64_t>(level - 1));
+      for (;;) {
+        auto row = all->Step();
+        if (!row.ok() || !*row) {
+          all->Reset();
+          TB_RETURN_IF_ERROR(row.status());
+          break;
+        }
+        touched.emplace(all->ColumnInt(1), all->ColumnInt(0));
+      }
+    }
+    std::set<std::pair<int64_t, int64_t>> parents;
+    for (const auto& [by, bx] : touched) parents.emplace(FloorDiv(by, 2), FloorDiv(bx, 2));
+    for (const auto& [by, bx] : parents) {
+      Block children[4];
+      const std::vector<float>* cells[4];
+      for (int i = 0; i < 4; ++i) {
+        TB_ASSIGN_OR_RETURN(children[i], LoadBlock(dem, level - 1, 2 * bx + i % 2, 2 * by + i / 2));
+        cells[i] = children[i].get();
+      }
+      TB_RETURN_IF_ERROR(WriteBlock(dem, level, bx, by, Downsample(cells, dem.block_size), report));
+    }
+    touched = std::move(parents);
+  }
+  return Status::Ok();
+}
+
+Result<DemImportReport> DemStore::Impl::ImportInTransaction(const std::vector<std::string>& files,
+                                                            const DemImportOptions& options) {
+  // Every file is checked before anything is written, so the common failures cost nothing.
+  std::vector<GdalRaster> rasters;
+  for (const std::string& file : files) {
+    TB_ASSIGN_OR_RETURN(GdalRaster raster, GdalRaster::Open(file));
+    rasters.push_back(std::move(raster));
+  }
+  const std::string name =
+      options.name.empty() ? std::filesystem::path(files.front()).stem().string() : options.name;
+  if (name.empty()) return Status::InvalidArgument(files.front() + ": no name for the DEM");
+
+  DemImportReport report;
+  TB_ASSIGN_OR_RETURN(std::optional<DemInfo> existing,
+                      FindWhere("WHERE name = ?", [&](Statement& st) { st.Bind(1, name); }));
+  TB_ASSIGN_OR_RETURN(Crs crs, StoreCrsFor(rasters.front()));
+
+  // Place every sheet on the DEM's grid: the existing DEM's, else the first sheet's.
+  std::vector<Sheet> sheets;
+  std::vector<std::string> source_crs;  // as the files declare it, before any warp
+  const std::optional<double> first_nodata = rasters.front().nodata();
+  std::optional<GridGeometry> grid;
+  if (existing) grid = existing->geometry;
+  for (GdalRaster& raster : rasters) {
+    source_crs.push_back(raster.crs().Label());
+    if (!raster.crs().IsSame(crs)) {
+      TB_ASSIGN_OR_RETURN(raster, raster.WarpTo(crs, grid ? &*grid : nullptr));
+      report.warped = true;
+    }
+    const GridGeometry& g = raster.geometry();
+    if (!grid) grid = g;
+    if (!SameCellSize(g.cell_x, grid->cell_x) || !SameCellSize(g.cell_y, grid->cell_y))
+      return Status::InvalidArgument(raster.path() + ": cell size " + Point(g.cell_x, g.cell_y) +
+                                     " differs from DEM " + Quoted(name) + "'s " +
+                                     Point(grid->cell_x, grid->cell_y));
+    const auto col0 = WholeCells(g.origin_x - grid->origin_x, grid->cell_x);
+    const auto row0 = WholeCells(g.origin_y - grid->origin_y, grid->cell_y);
+    if (!col0 || !row0)
+      return Status::InvalidArgument(raster.path() + ": origin " + Point(g.origin_x, g.origin_y) +
+                                     " does not lie on the grid of DEM " + Quoted(name));
+    sheets.push_back(Sheet{raster, *col0, *row0});
+    report.cells += g.CellCount();
+  }
+
+  // The union of the DEM and the sheets, in cells of the grid placed so far.
+  int64_t min_col = 0, min_row = 0;
+  int64_t max_col = existing ? existing->geometry.width : 0;
+  int64_t max_row = existing ? existing->geometry.height : 0;
+  for (const Sheet& s : sheets) {
+    min_col = std::min(min_col, s.col0);
+    min_row = std::min(min_row, s.row0);
+    max_col = std::max(max_col, s.col0 + s.raster.geometry().width);
+    max_row = std::max(max_row, s.row0 + s.raster.geometry().height);
+  }
+  for (Sheet& s : sheets) {
+    s.col0 -= min_col;
+    s.row0 -= min_row;
+  }
+  DemInfo dem = existing.value_or(DemInfo{});
+  dem.name = name;
+  dem.crs_wkt = crs.Wkt();
+  dem.geometry = *grid;
+  dem.geometry.origin_x = grid->origin_x + static_cast<double>(min_col) * grid->cell_x;
+  dem.geometry.origin_y = grid->origin_y + static_cast<double>(min_row) * grid->cell_y;
+  dem.geometry.width = max_col - min_col;
+  dem.geometry.height = max_row - min_row;
+  if (existing) {
+    dem.block_col0 = existing->block_col0 - min_col;
+    dem.block_row0 = existing->block_row0 - min_row;
+  } else {
+    dem.block_size = options.block_size;
+    dem.nodata = first_nodata;
+    dem.block_col0 = sheets.front().col0;
+    dem.block_row0 = sheets.front().row0;
+  }
+
+  const int old_levels = existing ? existing->levels : 1;
+  dem.levels = LevelCount(dem);
+
+  nlohmann::json sources = nlohmann::json::array();
+  if (existing) {
+    TB_ASSIGN_OR_RETURN(Statement * get,
+                        store.db().Cached("SELECT sources FROM dems WHERE id = ?"));
+    get->Bind(1, existing->id);
+    TB_ASSIGN_OR_RETURN(bool row, get->Step());
+    if (row) sources = nlohmann::json::parse(get->ColumnText(0), nullptr, false);
+    get->Reset();
+  }
+  for (size_t i = 0; i < sheets.size(); ++i) {
+    const GridGeometry& g = sheets[i].raster.geometry();
+    sources.push_back({{"file", files[i]},
+                       {"crs", source_crs[i]},
+                       {"warped", sheets[i].raster.warped()},
+                       {"origin_x", g.origin_x},
+                       {"origin_y", g.origin_y},
+                       {"width", g.width},
+                       {"height", g.height}});
+  }
+
+  // The geometry, sources and levels change with every import; the rest is set at creation.
+  Statement* upsert = nullptr;
+  if (existing) {
+    TB_ASSIGN_OR_RETURN(upsert, store.db().Cached("UPDATE dems SET origin_x = ?1, origin_y = ?2, "
+                                                  "width = ?3, height = ?4, sources = ?5, "
+                                                  "levels = ?6 WHERE id = ?7"));
+    upsert->Bind(7, existing->id);
+  } else {
+    TB_ASSIGN_OR_RETURN(upsert,
+                        store.db().Cached("INSERT INTO dems(origin_x, origin_y, width, height, "
+                                          "sources, levels, name, crs_wkt, cell_x, cell_y, "
+                                          "block_size, nodata) "
+                                          "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, "
+                                          "?12)"));
+    upsert->Bind(7, dem.name).Bind(8, dem.crs_wkt).Bind(9, dem.geometry.cell_x);
+    upsert->Bind(10, dem.geometry.cell_y).Bind(11, static_cast<int64_t>(dem.block_size));
+    if (dem.nodata) {
+      upsert->Bind(12, *dem.nodata);
+    } else {
+      upsert->BindNull(12);
+    }
+  }
+  upsert->Bind(1, dem.geometry.origin_x).Bind(2, dem.geometry.origin_y);
+  upsert->Bind(3, dem.geometry.width).Bind(4, dem.geometry.height).Bind(5, sources.dump());
+  upsert->Bind(6, static_cast<int64_t>(dem.levels));
+  TB_RETURN_IF_ERROR(upsert->Run());
+  if (!existing) dem.id = store.db().LastInsertRowId();
+
+  // Blocks touched by any sheet, each assembled once from the stored block and the sheets over it.
+  const int64_t b = dem.block_size;
+  std::set<std::pair<int64_t, int64_t>> touched;  // (by, bx): row-major, as GDAL reads best
+  for (const Sheet& s : sheets) {
+    const GridGeometry& g = s.raster.geometry();
+    for (int64_t by = FloorDiv(s.row0 - dem.block_row0, b);
+         by <= FloorDiv(s.row0 + g.height - 1 - dem.block_row0, b); ++by)
+      for (int64_t bx = FloorDiv(s.col0 - dem.block_col0, b);
+           bx <= FloorDiv(s.col0 + g.width - 1 - dem.block_col0, b); ++bx)
+        touched.emplace(by, bx);
+  }
+  for (const auto& [by, bx] : touched) {
+    std::vector<float> cells(static_cast<size_t>(b * b), kNaN);
+    if (existing) {
+      TB_ASSIGN_OR_RETURN(Block old, LoadBlock(*existing, 0, bx, by));
+      if (old) cells = *old;
+    }
+    const int64_t col = dem.block_col0 + bx * b;  // the block's first cell in the DEM grid
+    const int64_t row = dem.block_row0 + by * b;
+    for (const Sheet& s : sheets) {
+      const GridGeometry& g = s.raster.geometry();
+      if (col >= s.col0 + g.width || col + b <= s.col0 || row >= s.row0 + g.height ||
+          row + b <= s.row0)
+        continue;
+      TB_ASSIGN_OR_RETURN(std::vector<float> window,
+                          s.raster.ReadWindow(col - s.col0, row - s.row0, b, b));
+      for (size_t i = 0; i < cells.size(); ++i) {
+        if (std::isnan(window[i]) || (options.keep_first && !std::isnan(cells[i]))) continue;
+        cells[i] = window[i];
+      }
+    }
+    TB_RETURN_IF_ERROR(WriteBlock(dem, 0, bx, by, cells, &report));
+  }
+  TB_RETURN_IF_ERROR(UpdateOverviews(dem, old_levels, touched, &report));
+  report.dem = dem;
+  return report;
+}
+
+DemStore::DemStore(Store& store) : impl_(std::make_unique<Impl>(store)) {}
+DemStore::~DemStore() = default;
+
+Result<DemImportReport> DemStore::Import(const std::vector<std::string>& files,
+                                         const DemImportOptions& options) {
+  if (files.empty()) return Status::InvalidArgument("no files to import");
+  const int b = options.block_size;
+  if (b < kMinBlockSize || b > kMaxBlockSize || (b & (b - 1)) != 0)
+    return Status::InvalidArgument("block size " + std::to_string(b) +
+                                   " is not a power of two from " + std::to_string(kMinBlockSize) +
+                                   " to " + std::to_string(kMaxBlockSize));
+  impl_->ClearCache();
+  TB_ASSIGN_OR_RETURN(auto tx, impl_->store.BeginWrite());
+  TB_ASSIGN_OR_RETURN(DemImportReport report, impl_->ImportInTransaction(files, options));
+  TB_RETURN_IF_ERROR(tx->Commit());
+  return report;
+}
+
+Result<std::vector<DemInfo>> DemStore::List() {
+  TB_ASSIGN_OR_RETURN(Statement * stmt,
+                      impl_->store.db().Cached(std::string(kDemColumns) + "ORDER BY id"));
+  std::vector<DemInfo> out;
+  for (;;) {
+    auto row = stmt->Step();
+    if (!row.ok() || !*row) {
+      stmt->Reset();
+      if (!row.ok()) return row.status();
+      break;
+    }
+    auto info = InfoFromRow(*stmt);
+    if (!info.ok()) {
+      stmt->Reset();
+      return info.status();
+    }
+    out.push_back(std::move(info).value());
+  }
+  return out;
+}
+
+Result<DemInfo> DemStore::Find(const std::string& name) {
+  TB_ASSIGN_OR_RETURN(auto info,
+                      impl_->FindWhere("WHERE name = ?", [&](Statement& st) { st.Bind(1, name); }));
+  if (!info) return Status::NotFound("no DEM named " + Quoted(name));
+  return std::move(*info);
+}
+
+Result<DemInfo> DemStore::FindById(int64_t id) {
+  TB_ASSIGN_OR_RETURN(auto info,
+                      impl_->FindWhere("WHERE id = ?", [&](Statement& st) { st.Bind(1, id); }));
+  if (!info) return Status::NotFound("no DEM with id " + std::to_string(id));
+  return std::move(*info);
+}
+
+Result<double> DemStore::Sample(const DemInfo& dem, double x, double y) {
+  if (!dem.geometry.Contains(x, y))
+    return Status::InvalidArgument("point " + Point(x, y) + " is outside DEM " + Quoted(dem.name));
+  const int64_t b = dem.block_size;
+  Status failure;
+  const double z = SampleBilinear(dem.geometry, x, y, [&](int64_t col, int64_t row) -> float {
+    const int64_t bx = FloorDiv(col - dem.block_col0, b);
+    const int64_t by = FloorDiv(row - dem.block_row0, b);
+    auto block = impl_->CachedBlock(dem, 0, bx, by);
+    if (!block.ok()) {
+      if (failure.ok()) failure = block.status();
+      return kNaN;
+    }
+    if (!*block) return kNaN;
+    const int64_t c = col - dem.block_col0 - bx * b;
+    const int64_t r = row - dem.block_row0 - by * b;
+    return (**block)[static_cast<size_t>(r * b + c)];
+  });
+  TB_RETURN_IF_ERROR(failure);
+  if (std::isnan(z))
+    return Status::NotFound("no data at " + Point(x, y) + " in DEM " + Quoted(dem.name));
+  return z;
+}
+
+Status DemStore::Impl::VisitBlocks(const DemInfo& dem, int level, const CellRange& range,
+                                   const std::function<Status(const DemBlock&)>& fn) {
+  const DemLevel lv = LevelOf(dem, level);
+  const int64_t b = dem.block_size;
+  // Not a cached statement: `fn` may itself read blocks, which would reset a shared one.
+  TB_ASSIGN_OR_RETURN(auto stmt,
+                      store.db().Prepare("SELECT bx, by, zmin, zmax, codec, data FROM dem_blocks "
+                                         "WHERE dem = ? AND level = ? AND bx BETWEEN ? AND ? "
+                                         "AND by BETWEEN ? AND ? ORDER BY by, bx"));
+  stmt->Bind(1, dem.id).Bind(2, static_cast<int64_t>(level));
+  stmt->Bind(3, FloorDiv(range.col_lo - lv.block_col0, b));
+  stmt->Bind(4, FloorDiv(range.col_hi - lv.block_col0, b));
+  stmt->Bind(5, FloorDiv(range.row_lo - lv.block_row0, b));
+  stmt->Bind(6, FloorDiv(range.row_hi - lv.block_row0, b));
+  for (;;) {
+    TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
+    if (!row) return Status::Ok();
+    DemBlock block;
+    block.level = level;
+    block.bx = stmt->ColumnInt(0);
+    block.by = stmt->ColumnInt(1);
+    block.zmin = static_cast<float>(stmt->ColumnDouble(2));
+    block.zmax = static_cast<float>(stmt->ColumnDouble(3));
+    block.geometry = lv.geometry;
+    block.geometry.origin_x +=
+        static_cast<double>(lv.block_col0 + block.bx * b) * lv.geometry.cell_x;
+    block.geometry.origin_y +=
+        static_cast<double>(lv.block_row0 + block.by * b) * lv.geometry.cell_y;
+    block.geometry.width = b;
+    block.geometry.height = b;
+    size_t size = 0;
+    const uint8_t* data = stmt->ColumnBlob(5, &size);
+    auto cells = DecodeBlock(static_cast<int>(stmt->ColumnInt(4)), std::span(data, size),
+                             static_cast<size_t>(b * b));
+    if (!cells.ok())
+      return cells.status().WithContext(
+          "DEM " + Quoted(dem.name) + ", level " + std::to_string(level) + " block (" +
+          std::to_string(block.bx) + ", " + std::to_string(block.by) + ")");
+    block.cells = &*cells;
+    TB_RETURN_IF_ERROR(fn(block));
+  }
+}
+
+Result<Grid> DemStore::Impl::ReadCells(const DemInfo& dem, int level, const CellRange& range) {
+  const DemLevel lv = LevelOf(dem, level);
+  Grid grid;
+  grid.geometry = lv.geometry;
+  grid.geometry.origin_x += static_cast<double>(range.col_lo) * lv.geometry.cell_x;
+  grid.geometry.origin_y += static_cast<double>(range.row_lo) * lv.geometry.cell_y;
+  grid.geometry.width = range.col_hi - range.col_lo + 1;
+  grid.geometry.height = range.row_hi - range.row_lo + 1;
+  grid.crs_wkt = dem.crs_wkt;
+  grid.source_nodata = dem.nodata;
+  grid.cells.assign(static_cast<size_t>(grid.geometry.CellCount()), kNaN);
+  const int64_t b = dem.block_size;
+  TB_RETURN_IF_ERROR(VisitBlocks(dem, level, range, [&](const DemBlock& block) {
+    const int64_t col0 = lv.block_col0 + block.bx * b;  // the block's first cell in the level
+    const int64_t row0 = lv.block_row0 + block.by * b;
+    for (int64_t r = std::max(row0, range.row_lo); r <= std::min(row0 + b - 1, range.row_hi); ++r)
+      for (int64_t c = std::max(col0, range.col_lo); c <= std::min(col0 + b - 1, range.col_hi); ++c)
+        grid.cells[static_cast<size_t>((r - range.row_lo) * grid.geometry.width + c -
+                                       range.col_lo)] =
+            (*block.cells)[static_cast<size_t>((r - row0) * b + (c - col0))];
+    return Status::Ok();
+  }));
+  return grid;
+}
+
+namespace {
+Status CheckLevel(const DemInfo& dem, int level) {
+  if (level < 0 || level >= dem.levels)
+    return Status::InvalidArgument("DEM " + Quoted(dem.name) + " has no level " +
+                                   std::to_string(level) + " (levels 0 to " +
+                                   std::to_string(dem.levels - 1) + ")");
+  return Status::Ok();
+}
+}  // namespace
+
+Result<Grid> DemStore::ReadGrid(const DemInfo& dem) {
+  return impl_->ReadCells(dem, 0, CellRange{0, dem.geometry.width - 1, 0, dem.geometry.height - 1});
+}
+
+Result<Grid> DemStore::ReadWindow(const DemInfo& dem, const DemBox& box, int level) {
+  TB_RETURN_IF_ERROR(CheckLevel(dem, level));
+  TB_ASSIGN_OR_RETURN(CellRange range, CellsIn(LevelOf(dem, level).geometry, box, dem.name));
+  return impl_->ReadCells(dem, level, range);
+}
+
+Status DemStore::ForEachBlock(const DemInfo& dem, const DemBox& box, int level,
+                              const std::function<Status(const DemBlock&)>& fn) {
+  TB_RETURN_IF_ERROR(CheckLevel(dem, level));
+  TB_ASSIGN_OR_RETURN(CellRange range, CellsIn(LevelOf(dem, level).geometry, box, dem.name));
+  return impl_->VisitBlocks(dem, level, range, fn);
+}
+
+Result<DemClip> DemStore::Clip(const DemInfo& dem, const DemBox& box, int64_t max_cells,
+                               const std::string& path) {
+  int level = 0;
+  CellRange range{};
+  for (;; ++level) {
+    TB_ASSIGN_OR_RETURN(range, CellsIn(LevelOf(dem, level).geometry, box, dem.name));
+    const int64_t cells = (range.col_hi - range.col_lo + 1) * (range.row_hi - range.row_lo + 1);
+    if (cells <= max_cells || level + 1 >= dem.levels) break;
+  }
+  TB_ASSIGN_OR_RETURN(Grid grid, impl_->ReadCells(dem, level, range));
+  TB_RETURN_IF_ERROR(WriteGeoTiff(grid, path));
+  return DemClip{level, grid.geometry};
+}
+
+}  // namespace tinbase
