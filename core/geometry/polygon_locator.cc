@@ -28,13 +28,13 @@ PolygonLocator::PolygonLocator(const std::vector<Polygon>& polygons) {
   const int64_t bands = std::clamp<int64_t>(static_cast<int64_t>(edges_.size()), 1, 1 << 20);
   band_height_ = (max_y_ - min_y_) / static_cast<double>(bands);
   if (!(band_height_ > 0)) band_height_ = 1;
-  std::vector<uint32_t> count(bands + 1, 0);
+  // Counting sort of (band, edge) pairs into CSR form; BandOf needs band_begin_'s size.
+  band_begin_.assign(bands + 1, 0);
   for (const Edge& e : edges_) {
     const int64_t lo = BandOf(std::min(e.a.y, e.b.y)), hi = BandOf(std::max(e.a.y, e.b.y));
-    for (int64_t b = lo; b <= hi; ++b) ++count[b + 1];
+    for (int64_t b = lo; b <= hi; ++b) ++band_begin_[b + 1];
   }
-  band_begin_.assign(bands + 1, 0);
-  for (int64_t b = 0; b < bands; ++b) band_begin_[b + 1] = band_begin_[b] + count[b + 1];
+  for (int64_t b = 0; b < bands; ++b) band_begin_[b + 1] += band_begin_[b];
   band_edges_.resize(band_begin_.back());
   std::vector<uint32_t> fill(band_begin_.begin(), band_begin_.end() - 1);
   for (uint32_t e = 0; e < edges_.size(); ++e) {
