@@ -121,10 +121,21 @@ std::string EdgeName(const CleanRing& ring, uint32_t index) {
   return std::to_string(ring.original[index]) + "-" + std::to_string(ring.original[next]);
 }
 
+// Two different rings meeting at one point: allowed, unless such contacts close a loop.
+struct Touch {
+  Point2 at;
+  uint32_t ring;
+  friend bool operator<(const Touch& a, const Touch& b) {
+    return std::tie(a.at.x, a.at.y, a.ring) < std::tie(b.at.x, b.at.y, b.ring);
+  }
+  friend bool operator==(const Touch&, const Touch&) = default;
+};
+
 // The problem, if any, between two segments of the polygon. Consecutive edges of one ring
 // share a vertex by construction; they are wrong only when the ring turns back on itself.
+// Point contacts between different rings are added to `touches`.
 std::optional<Status> CheckPair(const std::vector<CleanRing>& rings, const Segment& s0,
-                                const Segment& t0) {
+                                const Segment& t0, std::vector<Touch>& touches) {
   const Segment& s = std::tie(s0.ring, s0.index) < std::tie(t0.ring, t0.index) ? s0 : t0;
   const Segment& t = &s == &s0 ? t0 : s0;
   const CleanRing& rs = rings[s.ring];
@@ -155,7 +166,11 @@ std::optional<Status> CheckPair(const std::vector<CleanRing>& rings, const Segme
                                                         : "ring runs along itself at ";
     return Status::InvalidArgument(where + what + FormatPoint(hit.at) + edges);
   }
-  if (hit.contact == Contact::kTouch) return std::nullopt;
+  if (hit.contact == Contact::kTouch) {
+    touches.push_back({hit.at, s.ring});
+    touches.push_back({hit.at, t.ring});
+    return std::nullopt;
+  }
   const char* what = hit.contact == Contact::kCross ? "crosses ring " : "shares an edge with ring ";
   return Status::InvalidArgument(where + what + std::to_string(t.ring) + " at " +
                                  FormatPoint(hit.at) + edges);
@@ -163,7 +178,7 @@ std::optional<Status> CheckPair(const std::vector<CleanRing>& rings, const Segme
 
 // A sweep over x: segments sorted by their left end, each compared only with the segments that
 // start before it ends. Near-linear for map polygons, whose edges are short against the ring.
-Status CheckIntersections(const std::vector<CleanRing>& rings) {
+Status CheckIntersections(const std::vector<CleanRing>& rings, std::vector<Touch>& touches) {
   std::vector<Segment> segments;
   for (uint32_t r = 0; r < rings.size(); ++r) {
     const Ring& p = rings[r].points;
@@ -185,7 +200,7 @@ Status CheckIntersections(const std::vector<CleanRing>& rings) {
     for (size_t j = i + 1; j < segments.size() && segments[j].min_x <= s.max_x; ++j) {
       const Segment& t = segments[j];
       if (t.min_y > s.max_y || t.max_y < s.min_y) continue;
-      if (auto problem = CheckPair(rings, s, t)) {
+      if (auto problem = CheckPair(rings, s, t, touches)) {
         const std::pair<uint32_t, uint32_t> ks{s.ring, s.index}, kt{t.ring, t.index};
         const Key key = ks < kt ? Key{ks, kt} : Key{kt, ks};
         if (!first || key < first->first) first.emplace(key, std::move(*problem));
@@ -193,6 +208,33 @@ Status CheckIntersections(const std::vector<CleanRing>& rings) {
     }
   }
   return first ? first->second : Status::Ok();
+}
+
+// Rings may touch at points, but the rings and their contact points must not form a loop: a
+// loop (a hole touching the shell twice, two holes touching each other twice, a chain of holes
+// from shell to shell) cuts the interior apart, which OGC forbids (GEOS: "Interior is
+// disconnected"). Union-find over rings and contact points finds the edge that closes a loop.
+Status CheckInteriorConnected(uint32_t ring_count, std::vector<Touch> touches) {
+  std::sort(touches.begin(), touches.end());
+  touches.erase(std::unique(touches.begin(), touches.end()), touches.end());
+  std::vector<uint32_t> parent(ring_count + touches.size());
+  for (uint32_t i = 0; i < parent.size(); ++i) parent[i] = i;
+  const auto find = [&parent](uint32_t i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  };
+  uint32_t node = ring_count;  // touches[k] at a new point gets the next node id
+  for (size_t k = 0; k < touches.size(); ++k) {
+    if (k > 0 && touches[k].at != touches[k - 1].at) ++node;
+    const uint32_t a = find(touches[k].ring), b = find(node);
+    if (a == b)
+      return Status::InvalidArgument("ring " + std::to_string(touches[k].ring) + ": touches at " +
+                                     FormatPoint(touches[k].at) +
+                                     " rings it already touches elsewhere, cutting the "
+                                     "polygon's interior apart");
+    parent[a] = b;
+  }
+  return Status::Ok();
 }
 
 // A point of `inner` that is not on `outer`'s boundary (a vertex, else an edge midpoint), with
@@ -298,8 +340,10 @@ Result<Polygon> MakeValidPolygon(const std::vector<Ring>& rings) {
     TB_ASSIGN_OR_RETURN(CleanRing ring, Clean(r, rings[r]));
     clean.push_back(std::move(ring));
   }
-  TB_RETURN_IF_ERROR(CheckIntersections(clean));
+  std::vector<Touch> touches;
+  TB_RETURN_IF_ERROR(CheckIntersections(clean, touches));
   TB_RETURN_IF_ERROR(CheckHoles(clean));
+  TB_RETURN_IF_ERROR(CheckInteriorConnected(static_cast<uint32_t>(clean.size()), touches));
   Polygon polygon;
   polygon.shell = std::move(clean[0].points);
   if (SignedDoubleArea(polygon.shell) < 0) std::reverse(polygon.shell.begin(), polygon.shell.end());

@@ -33,8 +33,10 @@ struct Polygon {
 // message starts with "ring r" (and ", vertex v" where one vertex is to blame), for: no rings, a
 // ring not closed, a non-finite coordinate, fewer than 3 distinct points, a ring that crosses,
 // touches or folds back on itself, two rings that cross or share an edge, a hole not inside the
-// shell, or a hole inside another hole. Vertex numbers are 0-based positions in the input ring.
-// Rings may touch each other at single points (as OGC simple features allow).
+// shell, a hole inside another hole, or rings whose contact points cut the interior apart.
+// Vertex numbers are 0-based positions in the input ring. Rings may touch each other at single
+// points as long as the interior stays connected (as OGC simple features allow); the accepted
+// polygons are exactly those GEOS calls valid (checked by a property test).
 Result<Polygon> MakeValidPolygon(const std::vector<Ring>& rings);
 
 // Exact orientation of c relative to the line a->b (CGAL's predicate on the input doubles):

@@ -12,6 +12,10 @@
 #include "core/vector/gdal_session.h"
 
 namespace tinbase {
+
+// How RapidCheck shows a counterexample's points (found by argument-dependent lookup).
+inline void showValue(const Point2& p, std::ostream& os) { os << FormatPoint(p); }
+
 namespace {
 
 Ring Closed(Ring ring) {
@@ -131,6 +135,24 @@ TEST(PolygonLocator, IsTheUnionOfOverlappingPolygonsWithHoles) {
   EXPECT_EQ(locator.Locate({12, 2}), Location::kOutside);
   EXPECT_EQ(locator.Locate({15, 20}), Location::kOutside);
   EXPECT_EQ(PolygonLocator({}).Locate({0, 0}), Location::kOutside);
+}
+
+}  // namespace
+}  // namespace tinbase
+
+namespace tinbase {
+namespace {
+
+RC_GTEST_PROP(MakeValidPolygon, AcceptsHolesExactlyWhenGeosCallsThemValid, ()) {
+  // Half the time a square shell on the grid's border, so that many holes fit inside it.
+  const bool square = *rc::gen::arbitrary<bool>();
+  const Ring shell = Closed(square ? Ring{{0, 0}, {5, 0}, {5, 5}, {0, 5}} : *SmallRing());
+  const Ring hole = Closed(*SmallRing());
+  QuietGdalErrors quiet;
+  auto ours = MakeValidPolygon({shell, hole});
+  const OGRPolygon theirs = ToOgr({shell, hole});
+  RC_CLASSIFY(ours.ok(), "valid");
+  RC_ASSERT(ours.ok() == theirs.IsValid());
 }
 
 }  // namespace
