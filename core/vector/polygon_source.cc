@@ -76,8 +76,10 @@ Result<OpenLayer> Open(const std::string& path, const VectorSourceOptions& optio
   EnsureGdalRegistered();
   OpenLayer open;
   open.name = std::filesystem::path(path).filename().string();
+  // GDAL's virtual paths (/vsizip/, /vsicurl/, ...) are not files to look for.
   std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) return Status::NotFound(path + ": no such file");
+  if (path.rfind("/vsi", 0) != 0 && !std::filesystem::exists(path, ec))
+    return Status::NotFound(path + ": no such file");
   open.dataset.reset(GDALDataset::Open(path.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY));
   if (!open.dataset)
     return Status::InvalidArgument(path + ": not a vector source GDAL can read" + LastGdalError());

@@ -60,6 +60,13 @@ TEST(MakeValidPolygon, RejectsSharedEdgesAndEmptyInput) {
   ASSERT_FALSE(shared.ok());
   EXPECT_EQ(shared.status().message(),
             "ring 0, vertex 3: shares an edge with ring 1 at (0, 2) (edges 3-0 and ring 1 2-0)");
+  // The hole touches the shell at two points, cutting off the corner near (0, 0).
+  auto cut = MakeValidPolygon({Closed({{0, 0}, {10, 0}, {10, 10}, {0, 10}}),
+                               Closed({{2, 0}, {3, 3}, {0, 2}})});
+  ASSERT_FALSE(cut.ok());
+  EXPECT_EQ(cut.status().message(),
+            "ring 1: touches at (2, 0) rings it already touches elsewhere, cutting the polygon's "
+            "interior apart");
   auto none = MakeValidPolygon({});
   ASSERT_FALSE(none.ok());
   auto empty_ring = MakeValidPolygon({{}});
