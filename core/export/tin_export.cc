@@ -21,9 +21,9 @@ namespace {
 // The triangles to write and the vertices they use, renumbered densely in first-use order when
 // invisible triangles are dropped (so an exported file never carries orphan vertices).
 struct Selection {
-  std::vector<uint32_t> triangles;      // indices into tin.triangles
-  std::vector<uint32_t> vertices;       // indices into tin.vertices, in output order
-  std::vector<int64_t> output_index;    // tin vertex -> output position, -1 when dropped
+  std::vector<uint32_t> triangles;    // indices into tin.triangles
+  std::vector<uint32_t> vertices;     // indices into tin.vertices, in output order
+  std::vector<int64_t> output_index;  // tin vertex -> output position, -1 when dropped
 };
 
 Selection Select(const Tin& tin, bool visible_only) {
@@ -69,8 +69,9 @@ std::string OneLineWkt(const Crs& crs) {
 }
 
 Status WriteObj(const Tin& tin, const Crs* crs, const std::string& path, const Selection& s) {
-  std::string text = "# tinbase surface (Wavefront OBJ): x y z per vertex, faces counter-clockwise "
-                     "seen from above\n";
+  std::string text =
+      "# tinbase surface (Wavefront OBJ): x y z per vertex, faces counter-clockwise "
+      "seen from above\n";
   if (crs != nullptr) {
     text += "# crs: " + crs->Label() + "\n# crs_wkt: " + OneLineWkt(*crs) + "\n";
   } else {
@@ -118,10 +119,9 @@ Status WriteGeoJson(const Tin& tin, const Crs* crs, const std::string& path, con
   if (crs != nullptr) srs = std::make_unique<OGRSpatialReference>(crs->ogr());
   // RFC7946 would force WGS 84 longitude/latitude; projected surfaces must keep their
   // coordinates. 17 significant figures make every double read back exactly.
-  const char* layer_options[] = {"RFC7946=NO", "SIGNIFICANT_FIGURES=17", "WRITE_BBOX=NO",
-                                 nullptr};
-  OGRLayer* layer = ds->CreateLayer("triangles", srs.get(), wkbPolygon25D,
-                                    const_cast<char**>(layer_options));
+  const char* layer_options[] = {"RFC7946=NO", "SIGNIFICANT_FIGURES=17", "WRITE_BBOX=NO", nullptr};
+  OGRLayer* layer =
+      ds->CreateLayer("triangles", srs.get(), wkbPolygon25D, const_cast<char**>(layer_options));
   if (layer == nullptr) return Status::IOError(path + ": cannot create layer" + LastGdalError());
   OGRFieldDefn id_field("id", OFTInteger64);
   OGRFieldDefn visible_field("visible", OFTInteger);

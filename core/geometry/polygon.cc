@@ -72,12 +72,14 @@ Result<CleanRing> Clean(uint32_t r, const Ring& ring) {
     clean.original.pop_back();
   }
   Ring sorted = clean.points;
-  std::sort(sorted.begin(), sorted.end(),
-            [](const Point2& p, const Point2& q) { return p.x < q.x || (p.x == q.x && p.y < q.y); });
+  std::sort(sorted.begin(), sorted.end(), [](const Point2& p, const Point2& q) {
+    return p.x < q.x || (p.x == q.x && p.y < q.y);
+  });
   const size_t distinct = std::unique(sorted.begin(), sorted.end()) - sorted.begin();
   if (distinct < 3)
-    return Status::InvalidArgument("ring " + std::to_string(r) + ": fewer than 3 distinct points (" +
-                                   std::to_string(distinct) + ")");
+    return Status::InvalidArgument("ring " + std::to_string(r) +
+                                   ": fewer than 3 distinct points (" + std::to_string(distinct) +
+                                   ")");
   return clean;
 }
 
@@ -147,8 +149,8 @@ std::optional<Status> CheckPair(const std::vector<CleanRing>& rings, const Segme
       const Segment& first = t_follows ? s : t;
       const Segment& second = t_follows ? t : s;
       const Point2 &a = first.a, &q = first.b, &c = second.b;
-      const bool folds = Orientation(a, q, c) == 0 &&
-                         (a.x - q.x) * (c.x - q.x) + (a.y - q.y) * (c.y - q.y) > 0;
+      const bool folds =
+          Orientation(a, q, c) == 0 && (a.x - q.x) * (c.x - q.x) + (a.y - q.y) * (c.y - q.y) > 0;
       if (!folds) return std::nullopt;
       return Status::InvalidArgument(RingVertex(s.ring, rs.original[second.index]) +
                                      ": ring folds back on itself at " + FormatPoint(q));
@@ -306,9 +308,13 @@ Location LocateInRing(const Ring& ring, const Point2& p) {
   bool inside = false;
   for (size_t i = 0; i < ring.size(); ++i) {
     switch (RayTest(ring[i], ring[(i + 1) % ring.size()], p)) {
-      case EdgeRay::kOnEdge: return Location::kBoundary;
-      case EdgeRay::kCross: inside = !inside; break;
-      case EdgeRay::kMiss: break;
+      case EdgeRay::kOnEdge:
+        return Location::kBoundary;
+      case EdgeRay::kCross:
+        inside = !inside;
+        break;
+      case EdgeRay::kMiss:
+        break;
     }
   }
   return inside ? Location::kInside : Location::kOutside;

@@ -70,9 +70,14 @@ Location PolygonLocator::Locate(const Point2& p) const {
       inside = on_edge = false;
     }
     switch (RayTest(e.a, e.b, p)) {
-      case EdgeRay::kOnEdge: on_boundary = on_edge = true; break;
-      case EdgeRay::kCross: inside = !inside; break;
-      case EdgeRay::kMiss: break;
+      case EdgeRay::kOnEdge:
+        on_boundary = on_edge = true;
+        break;
+      case EdgeRay::kCross:
+        inside = !inside;
+        break;
+      case EdgeRay::kMiss:
+        break;
     }
   }
   if (inside && !on_edge) return Location::kInside;

@@ -29,16 +29,21 @@ std::vector<uint8_t> InsideTriangles(const Tin& tin, const std::vector<Point2>& 
 
 const char* PaintModeName(PaintMode mode) {
   switch (mode) {
-    case PaintMode::kClip: return "clip";
-    case PaintMode::kErase: return "erase";
-    case PaintMode::kFill: return "fill";
-    case PaintMode::kReplace: return "replace";
+    case PaintMode::kClip:
+      return "clip";
+    case PaintMode::kErase:
+      return "erase";
+    case PaintMode::kFill:
+      return "fill";
+    case PaintMode::kReplace:
+      return "replace";
   }
   return "fill";
 }
 
 Result<PaintMode> ParsePaintMode(const std::string& name) {
-  for (PaintMode mode : {PaintMode::kClip, PaintMode::kErase, PaintMode::kFill, PaintMode::kReplace})
+  for (PaintMode mode :
+       {PaintMode::kClip, PaintMode::kErase, PaintMode::kFill, PaintMode::kReplace})
     if (name == PaintModeName(mode)) return mode;
   return Status::InvalidArgument("unknown paint mode '" + name +
                                  "' (expected clip, erase, fill or replace)");

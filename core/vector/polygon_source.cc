@@ -53,7 +53,8 @@ Status SetUpTransform(OpenLayer& open, const VectorSourceOptions& options) {
   } else if (options.assumed_source_crs) {
     source.reset(options.assumed_source_crs->ogr().Clone());
   } else {
-    return Status::InvalidArgument(open.name + ": source has no CRS, so it cannot be reprojected to " +
+    return Status::InvalidArgument(open.name +
+                                   ": source has no CRS, so it cannot be reprojected to " +
                                    options.target_crs->Label() + " (name the source's CRS)");
   }
   source->SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
@@ -122,8 +123,10 @@ nlohmann::json FieldValue(const OGRFeature& feature, int i) {
     case OFTInteger:
       if (defn.GetSubType() == OFSTBoolean) return feature.GetFieldAsInteger(i) != 0;
       return feature.GetFieldAsInteger(i);
-    case OFTInteger64: return static_cast<int64_t>(feature.GetFieldAsInteger64(i));
-    case OFTReal: return feature.GetFieldAsDouble(i);
+    case OFTInteger64:
+      return static_cast<int64_t>(feature.GetFieldAsInteger64(i));
+    case OFTReal:
+      return feature.GetFieldAsDouble(i);
     case OFTIntegerList: {
       const int* values = feature.GetFieldAsIntegerList(i, &count);
       return nlohmann::json(std::vector<int>(values, values + count));
@@ -142,7 +145,8 @@ nlohmann::json FieldValue(const OGRFeature& feature, int i) {
         list.push_back(*s);
       return list;
     }
-    default: return feature.GetFieldAsString(i);  // strings, dates and times as OGR prints them
+    default:
+      return feature.GetFieldAsString(i);  // strings, dates and times as OGR prints them
   }
 }
 
@@ -191,8 +195,9 @@ Result<std::vector<Point2>> ReadPoints(const OpenLayer& open, const OGRSimpleCur
 
 // Calls `visit(feature, fid, label)` for every feature that passes the filter; NotFound-free: an
 // empty source is an InvalidArgument naming the file, layer and filter.
-Status ForEachFeature(OpenLayer& open, const VectorSourceOptions& options,
-                      const std::function<Status(OGRFeature&, int64_t, const std::string&)>& visit) {
+Status ForEachFeature(
+    OpenLayer& open, const VectorSourceOptions& options,
+    const std::function<Status(OGRFeature&, int64_t, const std::string&)>& visit) {
   int64_t index = 0;
   open.layer->ResetReading();
   for (auto& feature : *open.layer) {
@@ -213,7 +218,8 @@ Status ForEachFeature(OpenLayer& open, const VectorSourceOptions& options,
 Result<const OGRGeometry*> LinearGeometry(const OGRFeature& feature, const std::string& label,
                                           std::unique_ptr<OGRGeometry>& owned) {
   const OGRGeometry* g = feature.GetGeometryRef();
-  if (g == nullptr || g->IsEmpty()) return Status::InvalidArgument(label + ": feature has no geometry");
+  if (g == nullptr || g->IsEmpty())
+    return Status::InvalidArgument(label + ": feature has no geometry");
   if (OGR_GT_IsNonLinear(g->getGeometryType())) {
     owned.reset(g->getLinearGeometry());
     g = owned.get();
@@ -236,13 +242,11 @@ Result<Polygon> ReadPolygon(const OpenLayer& open, const OGRPolygon& polygon,
   std::vector<Ring> rings;
   for (int r = 0; r <= polygon.getNumInteriorRings(); ++r) {
     const OGRLinearRing* ring = r == 0 ? polygon.getExteriorRing() : polygon.getInteriorRing(r - 1);
-    TB_ASSIGN_OR_RETURN(Ring points,
-                        ReadPoints(open, *ring, prefix + "ring " + std::to_string(r)));
+    TB_ASSIGN_OR_RETURN(Ring points, ReadPoints(open, *ring, prefix + "ring " + std::to_string(r)));
     rings.push_back(std::move(points));
   }
   auto valid = MakeValidPolygon(rings);
-  if (!valid.ok())
-    return Status::InvalidArgument(prefix + valid.status().message());
+  if (!valid.ok()) return Status::InvalidArgument(prefix + valid.status().message());
   return valid;
 }
 
@@ -253,33 +257,35 @@ Result<std::vector<PolygonFeature>> ReadPolygonFeatures(const std::string& path,
   QuietGdalErrors quiet;
   TB_ASSIGN_OR_RETURN(OpenLayer open, Open(path, options));
   std::vector<PolygonFeature> features;
-  TB_RETURN_IF_ERROR(ForEachFeature(open, options, [&](OGRFeature& feature, int64_t fid,
-                                                        const std::string& label) -> Status {
-    std::unique_ptr<OGRGeometry> owned;
-    TB_ASSIGN_OR_RETURN(const OGRGeometry* g, LinearGeometry(feature, label, owned));
-    std::vector<const OGRPolygon*> parts;
-    switch (wkbFlatten(g->getGeometryType())) {
-      case wkbPolygon: parts.push_back(g->toPolygon()); break;
-      case wkbMultiPolygon:
-        for (const OGRPolygon* part : *g->toMultiPolygon()) parts.push_back(part);
-        break;
-      default:
-        return Status::InvalidArgument(label + ": geometry is a " +
-                                       OGRGeometryTypeToName(g->getGeometryType()) +
-                                       ", not a Polygon or MultiPolygon");
-    }
-    PolygonFeature out;
-    FillCommon(out, feature, fid, label, open);
-    for (size_t p = 0; p < parts.size(); ++p) {
-      const std::string prefix =
-          label + (parts.size() > 1 ? ", polygon " + std::to_string(p) : "") + ", ";
-      if (parts[p]->IsEmpty()) return Status::InvalidArgument(prefix + "polygon is empty");
-      TB_ASSIGN_OR_RETURN(Polygon polygon, ReadPolygon(open, *parts[p], prefix));
-      out.polygons.push_back(std::move(polygon));
-    }
-    features.push_back(std::move(out));
-    return Status::Ok();
-  }));
+  TB_RETURN_IF_ERROR(ForEachFeature(
+      open, options, [&](OGRFeature& feature, int64_t fid, const std::string& label) -> Status {
+        std::unique_ptr<OGRGeometry> owned;
+        TB_ASSIGN_OR_RETURN(const OGRGeometry* g, LinearGeometry(feature, label, owned));
+        std::vector<const OGRPolygon*> parts;
+        switch (wkbFlatten(g->getGeometryType())) {
+          case wkbPolygon:
+            parts.push_back(g->toPolygon());
+            break;
+          case wkbMultiPolygon:
+            for (const OGRPolygon* part : *g->toMultiPolygon()) parts.push_back(part);
+            break;
+          default:
+            return Status::InvalidArgument(label + ": geometry is a " +
+                                           OGRGeometryTypeToName(g->getGeometryType()) +
+                                           ", not a Polygon or MultiPolygon");
+        }
+        PolygonFeature out;
+        FillCommon(out, feature, fid, label, open);
+        for (size_t p = 0; p < parts.size(); ++p) {
+          const std::string prefix =
+              label + (parts.size() > 1 ? ", polygon " + std::to_string(p) : "") + ", ";
+          if (parts[p]->IsEmpty()) return Status::InvalidArgument(prefix + "polygon is empty");
+          TB_ASSIGN_OR_RETURN(Polygon polygon, ReadPolygon(open, *parts[p], prefix));
+          out.polygons.push_back(std::move(polygon));
+        }
+        features.push_back(std::move(out));
+        return Status::Ok();
+      }));
   return features;
 }
 
@@ -288,37 +294,39 @@ Result<std::vector<LineFeature>> ReadLineFeatures(const std::string& path,
   QuietGdalErrors quiet;
   TB_ASSIGN_OR_RETURN(OpenLayer open, Open(path, options));
   std::vector<LineFeature> features;
-  TB_RETURN_IF_ERROR(ForEachFeature(open, options, [&](OGRFeature& feature, int64_t fid,
-                                                        const std::string& label) -> Status {
-    std::unique_ptr<OGRGeometry> owned;
-    TB_ASSIGN_OR_RETURN(const OGRGeometry* g, LinearGeometry(feature, label, owned));
-    std::vector<const OGRLineString*> parts;
-    switch (wkbFlatten(g->getGeometryType())) {
-      case wkbLineString: parts.push_back(g->toLineString()); break;
-      case wkbMultiLineString:
-        for (const OGRLineString* part : *g->toMultiLineString()) parts.push_back(part);
-        break;
-      default:
-        return Status::InvalidArgument(label + ": geometry is a " +
-                                       OGRGeometryTypeToName(g->getGeometryType()) +
-                                       ", not a LineString or MultiLineString");
-    }
-    LineFeature out;
-    FillCommon(out, feature, fid, label, open);
-    for (size_t k = 0; k < parts.size(); ++k) {
-      const std::string what = label + ", line " + std::to_string(k);
-      TB_ASSIGN_OR_RETURN(std::vector<Point2> raw, ReadPoints(open, *parts[k], what));
-      TB_RETURN_IF_ERROR(CheckFinite(raw, what));
-      std::vector<Point2> line;
-      for (const Point2& p : raw)
-        if (line.empty() || line.back() != p) line.push_back(p);
-      if (line.size() < 2)
-        return Status::InvalidArgument(what + ": fewer than 2 distinct points");
-      out.lines.push_back(std::move(line));
-    }
-    features.push_back(std::move(out));
-    return Status::Ok();
-  }));
+  TB_RETURN_IF_ERROR(ForEachFeature(
+      open, options, [&](OGRFeature& feature, int64_t fid, const std::string& label) -> Status {
+        std::unique_ptr<OGRGeometry> owned;
+        TB_ASSIGN_OR_RETURN(const OGRGeometry* g, LinearGeometry(feature, label, owned));
+        std::vector<const OGRLineString*> parts;
+        switch (wkbFlatten(g->getGeometryType())) {
+          case wkbLineString:
+            parts.push_back(g->toLineString());
+            break;
+          case wkbMultiLineString:
+            for (const OGRLineString* part : *g->toMultiLineString()) parts.push_back(part);
+            break;
+          default:
+            return Status::InvalidArgument(label + ": geometry is a " +
+                                           OGRGeometryTypeToName(g->getGeometryType()) +
+                                           ", not a LineString or MultiLineString");
+        }
+        LineFeature out;
+        FillCommon(out, feature, fid, label, open);
+        for (size_t k = 0; k < parts.size(); ++k) {
+          const std::string what = label + ", line " + std::to_string(k);
+          TB_ASSIGN_OR_RETURN(std::vector<Point2> raw, ReadPoints(open, *parts[k], what));
+          TB_RETURN_IF_ERROR(CheckFinite(raw, what));
+          std::vector<Point2> line;
+          for (const Point2& p : raw)
+            if (line.empty() || line.back() != p) line.push_back(p);
+          if (line.size() < 2)
+            return Status::InvalidArgument(what + ": fewer than 2 distinct points");
+          out.lines.push_back(std::move(line));
+        }
+        features.push_back(std::move(out));
+        return Status::Ok();
+      }));
   return features;
 }
 

@@ -10,11 +10,10 @@
 #pragma once
 
 #include <cstdint>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "core/base/status.h"
 #include "core/geometry/crs.h"
@@ -33,11 +32,11 @@ struct VectorSourceOptions {
 };
 
 struct PolygonFeature {
-  int64_t fid = 0;                // OGR feature id
-  std::string label;              // "lux.shp feature 3", for messages
-  std::vector<Polygon> polygons;  // one per part of a MultiPolygon
+  int64_t fid = 0;                                       // OGR feature id
+  std::string label;                                     // "lux.shp feature 3", for messages
+  std::vector<Polygon> polygons;                         // one per part of a MultiPolygon
   nlohmann::json attributes = nlohmann::json::object();  // field name -> value (null if unset)
-  std::optional<std::string> tag;                         // tag_field's value, unless null
+  std::optional<std::string> tag;                        // tag_field's value, unless null
 };
 
 struct LineFeature {

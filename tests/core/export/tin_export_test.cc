@@ -23,11 +23,10 @@ using testing::TempDir;
 // A 12 x 9 grid in UTM 32N with irrational-looking coordinates (so shortest round-trip printing
 // matters), a band of invisible triangles and two tags.
 Tin SampleTin() {
-  Tin tin = testing::MakeGridTin(12, 9, 30.123456789012345, 612345.678901234, 5171234.56789012,
-                                 [](double x, double y) {
-                                   return 1000.0 + std::sin(x / 77.7) * 123.456789 +
-                                          std::cos(y / 51.3) / 3.0;
-                                 });
+  Tin tin = testing::MakeGridTin(
+      12, 9, 30.123456789012345, 612345.678901234, 5171234.56789012, [](double x, double y) {
+        return 1000.0 + std::sin(x / 77.7) * 123.456789 + std::cos(y / 51.3) / 3.0;
+      });
   tin.tags = {"granite", "schist"};
   for (size_t t = 0; t < tin.triangles.size(); ++t) {
     if (t % 7 == 3 || (t >= 40 && t < 70)) tin.triangles[t].visible = false;
@@ -289,8 +288,7 @@ TEST(ExportTin, UnwritablePathIsAnIOErrorNamingIt) {
     auto report = ExportTin(tin, nullptr, path, options);
     ASSERT_FALSE(report.ok());
     EXPECT_EQ(report.status().code(), StatusCode::kIOError);
-    EXPECT_NE(report.status().message().find(path), std::string::npos)
-        << report.status().message();
+    EXPECT_NE(report.status().message().find(path), std::string::npos) << report.status().message();
   }
 }
 

@@ -35,8 +35,8 @@ OGRPolygon ToOgr(const std::vector<Ring>& closed_rings) {
 
 TEST(MakeValidPolygon, OrientsRingsAndDropsRepeatsAndTheClosingVertex) {
   // A clockwise shell with a repeated vertex, and a counter-clockwise hole.
-  auto p = MakeValidPolygon({Closed({{0, 0}, {0, 10}, {0, 10}, {10, 10}, {10, 0}}),
-                             Closed({{2, 2}, {4, 2}, {4, 4}})});
+  auto p = MakeValidPolygon(
+      {Closed({{0, 0}, {0, 10}, {0, 10}, {10, 10}, {10, 0}}), Closed({{2, 2}, {4, 2}, {4, 4}})});
   ASSERT_TRUE(p.ok()) << p.status().ToString();
   EXPECT_EQ(p->shell.size(), 4u);
   EXPECT_GT(SignedDoubleArea(p->shell), 0);
@@ -49,20 +49,19 @@ TEST(MakeValidPolygon, OrientsRingsAndDropsRepeatsAndTheClosingVertex) {
 TEST(MakeValidPolygon, AllowsRingsTouchingAtAPoint) {
   // A hole touching the shell at one vertex, and two holes touching each other.
   auto p = MakeValidPolygon({Closed({{0, 0}, {10, 0}, {10, 10}, {0, 10}}),
-                             Closed({{0, 5}, {3, 4}, {3, 6}}),
-                             Closed({{3, 6}, {6, 6}, {6, 8}})});
+                             Closed({{0, 5}, {3, 4}, {3, 6}}), Closed({{3, 6}, {6, 6}, {6, 8}})});
   EXPECT_TRUE(p.ok()) << p.status().ToString();
 }
 
 TEST(MakeValidPolygon, RejectsSharedEdgesAndEmptyInput) {
-  auto shared = MakeValidPolygon({Closed({{0, 0}, {10, 0}, {10, 10}, {0, 10}}),
-                                  Closed({{0, 2}, {3, 3}, {0, 6}})});
+  auto shared = MakeValidPolygon(
+      {Closed({{0, 0}, {10, 0}, {10, 10}, {0, 10}}), Closed({{0, 2}, {3, 3}, {0, 6}})});
   ASSERT_FALSE(shared.ok());
   EXPECT_EQ(shared.status().message(),
             "ring 0, vertex 3: shares an edge with ring 1 at (0, 2) (edges 3-0 and ring 1 2-0)");
   // The hole touches the shell at two points, cutting off the corner near (0, 0).
-  auto cut = MakeValidPolygon({Closed({{0, 0}, {10, 0}, {10, 10}, {0, 10}}),
-                               Closed({{2, 0}, {3, 3}, {0, 2}})});
+  auto cut = MakeValidPolygon(
+      {Closed({{0, 0}, {10, 0}, {10, 10}, {0, 10}}), Closed({{2, 0}, {3, 3}, {0, 2}})});
   ASSERT_FALSE(cut.ok());
   EXPECT_EQ(cut.status().message(),
             "ring 1: touches at (2, 0) rings it already touches elsewhere, cutting the polygon's "
@@ -77,7 +76,7 @@ TEST(MakeValidPolygon, RejectsSharedEdgesAndEmptyInput) {
 TEST(LocateInRing, TellsInsideBoundaryAndOutside) {
   const Ring ring = {{0, 0}, {4, 0}, {4, 4}, {2, 2}, {0, 4}};  // concave
   EXPECT_EQ(LocateInRing(ring, {1, 1}), Location::kInside);
-  EXPECT_EQ(LocateInRing(ring, {2, 3}), Location::kOutside);  // in the notch
+  EXPECT_EQ(LocateInRing(ring, {2, 3}), Location::kOutside);   // in the notch
   EXPECT_EQ(LocateInRing(ring, {2, 2}), Location::kBoundary);  // vertex
   EXPECT_EQ(LocateInRing(ring, {3, 3}), Location::kBoundary);  // on an edge
   EXPECT_EQ(LocateInRing(ring, {2, 0}), Location::kBoundary);  // horizontal edge
@@ -91,8 +90,9 @@ TEST(LocateInRing, TellsInsideBoundaryAndOutside) {
 rc::Gen<Ring> SmallRing() {
   return rc::gen::container<Ring>(
       *rc::gen::inRange<size_t>(3, 9),
-      rc::gen::construct<Point2>(rc::gen::map(rc::gen::inRange(0, 6), [](int v) { return 1.0 * v; }),
-                                 rc::gen::map(rc::gen::inRange(0, 6), [](int v) { return 1.0 * v; })));
+      rc::gen::construct<Point2>(
+          rc::gen::map(rc::gen::inRange(0, 6), [](int v) { return 1.0 * v; }),
+          rc::gen::map(rc::gen::inRange(0, 6), [](int v) { return 1.0 * v; })));
 }
 
 RC_GTEST_PROP(MakeValidPolygon, AcceptsAShellExactlyWhenGeosCallsItValid, ()) {

@@ -230,15 +230,14 @@ TEST(FeaturePaint, LargeRingsOverManyTrianglesAreFastAndAgreeWithGeos) {
   const Paint paint = ComputePaint(tin, features);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  std::cout << "ComputePaint: " << tin.triangles.size() << " triangles, 7100 ring vertices: "
-            << seconds << " s\n";
+  std::cout << "ComputePaint: " << tin.triangles.size()
+            << " triangles, 7100 ring vertices: " << seconds << " s\n";
   EXPECT_LT(seconds, 5.0);
   ExpectMatchesOgr(tin, features, paint, 7);
 }
 
 TEST(FeaturePaint, HamersleyGeologyFillAgreesWithGeos) {
-  auto geology =
-      ReadPolygonFeatures(testing::DataPath("geology/hamersley/geology.geojson"), {});
+  auto geology = ReadPolygonFeatures(testing::DataPath("geology/hamersley/geology.geojson"), {});
   ASSERT_TRUE(geology.ok()) << geology.status().ToString();
   // A grid over the map's extent (about 47 x 48 km) at 150 m: ~1e5 triangles.
   double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
@@ -254,7 +253,8 @@ TEST(FeaturePaint, HamersleyGeologyFillAgreesWithGeos) {
   std::vector<PaintedFeature> features;
   for (const PolygonFeature& f : *geology) {
     tin.tags.push_back(f.attributes["unitname"].get<std::string>());
-    features.push_back(Feature(PaintMode::kFill, f.polygons, static_cast<int32_t>(tin.tags.size() - 1)));
+    features.push_back(
+        Feature(PaintMode::kFill, f.polygons, static_cast<int32_t>(tin.tags.size() - 1)));
   }
   const Paint paint = ComputePaint(tin, features);
   size_t tagged = 0;

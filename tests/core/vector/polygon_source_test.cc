@@ -18,8 +18,8 @@
 namespace tinbase {
 namespace {
 
-using ::testing::HasSubstr;
 using testing::DataPath;
+using ::testing::HasSubstr;
 using testing::TempDir;
 
 Crs CrsOf(const std::string& text) {
@@ -395,8 +395,9 @@ TEST(LineSource, RejectsDegenerateAndNonFiniteLines) {
   ASSERT_FALSE(one.ok());
   EXPECT_EQ(one.status().message(), "one.geojson feature 0, line 0: fewer than 2 distinct points");
   auto nan = ReadLineFeatures(
-      WriteGeoJson(dir, "nan.geojson",
-                   R"({"type": "MultiLineString", "coordinates": [[[0,0],[1,1]],[[2,2],[Infinity,3]]]})"),
+      WriteGeoJson(
+          dir, "nan.geojson",
+          R"({"type": "MultiLineString", "coordinates": [[[0,0],[1,1]],[[2,2],[Infinity,3]]]})"),
       {});
   ASSERT_FALSE(nan.ok());
   EXPECT_EQ(nan.status().message(),
