@@ -105,7 +105,7 @@ Status WriteObj(const Tin& tin, const Crs* crs, const std::string& path, const S
 
 Status WriteGeoJson(const Tin& tin, const Crs* crs, const std::string& path, const Selection& s,
                     const std::vector<int64_t>& ids) {
-  EnsureGdalRegistered();
+  RegisterGdalDriversOnce();
   QuietGdalErrors quiet;
   GDALDriver* driver = GetGDALDriverManager()->GetDriverByName("GeoJSON");
   if (driver == nullptr) return Status::IOError(path + ": GDAL has no GeoJSON driver");

@@ -1,17 +1,14 @@
 #include "core/geometry/polygon.h"
 
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-
 #include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <optional>
+#include <tuple>
 
 namespace tinbase {
 
 namespace {
-
-using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 
 std::string FormatNumber(double v) {
   char buffer[32];
@@ -49,7 +46,7 @@ Status CheckRawRing(uint32_t r, const Ring& ring) {
       return Status::InvalidArgument(RingVertex(r, v) + ": coordinate is not finite " +
                                      FormatPoint(ring[v]));
   }
-  if (ring.size() < 2 || ring.front() != ring.back()) {
+  if (ring.size() < 2 || !SamePoint(ring.front(), ring.back())) {
     std::string msg = "ring " + std::to_string(r) + ": ring is not closed";
     if (!ring.empty())
       msg += " (vertex 0 " + FormatPoint(ring.front()) + ", last vertex " +
@@ -63,11 +60,11 @@ Result<CleanRing> Clean(uint32_t r, const Ring& ring) {
   TB_RETURN_IF_ERROR(CheckRawRing(r, ring));
   CleanRing clean;
   for (size_t v = 0; v + 1 < ring.size(); ++v) {
-    if (!clean.points.empty() && clean.points.back() == ring[v]) continue;
+    if (!clean.points.empty() && SamePoint(clean.points.back(), ring[v])) continue;
     clean.points.push_back(ring[v]);
     clean.original.push_back(v);
   }
-  if (clean.points.size() > 1 && clean.points.back() == clean.points.front()) {
+  if (clean.points.size() > 1 && SamePoint(clean.points.back(), clean.points.front())) {
     clean.points.pop_back();
     clean.original.pop_back();
   }
@@ -75,7 +72,7 @@ Result<CleanRing> Clean(uint32_t r, const Ring& ring) {
   std::sort(sorted.begin(), sorted.end(), [](const Point2& p, const Point2& q) {
     return p.x < q.x || (p.x == q.x && p.y < q.y);
   });
-  const size_t distinct = std::unique(sorted.begin(), sorted.end()) - sorted.begin();
+  const size_t distinct = std::unique(sorted.begin(), sorted.end(), SamePoint) - sorted.begin();
   if (distinct < 3)
     return Status::InvalidArgument("ring " + std::to_string(r) +
                                    ": fewer than 3 distinct points (" + std::to_string(distinct) +
@@ -130,7 +127,6 @@ struct Touch {
   friend bool operator<(const Touch& a, const Touch& b) {
     return std::tie(a.at.x, a.at.y, a.ring) < std::tie(b.at.x, b.at.y, b.ring);
   }
-  friend bool operator==(const Touch&, const Touch&) = default;
 };
 
 // The problem, if any, between two segments of the polygon. Consecutive edges of one ring
@@ -218,7 +214,11 @@ Status CheckIntersections(const std::vector<CleanRing>& rings, std::vector<Touch
 // disconnected"). Union-find over rings and contact points finds the edge that closes a loop.
 Status CheckInteriorConnected(uint32_t ring_count, std::vector<Touch> touches) {
   std::sort(touches.begin(), touches.end());
-  touches.erase(std::unique(touches.begin(), touches.end()), touches.end());
+  touches.erase(std::unique(touches.begin(), touches.end(),
+                            [](const Touch& a, const Touch& b) {
+                              return SamePoint(a.at, b.at) && a.ring == b.ring;
+                            }),
+                touches.end());
   std::vector<uint32_t> parent(ring_count + touches.size());
   for (uint32_t i = 0; i < parent.size(); ++i) parent[i] = i;
   const auto find = [&parent](uint32_t i) {
@@ -227,7 +227,7 @@ Status CheckInteriorConnected(uint32_t ring_count, std::vector<Touch> touches) {
   };
   uint32_t node = ring_count;  // touches[k] at a new point gets the next node id
   for (size_t k = 0; k < touches.size(); ++k) {
-    if (k > 0 && touches[k].at != touches[k - 1].at) ++node;
+    if (k > 0 && !SamePoint(touches[k].at, touches[k - 1].at)) ++node;
     const uint32_t a = find(touches[k].ring), b = find(node);
     if (a == b)
       return Status::InvalidArgument("ring " + std::to_string(touches[k].ring) + ": touches at " +
@@ -283,11 +283,6 @@ Status CheckHoles(const std::vector<CleanRing>& rings) {
 }
 
 }  // namespace
-
-int Orientation(const Point2& a, const Point2& b, const Point2& c) {
-  return static_cast<int>(CGAL::orientation(Kernel::Point_2(a.x, a.y), Kernel::Point_2(b.x, b.y),
-                                            Kernel::Point_2(c.x, c.y)));
-}
 
 EdgeRay RayTest(const Point2& a, const Point2& b, const Point2& p) {
   const bool a_above = a.y > p.y, b_above = b.y > p.y;

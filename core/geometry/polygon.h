@@ -11,14 +11,12 @@
 #include <vector>
 
 #include "core/base/status.h"
+#include "core/geometry/predicates.h"
 
 namespace tinbase {
 
-struct Point2 {
-  double x = 0;
-  double y = 0;
-  friend bool operator==(const Point2&, const Point2&) = default;
-};
+// True when p and q are the same point: readers repeat vertices bit for bit, so exact.
+inline bool SamePoint(const Point2& p, const Point2& q) { return p.x == q.x && p.y == q.y; }
 
 using Ring = std::vector<Point2>;
 
@@ -38,10 +36,6 @@ struct Polygon {
 // points as long as the interior stays connected (as OGC simple features allow); the accepted
 // polygons are exactly those GEOS calls valid (checked by a property test).
 Result<Polygon> MakeValidPolygon(const std::vector<Ring>& rings);
-
-// Exact orientation of c relative to the line a->b (CGAL's predicate on the input doubles):
-// +1 counter-clockwise (c to the left), -1 clockwise, 0 collinear.
-int Orientation(const Point2& a, const Point2& b, const Point2& c);
 
 // One edge's part in the even-odd ray test (a ray from p towards +x): kOnEdge when p lies on
 // segment ab, kCross when the ray crosses it (half-open in y, so a ray through a vertex counts

@@ -13,7 +13,7 @@
 namespace tinbase {
 
 // Registers GDAL's drivers the first time it is called.
-inline void EnsureGdalRegistered() {
+inline void RegisterGdalDriversOnce() {
   static std::once_flag registered;
   std::call_once(registered, [] { GDALAllRegister(); });
 }

@@ -74,7 +74,7 @@ Status SetUpTransform(OpenLayer& open, const VectorSourceOptions& options) {
 }
 
 Result<OpenLayer> Open(const std::string& path, const VectorSourceOptions& options) {
-  EnsureGdalRegistered();
+  RegisterGdalDriversOnce();
   OpenLayer open;
   open.name = std::filesystem::path(path).filename().string();
   // GDAL's virtual paths (/vsizip/, /vsicurl/, ...) are not files to look for.
@@ -319,7 +319,7 @@ Result<std::vector<LineFeature>> ReadLineFeatures(const std::string& path,
           TB_RETURN_IF_ERROR(CheckFinite(raw, what));
           std::vector<Point2> line;
           for (const Point2& p : raw)
-            if (line.empty() || line.back() != p) line.push_back(p);
+            if (line.empty() || !SamePoint(line.back(), p)) line.push_back(p);
           if (line.size() < 2)
             return Status::InvalidArgument(what + ": fewer than 2 distinct points");
           out.lines.push_back(std::move(line));

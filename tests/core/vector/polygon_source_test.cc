@@ -29,7 +29,7 @@ Crs CrsOf(const std::string& text) {
 }
 
 GdalDatasetPtr OpenVector(const std::string& path) {
-  EnsureGdalRegistered();
+  RegisterGdalDriversOnce();
   return GdalDatasetPtr(GDALDataset::Open(path.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY));
 }
 
@@ -42,7 +42,7 @@ Ring OgrRing(const OGRLinearRing& ring, OGRCoordinateTransformation* ct = nullpt
     if (ct != nullptr) {
       EXPECT_TRUE(ct->Transform(1, &x, &y));
     }
-    if (out.empty() || out.back() != Point2{x, y}) out.push_back({x, y});
+    if (out.empty() || !SamePoint(out.back(), {x, y})) out.push_back({x, y});
   }
   return out;
 }
@@ -172,9 +172,9 @@ TEST(PolygonSource, ReadsFaultsAsLines) {
       const OGRLineString* ls = ml->getGeometryRef(static_cast<int>(k));
       ASSERT_GE(f.lines[k].size(), 2u);
       EXPECT_LE(f.lines[k].size(), static_cast<size_t>(ls->getNumPoints()));
-      EXPECT_EQ(f.lines[k].front(), (Point2{ls->getX(0), ls->getY(0)}));
-      EXPECT_EQ(f.lines[k].back(),
-                (Point2{ls->getX(ls->getNumPoints() - 1), ls->getY(ls->getNumPoints() - 1)}));
+      const int last = ls->getNumPoints() - 1;
+      EXPECT_TRUE(SamePoint(f.lines[k].front(), {ls->getX(0), ls->getY(0)})) << f.label;
+      EXPECT_TRUE(SamePoint(f.lines[k].back(), {ls->getX(last), ls->getY(last)})) << f.label;
     }
     EXPECT_TRUE(f.attributes.contains("fname")) << f.label;
   }
@@ -361,7 +361,7 @@ TEST(PolygonSource, SourceWithoutCrsNeedsOneToBeReprojected) {
   TempDir dir;
   const std::string path = dir.Path("bare.shp");
   {
-    EnsureGdalRegistered();
+    RegisterGdalDriversOnce();
     GDALDriver* driver = GetGDALDriverManager()->GetDriverByName("ESRI Shapefile");
     GdalDatasetPtr ds(driver->Create(path.c_str(), 0, 0, 0, GDT_Unknown, nullptr));
     ASSERT_TRUE(ds);
