@@ -193,8 +193,8 @@ Result<std::vector<Point2>> ReadPoints(const OpenLayer& open, const OGRSimpleCur
   return points;
 }
 
-// Calls `visit(feature, fid, label)` for every feature that passes the filter; NotFound-free: an
-// empty source is an InvalidArgument naming the file, layer and filter.
+// Calls `visit(feature, fid, label)` for every feature that passes the filter. Finding none is
+// the user's mistake, not a missing thing: InvalidArgument naming the file, layer and filter.
 Status ForEachFeature(
     OpenLayer& open, const VectorSourceOptions& options,
     const std::function<Status(OGRFeature&, int64_t, const std::string&)>& visit) {
