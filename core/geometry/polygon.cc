@@ -244,12 +244,12 @@ Status CheckInteriorConnected(uint32_t ring_count, std::vector<Touch> touches) {
 std::optional<std::pair<Point2, size_t>> PointOffRing(const CleanRing& inner, const Ring& outer) {
   const Ring& p = inner.points;
   for (size_t i = 0; i < p.size(); ++i)
-    if (LocateInRing(outer, p[i]) != Location::kBoundary) return {{p[i], inner.original[i]}};
+    if (LocateInRing(outer, p[i]) != PointInPolygon::kBoundary) return {{p[i], inner.original[i]}};
   for (size_t i = 0; i < p.size(); ++i) {
     const Point2& a = p[i];
     const Point2& b = p[(i + 1) % p.size()];
     const Point2 mid{(a.x + b.x) / 2, (a.y + b.y) / 2};
-    if (LocateInRing(outer, mid) != Location::kBoundary) return {{mid, inner.original[i]}};
+    if (LocateInRing(outer, mid) != PointInPolygon::kBoundary) return {{mid, inner.original[i]}};
   }
   return std::nullopt;
 }
@@ -262,7 +262,7 @@ Status CheckHoles(const std::vector<CleanRing>& rings) {
     if (!probe)
       return Status::InvalidArgument("ring " + std::to_string(h) +
                                      ": hole lies on its shell's boundary");
-    if (LocateInRing(shell, probe->first) == Location::kOutside)
+    if (LocateInRing(shell, probe->first) == PointInPolygon::kOutside)
       return Status::InvalidArgument(RingVertex(h, probe->second) +
                                      ": hole lies outside its shell (ring 0) at " +
                                      FormatPoint(probe->first));
@@ -274,7 +274,7 @@ Status CheckHoles(const std::vector<CleanRing>& rings) {
       if (!probe)
         return Status::InvalidArgument("ring " + std::to_string(h) + ": hole coincides with ring " +
                                        std::to_string(k));
-      if (LocateInRing(rings[k].points, probe->first) == Location::kInside)
+      if (LocateInRing(rings[k].points, probe->first) == PointInPolygon::kInside)
         return Status::InvalidArgument(RingVertex(h, probe->second) + ": hole lies inside hole " +
                                        std::to_string(k) + " at " + FormatPoint(probe->first));
     }
@@ -299,12 +299,12 @@ EdgeRay RayTest(const Point2& a, const Point2& b, const Point2& p) {
   return (b_above ? o > 0 : o < 0) ? EdgeRay::kCross : EdgeRay::kMiss;
 }
 
-Location LocateInRing(const Ring& ring, const Point2& p) {
+PointInPolygon LocateInRing(const Ring& ring, const Point2& p) {
   bool inside = false;
   for (size_t i = 0; i < ring.size(); ++i) {
     switch (RayTest(ring[i], ring[(i + 1) % ring.size()], p)) {
       case EdgeRay::kOnEdge:
-        return Location::kBoundary;
+        return PointInPolygon::kBoundary;
       case EdgeRay::kCross:
         inside = !inside;
         break;
@@ -312,7 +312,7 @@ Location LocateInRing(const Ring& ring, const Point2& p) {
         break;
     }
   }
-  return inside ? Location::kInside : Location::kOutside;
+  return inside ? PointInPolygon::kInside : PointInPolygon::kOutside;
 }
 
 double SignedDoubleArea(const Ring& ring) {

@@ -45,8 +45,8 @@ EdgeRay RayTest(const Point2& a, const Point2& b, const Point2& p);
 
 // Where p lies relative to one open ring, by the even-odd rule. Linear in the ring's size; use
 // PolygonLocator for many queries.
-enum class Location { kOutside, kBoundary, kInside };
-Location LocateInRing(const Ring& ring, const Point2& p);
+enum class PointInPolygon { kOutside, kBoundary, kInside };
+PointInPolygon LocateInRing(const Ring& ring, const Point2& p);
 
 // Twice the signed area of an open ring: positive when counter-clockwise.
 double SignedDoubleArea(const Ring& ring);

@@ -51,9 +51,9 @@ int64_t PolygonLocator::BandOf(double y) const {
                              bands - 1);
 }
 
-Location PolygonLocator::Locate(const Point2& p) const {
+PointInPolygon PolygonLocator::Locate(const Point2& p) const {
   if (edges_.empty() || p.x < min_x_ || p.x > max_x_ || p.y < min_y_ || p.y > max_y_)
-    return Location::kOutside;
+    return PointInPolygon::kOutside;
   // Every edge whose y-range holds p.y is listed in p's band (edges are added to each band
   // their closed y-range meets, and BandOf is monotone), so the parity below is complete.
   const int64_t band = BandOf(p.y);
@@ -65,7 +65,7 @@ Location PolygonLocator::Locate(const Point2& p) const {
     const Edge& e = edges_[band_edges_[i]];
     if (e.polygon != polygon) {
       // Edges come grouped by polygon: the parity of the previous one is final.
-      if (inside && !on_edge) return Location::kInside;
+      if (inside && !on_edge) return PointInPolygon::kInside;
       polygon = e.polygon;
       inside = on_edge = false;
     }
@@ -80,8 +80,8 @@ Location PolygonLocator::Locate(const Point2& p) const {
         break;
     }
   }
-  if (inside && !on_edge) return Location::kInside;
-  return on_boundary ? Location::kBoundary : Location::kOutside;
+  if (inside && !on_edge) return PointInPolygon::kInside;
+  return on_boundary ? PointInPolygon::kBoundary : PointInPolygon::kOutside;
 }
 
 }  // namespace tinbase

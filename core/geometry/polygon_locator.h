@@ -22,7 +22,7 @@ class PolygonLocator {
   explicit PolygonLocator(const std::vector<Polygon>& polygons);
 
   // kBoundary when `p` lies on a ring of a polygon and inside no other polygon.
-  Location Locate(const Point2& p) const;
+  PointInPolygon Locate(const Point2& p) const;
 
   bool empty() const { return edges_.empty(); }
 

@@ -21,7 +21,7 @@ std::vector<uint8_t> InsideTriangles(const Tin& tin, const std::vector<Point2>& 
                                      const PolygonLocator& locator) {
   std::vector<uint8_t> inside(tin.triangles.size(), 0);
   for (size_t t = 0; t < centroids.size(); ++t)
-    inside[t] = locator.Locate(centroids[t]) != Location::kOutside;
+    inside[t] = locator.Locate(centroids[t]) != PointInPolygon::kOutside;
   return inside;
 }
 
@@ -79,7 +79,7 @@ Paint ComputePaint(const Tin& tin, const std::vector<PaintedFeature>& features) 
         // A vertex on the ring is part of the flat replaced area, so boundary counts.
         for (uint32_t v = 0; v < tin.vertices.size(); ++v) {
           const TinVertex& p = tin.vertices[v];
-          if (locator.Locate({p.x, p.y}) == Location::kOutside) continue;
+          if (locator.Locate({p.x, p.y}) == PointInPolygon::kOutside) continue;
           replaced[v] = 1;
           level[v] = feature.level;
         }

@@ -75,14 +75,14 @@ TEST(MakeValidPolygon, RejectsSharedEdgesAndEmptyInput) {
 
 TEST(LocateInRing, TellsInsideBoundaryAndOutside) {
   const Ring ring = {{0, 0}, {4, 0}, {4, 4}, {2, 2}, {0, 4}};  // concave
-  EXPECT_EQ(LocateInRing(ring, {1, 1}), Location::kInside);
-  EXPECT_EQ(LocateInRing(ring, {2, 3}), Location::kOutside);   // in the notch
-  EXPECT_EQ(LocateInRing(ring, {2, 2}), Location::kBoundary);  // vertex
-  EXPECT_EQ(LocateInRing(ring, {3, 3}), Location::kBoundary);  // on an edge
-  EXPECT_EQ(LocateInRing(ring, {2, 0}), Location::kBoundary);  // horizontal edge
-  EXPECT_EQ(LocateInRing(ring, {5, 0}), Location::kOutside);   // on the edge's line, beyond
-  EXPECT_EQ(LocateInRing(ring, {-1, 2}), Location::kOutside);  // ray through the vertex (2, 2)
-  EXPECT_EQ(LocateInRing(ring, {1, 2}), Location::kInside);
+  EXPECT_EQ(LocateInRing(ring, {1, 1}), PointInPolygon::kInside);
+  EXPECT_EQ(LocateInRing(ring, {2, 3}), PointInPolygon::kOutside);   // in the notch
+  EXPECT_EQ(LocateInRing(ring, {2, 2}), PointInPolygon::kBoundary);  // vertex
+  EXPECT_EQ(LocateInRing(ring, {3, 3}), PointInPolygon::kBoundary);  // on an edge
+  EXPECT_EQ(LocateInRing(ring, {2, 0}), PointInPolygon::kBoundary);  // horizontal edge
+  EXPECT_EQ(LocateInRing(ring, {5, 0}), PointInPolygon::kOutside);   // on the edge's line, beyond
+  EXPECT_EQ(LocateInRing(ring, {-1, 2}), PointInPolygon::kOutside);  // ray through the vertex (2, 2)
+  EXPECT_EQ(LocateInRing(ring, {1, 2}), PointInPolygon::kInside);
 }
 
 // Random rings on a small integer grid hit every degenerate case: repeated, collinear and
@@ -120,11 +120,11 @@ RC_GTEST_PROP(PolygonLocator, AgreesWithTheLinearScanAndGeos, ()) {
   for (int i = -1; i <= 13; ++i) {
     for (int j = -1; j <= 13; ++j) {
       const Point2 p{i / 2.0, j / 2.0};
-      const Location got = locator.Locate(p);
+      const PointInPolygon got = locator.Locate(p);
       RC_ASSERT(got == LocateInRing(polygon->shell, p));
       OGRPoint point(p.x, p.y);
-      RC_ASSERT((got == Location::kInside) == ogr.Contains(&point));
-      RC_ASSERT((got == Location::kBoundary) == (point.Intersects(&ogr) && !ogr.Contains(&point)));
+      RC_ASSERT((got == PointInPolygon::kInside) == ogr.Contains(&point));
+      RC_ASSERT((got == PointInPolygon::kBoundary) == (point.Intersects(&ogr) && !ogr.Contains(&point)));
     }
   }
 }
@@ -133,15 +133,15 @@ TEST(PolygonLocator, IsTheUnionOfOverlappingPolygonsWithHoles) {
   const Polygon a{{{0, 0}, {10, 0}, {10, 10}, {0, 10}}, {{{2, 2}, {2, 8}, {8, 8}, {8, 2}}}};
   const Polygon b{{{5, 5}, {15, 5}, {15, 15}, {5, 15}}, {}};
   const PolygonLocator locator({a, b});
-  EXPECT_EQ(locator.Locate({1, 1}), Location::kInside);
-  EXPECT_EQ(locator.Locate({3, 3}), Location::kOutside);   // a's hole, outside b
-  EXPECT_EQ(locator.Locate({6, 6}), Location::kInside);    // a's hole, inside b
-  EXPECT_EQ(locator.Locate({10, 7}), Location::kInside);   // a's edge, inside b
-  EXPECT_EQ(locator.Locate({2, 3}), Location::kBoundary);  // a's hole edge, outside b
-  EXPECT_EQ(locator.Locate({12, 12}), Location::kInside);
-  EXPECT_EQ(locator.Locate({12, 2}), Location::kOutside);
-  EXPECT_EQ(locator.Locate({15, 20}), Location::kOutside);
-  EXPECT_EQ(PolygonLocator({}).Locate({0, 0}), Location::kOutside);
+  EXPECT_EQ(locator.Locate({1, 1}), PointInPolygon::kInside);
+  EXPECT_EQ(locator.Locate({3, 3}), PointInPolygon::kOutside);   // a's hole, outside b
+  EXPECT_EQ(locator.Locate({6, 6}), PointInPolygon::kInside);    // a's hole, inside b
+  EXPECT_EQ(locator.Locate({10, 7}), PointInPolygon::kInside);   // a's edge, inside b
+  EXPECT_EQ(locator.Locate({2, 3}), PointInPolygon::kBoundary);  // a's hole edge, outside b
+  EXPECT_EQ(locator.Locate({12, 12}), PointInPolygon::kInside);
+  EXPECT_EQ(locator.Locate({12, 2}), PointInPolygon::kOutside);
+  EXPECT_EQ(locator.Locate({15, 20}), PointInPolygon::kOutside);
+  EXPECT_EQ(PolygonLocator({}).Locate({0, 0}), PointInPolygon::kOutside);
 }
 
 }  // namespace
