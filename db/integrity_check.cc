@@ -156,8 +156,10 @@ class SurfaceChecker {
       if (prev < e) continue;
       overused_ = true;
       Add("overused-edge", rows_[e.t].id,
-          "edge (" + std::to_string(e.a) + ", " + std::to_string(e.b) + ") is also used by "
-              "triangle " + std::to_string(rows_[prev.t].id) + " in the same direction");
+          "edge (" + std::to_string(e.a) + ", " + std::to_string(e.b) +
+              ") is also used by "
+              "triangle " +
+              std::to_string(rows_[prev.t].id) + " in the same direction");
     }
   }
 
@@ -185,8 +187,8 @@ class SurfaceChecker {
                     std::to_string(rows_[twin->t].id) + " but has no neighbour");
           continue;
         }
-        const std::string across = "neighbour " + std::to_string(*r.n[i]) + " across edge " +
-                                   EdgeText(r, i);
+        const std::string across =
+            "neighbour " + std::to_string(*r.n[i]) + " across edge " + EdgeText(r, i);
         auto it = index_.find(*r.n[i]);
         if (it == index_.end()) {
           Add("bad-neighbour", r.id, across + " is not a triangle of the surface");
@@ -242,9 +244,9 @@ class SurfaceChecker {
     const int64_t f = static_cast<int64_t>(rows_.size());
     if (v - e + f != 2 * components - loops)
       Add("euler", std::nullopt,
-          "V - E + F = " + std::to_string(v - e + f) + " but 2C - B = " +
-              std::to_string(2 * components - loops) + " (V " + std::to_string(v) + ", E " +
-              std::to_string(e) + ", F " + std::to_string(f) + ", C " +
+          "V - E + F = " + std::to_string(v - e + f) +
+              " but 2C - B = " + std::to_string(2 * components - loops) + " (V " +
+              std::to_string(v) + ", E " + std::to_string(e) + ", F " + std::to_string(f) + ", C " +
               std::to_string(components) + ", B " + std::to_string(loops) + ")");
   }
 
@@ -348,9 +350,8 @@ class SurfaceChecker {
         const int64_t far = u.v[twin->i];
         if (InCircle(At(r.v[0]), At(r.v[1]), At(r.v[2]), At(far)) > 0)
           Add("not-delaunay", r.id,
-              "edge " + EdgeText(r, i) + " is not locally Delaunay: vertex " +
-                  std::to_string(far) + " of triangle " + std::to_string(u.id) +
-                  " is inside the circumcircle");
+              "edge " + EdgeText(r, i) + " is not locally Delaunay: vertex " + std::to_string(far) +
+                  " of triangle " + std::to_string(u.id) + " is inside the circumcircle");
       }
     }
   }
@@ -400,9 +401,8 @@ Result<std::vector<Problem>> CheckStore(Store& store, const CheckOptions& option
     TB_RETURN_IF_ERROR(SurfaceChecker(store, surface, &found).Run());
     // Surface-wide problems (no triangle) first, then by triangle; within a triangle, in the
     // order of the invariants.
-    std::stable_sort(found.begin(), found.end(), [](const Problem& a, const Problem& b) {
-      return a.triangle < b.triangle;
-    });
+    std::stable_sort(found.begin(), found.end(),
+                     [](const Problem& a, const Problem& b) { return a.triangle < b.triangle; });
     problems.insert(problems.end(), found.begin(), found.end());
   }
   return problems;

@@ -131,8 +131,8 @@ Result<Location> LocatePoint(Store& store, const SurfaceInfo& surface, double x,
   const Point2 p{x, y};
 
   // Seeded by the point, so a query repeats exactly (and a failure reproduces).
-  std::minstd_rand rng(static_cast<uint32_t>(std::bit_cast<uint64_t>(x) * 31 ^
-                                             std::bit_cast<uint64_t>(y)) | 1u);
+  std::minstd_rand rng(
+      static_cast<uint32_t>(std::bit_cast<uint64_t>(x) * 31 ^ std::bit_cast<uint64_t>(y)) | 1u);
   TB_ASSIGN_OR_RETURN(int64_t current, JumpStart(surfaces, surface, x, y));
   std::optional<int64_t> came_from;
   // On a valid triangulation the walk ends with probability 1 (Devillers, Pion, Teillaud,
@@ -171,8 +171,8 @@ Result<Location> LocatePoint(Store& store, const SurfaceInfo& surface, double x,
     }
     const std::optional<int64_t> next = tri.n[*exit_edge];
     if (!next)
-      return Status::NotFound("point " + PointText(x, y) + " is outside surface '" +
-                              surface.name + "'");
+      return Status::NotFound("point " + PointText(x, y) + " is outside surface '" + surface.name +
+                              "'");
     came_from = current;
     current = *next;
   }

@@ -66,8 +66,8 @@ Status ValidateIndices(const Tin& tin) {
   }
   for (const auto& [a, b] : tin.constraints) {
     if (a >= nv || b >= nv || a == b)
-      return Status::InvalidArgument("constraint (" + std::to_string(a) + ", " +
-                                     std::to_string(b) + ") is not an edge between two vertices");
+      return Status::InvalidArgument("constraint (" + std::to_string(a) + ", " + std::to_string(b) +
+                                     ") is not an edge between two vertices");
   }
   return Status::Ok();
 }
@@ -84,8 +84,9 @@ Result<std::vector<int64_t>> TagIds(SqliteDb& db, const Tin& tin) {
   std::vector<int64_t> ids;
   ids.reserve(tin.tags.size());
   for (const std::string& value : tin.tags) {
-    TB_ASSIGN_OR_RETURN(Statement * insert,
-                        db.Cached("INSERT INTO tags(value) VALUES (?) ON CONFLICT(value) DO NOTHING"));
+    TB_ASSIGN_OR_RETURN(
+        Statement * insert,
+        db.Cached("INSERT INTO tags(value) VALUES (?) ON CONFLICT(value) DO NOTHING"));
     TB_RETURN_IF_ERROR(insert->Bind(1, value).Run());
     TB_ASSIGN_OR_RETURN(Statement * select, db.Cached("SELECT id FROM tags WHERE value = ?"));
     select->Bind(1, value);
@@ -96,6 +97,29 @@ Result<std::vector<int64_t>> TagIds(SqliteDb& db, const Tin& tin) {
   }
   return ids;
 }
+
+// Raises the connection's page cache while a bulk write runs. The vertices' (surface, x, y) index
+// is written in an order unrelated to ids, so with SQLite's default 2 MB cache most inserts of a
+// million-row surface fetch pages from the OS; 64 MB holds a few million rows' index pages.
+class ScopedPageCache {
+ public:
+  ScopedPageCache(SqliteDb& db, size_t rows) : db_(db) {
+    if (rows < kThresholdRows) return;
+    auto previous = db_.QueryInt("PRAGMA cache_size");
+    // A positive cache_size counts pages, a negative one KiB; only grow a KiB-sized cache.
+    if (!previous.ok() || *previous >= 0 || *previous <= kCacheSize) return;
+    if (db_.Exec("PRAGMA cache_size = " + std::to_string(kCacheSize)).ok()) previous_ = *previous;
+  }
+  ~ScopedPageCache() {
+    if (previous_) (void)db_.Exec("PRAGMA cache_size = " + std::to_string(*previous_));
+  }
+
+ private:
+  static constexpr size_t kThresholdRows = 50000;
+  static constexpr int64_t kCacheSize = -65536;  // negative: KiB
+  SqliteDb& db_;
+  std::optional<int64_t> previous_;
+};
 
 }  // namespace
 
@@ -144,16 +168,22 @@ Result<SurfaceInfo> SurfaceStore::Create(const SurfaceInfo& spec, const Tin& tin
   if (tin.vertices.empty()) min_x = min_y = max_x = max_y = 0;
 
   SurfaceInfo info = spec;
-  info.blocks = BlockGrid::For(min_x, min_y, max_x, max_y,
-                               static_cast<int64_t>(tin.triangles.size()));
+  info.blocks =
+      BlockGrid::For(min_x, min_y, max_x, max_y, static_cast<int64_t>(tin.triangles.size()));
   TB_ASSIGN_OR_RETURN(
       Statement * insert,
       db.Cached("INSERT INTO surfaces(name, kind, method, tolerance, dem, block_origin_x, "
                 "block_origin_y, block_size) VALUES (?, ?, ?, ?, ?, ?, ?, ?)"));
   insert->Bind(1, info.name).Bind(2, std::string_view(SurfaceKindName(info.kind)));
   insert->Bind(3, info.method);
-  if (info.tolerance) insert->Bind(4, *info.tolerance); else insert->BindNull(4);
-  if (info.dem) insert->Bind(5, *info.dem); else insert->BindNull(5);
+  if (info.tolerance)
+    insert->Bind(4, *info.tolerance);
+  else
+    insert->BindNull(4);
+  if (info.dem)
+    insert->Bind(5, *info.dem);
+  else
+    insert->BindNull(5);
   insert->Bind(6, info.blocks.origin_x).Bind(7, info.blocks.origin_y).Bind(8, info.blocks.size);
   TB_RETURN_IF_ERROR(insert->Run().WithContext("creating surface " + Quoted(info.name)));
   info.id = db.LastInsertRowId();
@@ -164,9 +194,9 @@ Result<SurfaceInfo> SurfaceStore::Create(const SurfaceInfo& spec, const Tin& tin
 Result<LoadedSurface> SurfaceStore::Replace(const SurfaceInfo& surface, const Tin& tin) {
   TB_RETURN_IF_ERROR(ValidateIndices(tin).WithContext("surface " + Quoted(surface.name)));
   SqliteDb& db = store_.db();
-  for (const char* sql : {"DELETE FROM constraints WHERE surface = ?",
-                          "DELETE FROM triangles WHERE surface = ?",
-                          "DELETE FROM vertices WHERE surface = ?"}) {
+  for (const char* sql :
+       {"DELETE FROM constraints WHERE surface = ?", "DELETE FROM triangles WHERE surface = ?",
+        "DELETE FROM vertices WHERE surface = ?"}) {
     TB_ASSIGN_OR_RETURN(Statement * del, db.Cached(sql));
     TB_RETURN_IF_ERROR(del->Bind(1, surface.id).Run());
   }
@@ -175,6 +205,7 @@ Result<LoadedSurface> SurfaceStore::Replace(const SurfaceInfo& surface, const Ti
 
 Result<LoadedSurface> SurfaceStore::WriteRows(const SurfaceInfo& surface, const Tin& tin) {
   SqliteDb& db = store_.db();
+  ScopedPageCache cache(db, tin.vertices.size() + tin.triangles.size());
   LoadedSurface out;
   TB_ASSIGN_OR_RETURN(const int64_t vertex_base, NextId(db, "vertices"));
   TB_ASSIGN_OR_RETURN(const int64_t triangle_base, NextId(db, "triangles"));
@@ -189,7 +220,7 @@ Result<LoadedSurface> SurfaceStore::WriteRows(const SurfaceInfo& surface, const 
     const int64_t id = vertex_base + static_cast<int64_t>(i);
     vertex->Bind(1, id).Bind(2, surface.id).Bind(3, v.x).Bind(4, v.y).Bind(5, v.z);
     vertex->Bind(6, std::string_view(VertexKindName(v.kind)));
-    TB_RETURN_IF_ERROR(vertex->Run().WithContext("surface " + Quoted(surface.name)));
+    if (Status s = vertex->Run(); !s.ok()) return s.WithContext("surface " + Quoted(surface.name));
     out.vertex_ids.push_back(id);
   }
 
@@ -204,16 +235,22 @@ Result<LoadedSurface> SurfaceStore::WriteRows(const SurfaceInfo& surface, const 
     triangle->Bind(1, id).Bind(2, surface.id);
     for (int i = 0; i < 3; ++i) {
       triangle->Bind(3 + i, out.vertex_ids[tri.v[i]]);
-      if (tri.n[i] == kNoNeighbour) triangle->BindNull(6 + i);
-      else triangle->Bind(6 + i, triangle_base + tri.n[i]);
+      if (tri.n[i] == kNoNeighbour)
+        triangle->BindNull(6 + i);
+      else
+        triangle->Bind(6 + i, triangle_base + tri.n[i]);
     }
     triangle->Bind(9, int64_t{tri.visible ? 1 : 0});
-    if (tri.tag == kNoTag) triangle->BindNull(10); else triangle->Bind(10, tag_ids[tri.tag]);
+    if (tri.tag == kNoTag)
+      triangle->BindNull(10);
+    else
+      triangle->Bind(10, tag_ids[tri.tag]);
     const TinVertex& a = tin.vertices[tri.v[0]];
     const TinVertex& b = tin.vertices[tri.v[1]];
     const TinVertex& c = tin.vertices[tri.v[2]];
     triangle->Bind(11, CentroidBlock(surface.blocks, a.x, a.y, b.x, b.y, c.x, c.y));
-    TB_RETURN_IF_ERROR(triangle->Run().WithContext("surface " + Quoted(surface.name)));
+    if (Status s = triangle->Run(); !s.ok())
+      return s.WithContext("surface " + Quoted(surface.name));
     out.triangle_ids.push_back(id);
   }
 
@@ -222,7 +259,8 @@ Result<LoadedSurface> SurfaceStore::WriteRows(const SurfaceInfo& surface, const 
   for (const auto& [a, b] : tin.constraints) {
     const int64_t va = out.vertex_ids[a], vb = out.vertex_ids[b];
     constraint->Bind(1, surface.id).Bind(2, std::min(va, vb)).Bind(3, std::max(va, vb));
-    TB_RETURN_IF_ERROR(constraint->Run().WithContext("surface " + Quoted(surface.name)));
+    if (Status s = constraint->Run(); !s.ok())
+      return s.WithContext("surface " + Quoted(surface.name));
   }
   out.tin = tin;
   return out;
@@ -267,12 +305,11 @@ Result<std::vector<SurfaceInfo>> SurfaceStore::List() {
 Result<SurfaceCounts> SurfaceStore::Count(const SurfaceInfo& surface) {
   TB_ASSIGN_OR_RETURN(
       Statement * stmt,
-      store_.db().Cached(
-          "SELECT (SELECT count(*) FROM vertices WHERE surface = ?1), "
-          "(SELECT count(*) FROM triangles WHERE surface = ?1), "
-          "(SELECT count(*) FROM triangles WHERE surface = ?1 AND visible = 1), "
-          "(SELECT count(*) FROM constraints WHERE surface = ?1), "
-          "(SELECT count(*) FROM features WHERE surface = ?1)"));
+      store_.db().Cached("SELECT (SELECT count(*) FROM vertices WHERE surface = ?1), "
+                         "(SELECT count(*) FROM triangles WHERE surface = ?1), "
+                         "(SELECT count(*) FROM triangles WHERE surface = ?1 AND visible = 1), "
+                         "(SELECT count(*) FROM constraints WHERE surface = ?1), "
+                         "(SELECT count(*) FROM features WHERE surface = ?1)"));
   stmt->Bind(1, surface.id);
   TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
   if (!row) return Status::Corruption("counting surface " + Quoted(surface.name) + ": no row");
@@ -287,9 +324,8 @@ Result<SurfaceCounts> SurfaceStore::Count(const SurfaceInfo& surface) {
 }
 
 Result<StoredTriangle> SurfaceStore::Triangle(const SurfaceInfo& surface, int64_t id) {
-  TB_ASSIGN_OR_RETURN(Statement * stmt,
-                      store_.db().Cached(std::string(kTriangleColumns) +
-                                         "WHERE t.id = ? AND t.surface = ?"));
+  TB_ASSIGN_OR_RETURN(Statement * stmt, store_.db().Cached(std::string(kTriangleColumns) +
+                                                           "WHERE t.id = ? AND t.surface = ?"));
   stmt->Bind(1, id).Bind(2, surface.id);
   TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
   if (!row)
@@ -317,8 +353,8 @@ Result<StoredVertex> SurfaceStore::Vertex(const SurfaceInfo& surface, int64_t id
   const std::string kind = stmt->ColumnText(3);
   stmt->Reset();
   if (!ParseVertexKind(kind, &v.kind))
-    return Status::Corruption("surface " + Quoted(surface.name) + ", vertex " +
-                              std::to_string(id) + ": unknown kind '" + kind + "'");
+    return Status::Corruption("surface " + Quoted(surface.name) + ", vertex " + std::to_string(id) +
+                              ": unknown kind '" + kind + "'");
   return v;
 }
 
@@ -370,9 +406,8 @@ Result<LoadedSurface> SurfaceStore::Load(const SurfaceInfo& surface) {
   }
   vertices->Reset();
 
-  TB_ASSIGN_OR_RETURN(Statement * triangles,
-                      db.Cached(std::string(kTriangleColumns) +
-                                "WHERE t.surface = ? ORDER BY t.id"));
+  TB_ASSIGN_OR_RETURN(Statement * triangles, db.Cached(std::string(kTriangleColumns) +
+                                                       "WHERE t.surface = ? ORDER BY t.id"));
   triangles->Bind(1, surface.id);
   std::vector<StoredTriangle> rows;
   for (;;) {

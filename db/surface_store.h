@@ -82,8 +82,8 @@ class SurfaceStore {
 
   // Writes `tin` as a new surface named spec.name (Conflict if the name is taken), computing
   // the block grid and each triangle's block; returns spec with its id and block grid filled in.
-  // InvalidArgument when `tin` refers to a vertex, neighbour or tag it does not have. REQUIRES: inside a WriteTransaction; `tin`'s
-  // neighbour links are consistent (LinkNeighbours).
+  // InvalidArgument when `tin` refers to a vertex, neighbour or tag it does not have.
+  // REQUIRES: inside a WriteTransaction; `tin`'s neighbour links are consistent (LinkNeighbours).
   Result<SurfaceInfo> Create(const SurfaceInfo& spec, const Tin& tin);
   // Replaces every vertex, triangle and constraint row of `surface` by `tin` (features and
   // changes stay). The surface keeps its block grid (blocks clamp at the grid's edge, so a larger

@@ -23,9 +23,9 @@ TEST(Orientation, IsExactOneUlpFromCollinear) {
   EXPECT_EQ(Orientation({std::nextafter(0.5, 0.0), 0.5}, b, c), 1);
   // Large map coordinates: three points on the line y = x + 4500000 stay collinear.
   EXPECT_EQ(Orientation({600000, 5100000}, {600001, 5100001}, {600003, 5100003}), 0);
-  EXPECT_EQ(Orientation({600000, 5100000}, {600001, 5100001},
-                        {600003, std::nextafter(5100003.0, 6e6)}),
-            1);
+  EXPECT_EQ(
+      Orientation({600000, 5100000}, {600001, 5100001}, {600003, std::nextafter(5100003.0, 6e6)}),
+      1);
 }
 
 TEST(InCircle, InsideOnAndOutsideTheUnitCircle) {
