@@ -57,6 +57,8 @@ Tin RandomDelaunayTin(const RandomTinOptions& options) {
   for (int i = 0; i < options.points; ++i)
     points.emplace_back(Kernel::Point_2(options.x0 + u(rng), options.y0 + u(rng)),
                         VertexKind::kDem);
+  for (const auto& [x, y] : options.extra)
+    points.emplace_back(Kernel::Point_2(x, y), VertexKind::kUser);
   Cdt cdt;
   cdt.insert(points.begin(), points.end());
   const double cx = options.x0 + options.size / 2, cy = options.y0 + options.size / 2;

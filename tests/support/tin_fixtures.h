@@ -8,6 +8,8 @@
 #pragma once
 
 #include <cstdint>
+#include <utility>
+#include <vector>
 
 #include "core/tin/tin.h"
 #include "db/store.h"
@@ -22,6 +24,7 @@ struct RandomTinOptions {
   uint32_t seed = 1;
   bool ring = false;  // a constrained 48-gon in the middle, its inside tagged "granite"
   double x0 = 600000, y0 = 5100000, size = 10000;  // the square the points are drawn from
+  std::vector<std::pair<double, double>> extra = {};  // more points (kind user), anywhere
 };
 Tin RandomDelaunayTin(const RandomTinOptions& options);
 
