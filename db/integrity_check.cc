@@ -271,10 +271,11 @@ class SurfaceChecker {
     return loops;
   }
 
-  // Invariant 3, tiling: the signed angles of the triangles around a vertex add up to 2π times
-  // their winding number. An interior vertex must be wound exactly once, a boundary vertex's fan
-  // must stay under a full turn; more means triangles overlap. The sum is in doubles, but it
-  // only has to tell integers (interior) or 2π from well below it (boundary) apart.
+  // Invariant 3, tiling: the signed angles of the triangles around a vertex add up to exactly
+  // one turn at an interior vertex and to less at a boundary vertex; an extra triangle or a fan
+  // wound twice adds at least the smallest angle of some triangle, which is far above the
+  // round-off of a few atan2 calls (~1e-15 turns each), so a loose 1e-9 turn tolerance tells
+  // them apart.
   void CheckWinding() {
     struct Fan {
       double angle = 0;
@@ -307,14 +308,15 @@ class SurfaceChecker {
     for (const auto& entry : fans) vertices.push_back(entry.first);
     std::sort(vertices.begin(), vertices.end());
     constexpr double kTurn = 2 * std::numbers::pi;
+    constexpr double kTolerance = 1e-9;
     for (int64_t vertex : vertices) {
       const Fan& fan = fans[vertex];
       if (!fan.complete) continue;
       const bool boundary = std::binary_search(on_boundary.begin(), on_boundary.end(), vertex);
       const double turns = fan.angle / kTurn;
-      if (boundary ? turns < 1 - 1e-9 : std::lround(turns) == 1) continue;
+      if (boundary ? turns < 1 + kTolerance : std::abs(turns - 1) <= kTolerance) continue;
       char text[160];
-      std::snprintf(text, sizeof text, "triangles around %s vertex %lld turn %.3f times around it",
+      std::snprintf(text, sizeof text, "triangles around %s vertex %lld turn %.9f times around it",
                     boundary ? "boundary" : "interior", static_cast<long long>(vertex), turns);
       Add("overlap", fan.first_triangle, text);
     }
