@@ -56,8 +56,9 @@ class SurfaceChecker {
  private:
   Status Read() {
     SqliteDb& db = store_.db();
-    TB_ASSIGN_OR_RETURN(Statement * vertices,
-                        db.Cached("SELECT id, x, y FROM vertices WHERE surface = ? ORDER BY id"));
+    TB_ASSIGN_OR_RETURN(
+        Statement * vertices,
+        db.Cached("SELECT id, x, y FROM vertices " + SurfaceRowsInIdOrder("vertices", "vertices")));
     vertices->Bind(1, surface_.id);
     for (;;) {
       TB_ASSIGN_OR_RETURN(bool row, vertices->Step());
@@ -69,8 +70,8 @@ class SurfaceChecker {
     vertices->Reset();
 
     TB_ASSIGN_OR_RETURN(Statement * triangles,
-                        db.Cached("SELECT id, v0, v1, v2, n0, n1, n2, block FROM triangles "
-                                  "WHERE surface = ? ORDER BY id"));
+                        db.Cached("SELECT id, v0, v1, v2, n0, n1, n2, block FROM triangles " +
+                                  SurfaceRowsInIdOrder("triangles", "triangles")));
     triangles->Bind(1, surface_.id);
     for (;;) {
       TB_ASSIGN_OR_RETURN(bool row, triangles->Step());

@@ -142,6 +142,12 @@ int64_t CentroidBlock(const BlockGrid& grid, double ax, double ay, double bx, do
   return grid.BlockOf((ax + bx + cx) / 3.0, (ay + by + cy) / 3.0);
 }
 
+std::string SurfaceRowsInIdOrder(const std::string& table, const std::string& alias) {
+  const std::string bound = "(id) FROM " + table + " WHERE surface = ?1)";
+  return "WHERE " + alias + ".id BETWEEN (SELECT min" + bound + " AND (SELECT max" + bound +
+         " AND +" + alias + ".surface = ?1 ORDER BY " + alias + ".id";
+}
+
 Result<std::unique_ptr<ReadSnapshot>> SnapshotUnlessInTransaction(Store& store) {
   if (sqlite3_get_autocommit(store.db().handle()) == 0) return std::unique_ptr<ReadSnapshot>();
   return ReadSnapshot::Begin(store);
@@ -389,9 +395,9 @@ Result<LoadedSurface> SurfaceStore::Load(const SurfaceInfo& surface) {
   LoadedSurface out;
   std::unordered_map<int64_t, uint32_t> vertex_index;
 
-  TB_ASSIGN_OR_RETURN(
-      Statement * vertices,
-      db.Cached("SELECT id, x, y, z, kind FROM vertices WHERE surface = ? ORDER BY id"));
+  TB_ASSIGN_OR_RETURN(Statement * vertices,
+                      db.Cached("SELECT id, x, y, z, kind FROM vertices " +
+                                SurfaceRowsInIdOrder("vertices", "vertices")));
   vertices->Bind(1, surface.id);
   for (;;) {
     TB_ASSIGN_OR_RETURN(bool row, vertices->Step());
@@ -407,7 +413,7 @@ Result<LoadedSurface> SurfaceStore::Load(const SurfaceInfo& surface) {
   vertices->Reset();
 
   TB_ASSIGN_OR_RETURN(Statement * triangles, db.Cached(std::string(kTriangleColumns) +
-                                                       "WHERE t.surface = ? ORDER BY t.id"));
+                                                       SurfaceRowsInIdOrder("triangles", "t")));
   triangles->Bind(1, surface.id);
   std::vector<StoredTriangle> rows;
   for (;;) {

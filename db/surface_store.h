@@ -29,10 +29,10 @@ struct SurfaceInfo {
   int64_t id = 0;
   std::string name;
   SurfaceKind kind = SurfaceKind::kDelaunay;
-  std::string method;                // "greedy", ...
-  std::optional<double> tolerance;   // vertical tolerance in metres, when one was asked for
-  std::optional<int64_t> dem;        // the DEM it is draped on
-  BlockGrid blocks;                  // bucket grid of triangle centroids
+  std::string method;               // "greedy", ...
+  std::optional<double> tolerance;  // vertical tolerance in metres, when one was asked for
+  std::optional<int64_t> dem;       // the DEM it is draped on
+  BlockGrid blocks;                 // bucket grid of triangle centroids
 };
 
 struct SurfaceCounts {
@@ -70,6 +70,12 @@ struct LoadedSurface {
 // uses this one formula, so the integrity check can recompute blocks bit for bit.
 int64_t CentroidBlock(const BlockGrid& grid, double ax, double ay, double bx, double by, double cx,
                       double cy);
+
+// The WHERE condition, with the surface as parameter ?1, that reads a surface's rows of `table`
+// (vertices or triangles) in id order. A surface's rows are written with consecutive ids, so
+// SQLite scans that rowid range instead of walking the (surface, ...) index and sorting a million
+// rows. `alias` is how the query names the table ("t" or the table's own name).
+std::string SurfaceRowsInIdOrder(const std::string& table, const std::string& alias);
 
 // A ReadSnapshot for a multi-query read, or null when the connection is already inside a
 // transaction (a WriteTransaction's own view is then the consistent one, and SQLite cannot nest

@@ -261,6 +261,17 @@ TEST_F(SurfaceStoreTest, AMillionTrianglesWriteInSeconds) {
   auto counts = SurfaceStore(*store_).Count(info);
   ASSERT_TRUE(counts.ok());
   EXPECT_EQ(counts->triangles, static_cast<int64_t>(tin.triangles.size()));
+  // Reading back and checking are O(n log n) too.
+  const auto read = std::chrono::steady_clock::now();
+  auto loaded = SurfaceStore(*store_).Load(info);
+  ASSERT_TRUE(loaded.ok());
+  EXPECT_EQ(loaded->tin.triangles.size(), tin.triangles.size());
+  EXPECT_EQ(loaded->tin.triangles[123456].n, tin.triangles[123456].n);
+  const auto check = std::chrono::steady_clock::now();
+  ExpectStoreIntact(*store_);
+  const auto done = std::chrono::steady_clock::now();
+  std::printf("load %.2f s, check %.2f s\n", std::chrono::duration<double>(check - read).count(),
+              std::chrono::duration<double>(done - check).count());
 }
 
 }  // namespace
