@@ -3,6 +3,7 @@
 #include "db/point_locator.h"
 
 #include <gtest/gtest.h>
+#include <rapidcheck/gtest.h>
 
 #include <algorithm>
 #include <random>
@@ -16,73 +17,92 @@ namespace {
 
 using testing::TempDir;
 
-class PointLocatorTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    auto store = Store::Create(dir_.Path("s.tinbase"), "EPSG:32632");
-    ASSERT_TRUE(store.ok()) << store.status().ToString();
-    store_ = std::move(*store);
-  }
+// The answers LocatePoint must agree with, by testing every triangle of a loaded surface.
+class BruteForce {
+ public:
+  explicit BruteForce(const LoadedSurface& surface) : s_(surface) {}
 
-  void Create(const std::string& name, SurfaceKind kind, const Tin& tin) {
-    auto tx = store_->BeginWrite();
-    ASSERT_TRUE(tx.ok());
-    SurfaceInfo spec;
-    spec.name = name;
-    spec.kind = kind;
-    spec.method = "test";
-    auto info = SurfaceStore(*store_).Create(spec, tin);
-    ASSERT_TRUE(info.ok()) << info.status().ToString();
-    ASSERT_TRUE((*tx)->Commit().ok());
-    info_ = *info;
-    auto loaded = SurfaceStore(*store_).Load(info_);
-    ASSERT_TRUE(loaded.ok());
-    loaded_ = std::move(*loaded);
-  }
-
-  Point2 At(uint32_t v) const { return {loaded_.tin.vertices[v].x, loaded_.tin.vertices[v].y}; }
-
-  bool Contains(size_t t, const Point2& p) const {
-    const auto& v = loaded_.tin.triangles[t].v;
-    for (int i = 0; i < 3; ++i) {
-      if (Orientation(At(v[(i + 1) % 3]), At(v[(i + 2) % 3]), p) < 0) return false;
-    }
-    return true;
-  }
-
-  // Every triangle that holds p (several when p is on an edge or a vertex).
+  // Every triangle that holds p (several when p is on an edge or a vertex), as Tin indices.
   std::vector<size_t> Containing(const Point2& p) const {
     std::vector<size_t> out;
-    for (size_t t = 0; t < loaded_.tin.triangles.size(); ++t) {
+    for (size_t t = 0; t < s_.tin.triangles.size(); ++t) {
       if (Contains(t, p)) out.push_back(t);
     }
     return out;
   }
 
   // z of the plane through triangle t, by area coordinates in long double.
-  long double ReferenceZ(size_t t, const Point2& p) const {
-    const auto& v = loaded_.tin.triangles[t].v;
+  long double Z(size_t t, const Point2& p) const {
+    const auto& v = s_.tin.triangles[t].v;
     const auto cross = [](const TinVertex& a, const TinVertex& b, const Point2& o) {
       return (static_cast<long double>(a.x) - o.x) * (static_cast<long double>(b.y) - o.y) -
              (static_cast<long double>(a.y) - o.y) * (static_cast<long double>(b.x) - o.x);
     };
-    const TinVertex& a = loaded_.tin.vertices[v[0]];
-    const TinVertex& b = loaded_.tin.vertices[v[1]];
-    const TinVertex& c = loaded_.tin.vertices[v[2]];
+    const TinVertex& a = s_.tin.vertices[v[0]];
+    const TinVertex& b = s_.tin.vertices[v[1]];
+    const TinVertex& c = s_.tin.vertices[v[2]];
     const long double area = cross(b, c, {a.x, a.y});
     return (cross(b, c, p) * a.z + cross(c, a, p) * b.z + cross(a, b, p) * c.z) / area;
   }
 
+  // The Tin index of a stored triangle id; size() when it is not one.
   size_t IndexOf(int64_t triangle_id) const {
-    auto it =
-        std::lower_bound(loaded_.triangle_ids.begin(), loaded_.triangle_ids.end(), triangle_id);
-    EXPECT_TRUE(it != loaded_.triangle_ids.end() && *it == triangle_id);
-    return static_cast<size_t>(it - loaded_.triangle_ids.begin());
+    auto it = std::lower_bound(s_.triangle_ids.begin(), s_.triangle_ids.end(), triangle_id);
+    if (it == s_.triangle_ids.end() || *it != triangle_id) return s_.triangle_ids.size();
+    return static_cast<size_t>(it - s_.triangle_ids.begin());
   }
+
+ private:
+  Point2 At(uint32_t v) const { return {s_.tin.vertices[v].x, s_.tin.vertices[v].y}; }
+
+  bool Contains(size_t t, const Point2& p) const {
+    const auto& v = s_.tin.triangles[t].v;
+    for (int i = 0; i < 3; ++i) {
+      if (Orientation(At(v[(i + 1) % 3]), At(v[(i + 2) % 3]), p) < 0) return false;
+    }
+    return true;
+  }
+
+  const LoadedSurface& s_;
+};
+
+// A store at `path` holding `tin` as surface `name`.
+struct StoredTin {
+  std::unique_ptr<Store> store;
+  SurfaceInfo info;
+  LoadedSurface loaded;
+};
+Result<StoredTin> StoreTin(const std::string& path, const std::string& name, SurfaceKind kind,
+                           const Tin& tin) {
+  StoredTin out;
+  TB_ASSIGN_OR_RETURN(out.store, Store::Create(path, "EPSG:32632"));
+  TB_ASSIGN_OR_RETURN(auto tx, out.store->BeginWrite());
+  SurfaceInfo spec;
+  spec.name = name;
+  spec.kind = kind;
+  spec.method = "test";
+  TB_ASSIGN_OR_RETURN(out.info, SurfaceStore(*out.store).Create(spec, tin));
+  TB_RETURN_IF_ERROR(tx->Commit());
+  TB_ASSIGN_OR_RETURN(out.loaded, SurfaceStore(*out.store).Load(out.info));
+  return out;
+}
+
+class PointLocatorTest : public ::testing::Test {
+ protected:
+  void Create(const std::string& name, SurfaceKind kind, const Tin& tin) {
+    auto stored = StoreTin(dir_.Path("s.tinbase"), name, kind, tin);
+    ASSERT_TRUE(stored.ok()) << stored.status().ToString();
+    store_ = std::move(stored->store);
+    info_ = stored->info;
+    loaded_ = std::move(stored->loaded);
+  }
+
+  Point2 At(uint32_t v) const { return {loaded_.tin.vertices[v].x, loaded_.tin.vertices[v].y}; }
 
   // Locates p and compares with brute force; returns the walk's length (0 when outside).
   int ExpectAgreesWithBruteForce(const Point2& p) {
-    const std::vector<size_t> holders = Containing(p);
+    const BruteForce brute(loaded_);
+    const std::vector<size_t> holders = brute.Containing(p);
     auto located = LocatePoint(*store_, info_, p.x, p.y);
     if (holders.empty()) {
       EXPECT_FALSE(located.ok()) << "(" << p.x << ", " << p.y << ") is outside";
@@ -94,10 +114,12 @@ class PointLocatorTest : public ::testing::Test {
     }
     EXPECT_TRUE(located.ok()) << located.status().ToString();
     if (!located.ok()) return 0;
-    const size_t t = IndexOf(located->triangle);
+    const size_t t = brute.IndexOf(located->triangle);
+    EXPECT_LT(t, loaded_.tin.triangles.size()) << "no triangle " << located->triangle;
+    if (t >= loaded_.tin.triangles.size()) return 0;
     EXPECT_TRUE(std::find(holders.begin(), holders.end(), t) != holders.end())
         << "triangle " << located->triangle << " does not hold (" << p.x << ", " << p.y << ")";
-    EXPECT_NEAR(located->z, static_cast<double>(ReferenceZ(holders.front(), p)), 1e-6);
+    EXPECT_NEAR(located->z, static_cast<double>(brute.Z(holders.front(), p)), 1e-6);
     const TinTriangle& tri = loaded_.tin.triangles[t];
     EXPECT_EQ(located->visible, tri.visible);
     EXPECT_EQ(located->tag.value_or(""), tri.tag == kNoTag ? "" : loaded_.tin.tags[tri.tag]);
@@ -217,6 +239,45 @@ TEST_F(PointLocatorTest, WorksInsideAWriteTransaction) {
   ASSERT_TRUE(tx.ok());
   ExpectAgreesWithBruteForce({605000, 5105000});
   ASSERT_TRUE((*tx)->Commit().ok());
+}
+
+// Property: on random Delaunay and free surfaces, small and degenerate ones included, every
+// random query point and every vertex is located exactly as brute force says. RapidCheck prints
+// the seed that reproduces a failure.
+RC_GTEST_PROP(PointLocatorProperty, AgreesWithBruteForce, ()) {
+  const bool grid = *rc::gen::arbitrary<bool>();
+  const auto seed = *rc::gen::arbitrary<uint32_t>();
+  const Tin tin =
+      grid ? testing::PerturbedGridTin(*rc::gen::inRange(2, 16), *rc::gen::inRange(2, 16), seed)
+           : testing::RandomDelaunayTin(
+                 {.points = *rc::gen::inRange(3, 300), .seed = seed, .size = 500});
+  RC_PRE(!tin.triangles.empty());
+  TempDir dir;
+  auto stored =
+      StoreTin(dir.Path("p.tinbase"), "p", grid ? SurfaceKind::kFree : SurfaceKind::kDelaunay, tin);
+  RC_ASSERT(stored.ok());
+  const BruteForce brute(stored->loaded);
+  std::vector<Point2> queries;
+  for (size_t v = 0; v < tin.vertices.size(); v += 5)
+    queries.push_back({tin.vertices[v].x, tin.vertices[v].y});
+  const auto fractions = *rc::gen::container<std::vector<std::pair<int, int>>>(
+      40, rc::gen::pair(rc::gen::inRange(-100, 1100), rc::gen::inRange(-100, 1100)));
+  for (auto [fx, fy] : fractions) {
+    // The fixtures' points lie in a square from (600000, 5100000); grids span up to 450 m.
+    queries.push_back({600000 + fx * 0.5, 5100000 + fy * 0.5});
+  }
+  for (const Point2& p : queries) {
+    const std::vector<size_t> holders = brute.Containing(p);
+    auto located = LocatePoint(*stored->store, stored->info, p.x, p.y);
+    RC_ASSERT(located.ok() == !holders.empty());
+    if (holders.empty()) {
+      RC_ASSERT(located.status().code() == StatusCode::kNotFound);
+      continue;
+    }
+    const size_t t = brute.IndexOf(located->triangle);
+    RC_ASSERT(std::find(holders.begin(), holders.end(), t) != holders.end());
+    RC_ASSERT(std::abs(located->z - static_cast<double>(brute.Z(t, p))) < 1e-6);
+  }
 }
 
 }  // namespace
