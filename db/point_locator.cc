@@ -170,6 +170,9 @@ Result<Location> LocatePoint(Store& store, const SurfaceInfo& surface, double x,
       break;
     }
     const std::optional<int64_t> next = tri.n[*exit_edge];
+    // Strictly beyond a boundary edge is outside because domains are convex: builders
+    // triangulate the hull or the DEM's rectangle, and clip/erase hide triangles rather than
+    // remove them. (On a non-convex domain a point across a notch would be called outside.)
     if (!next)
       return Status::NotFound("point " + PointText(x, y) + " is outside surface '" + surface.name +
                               "'");
