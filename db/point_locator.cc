@@ -165,6 +165,15 @@ Result<Location> LocatePoint(Store& store, const SurfaceInfo& surface, double x,
       if (Orientation(corner[(i + 1) % 3].p, corner[(i + 2) % 3].p, p) < 0) exit_edge = i;
     }
     if (!exit_edge) {
+      // The skipped edge holds p inside only if the links are symmetric; check, so broken links
+      // give an error rather than a wrong triangle.
+      for (int i = 0; i < 3; ++i) {
+        if (came_from && tri.n[i] == came_from &&
+            Orientation(corner[(i + 1) % 3].p, corner[(i + 2) % 3].p, p) < 0)
+          return Status::Corruption(reader.Where() + ": triangle " + std::to_string(current) +
+                                    " and its neighbour " + std::to_string(*came_from) +
+                                    " do not share the edge they link across; run tinbase check");
+      }
       location.triangle = current;
       location.z = InterpolateZ(corner, x, y);
       break;

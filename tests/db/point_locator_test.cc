@@ -241,6 +241,38 @@ TEST_F(PointLocatorTest, WorksInsideAWriteTransaction) {
   ASSERT_TRUE((*tx)->Commit().ok());
 }
 
+TEST_F(PointLocatorTest, BrokenLinksAreCorruptionNotAWrongAnswer) {
+  Create("terrain", SurfaceKind::kDelaunay,
+         testing::RandomDelaunayTin({.points = 500, .seed = 21}));
+  const BruteForce brute(loaded_);
+  // Counts the vertices whose location fails with Corruption mentioning `text`; the others must
+  // still be right (found in the jump triangle before any broken link is followed).
+  const auto corrupt_count = [&](const std::string& text) {
+    int corrupt = 0;
+    for (const TinVertex& v : loaded_.tin.vertices) {
+      auto located = LocatePoint(*store_, info_, v.x, v.y);
+      if (located.ok()) {
+        const auto holders = brute.Containing({v.x, v.y});
+        EXPECT_NE(std::find(holders.begin(), holders.end(), brute.IndexOf(located->triangle)),
+                  holders.end());
+        continue;
+      }
+      EXPECT_EQ(located.status().code(), StatusCode::kCorruption) << located.status().ToString();
+      EXPECT_NE(located.status().message().find(text), std::string::npos)
+          << located.status().message();
+      ++corrupt;
+    }
+    return corrupt;
+  };
+  // Every link points back to its own triangle: the walk re-enters it and must notice.
+  ASSERT_TRUE(store_->db().Exec("UPDATE triangles SET n0 = id, n1 = id, n2 = id").ok());
+  EXPECT_GT(corrupt_count("do not share the edge"), 0);
+  ASSERT_TRUE(store_->db()
+                  .Exec("UPDATE triangles SET n0 = 987654321, n1 = 987654321, n2 = 987654321")
+                  .ok());
+  EXPECT_GT(corrupt_count("triangle 987654321"), 0);
+}
+
 // Property: on random Delaunay and free surfaces, small and degenerate ones included, every
 // random query point and every vertex is located exactly as brute force says. RapidCheck prints
 // the seed that reproduces a failure.
