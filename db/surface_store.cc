@@ -3,6 +3,7 @@
 #include <sqlite3.h>
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <unordered_map>
 
@@ -50,19 +51,25 @@ StoredTriangle TriangleFromRow(const Statement& row) {
 Status ValidateIndices(const Tin& tin) {
   const size_t nv = tin.vertices.size();
   const size_t nt = tin.triangles.size();
+  for (size_t i = 0; i < nv; ++i) {
+    const TinVertex& v = tin.vertices[i];
+    if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
+      return Status::InvalidArgument("vertex " + std::to_string(i) + ": coordinates not finite");
+  }
   for (size_t t = 0; t < nt; ++t) {
     const TinTriangle& tri = tin.triangles[t];
-    const std::string where = "triangle " + std::to_string(t) + ": ";
+    const auto where = [t] { return "triangle " + std::to_string(t) + ": "; };
     for (int i = 0; i < 3; ++i) {
       if (tri.v[i] >= nv)
-        return Status::InvalidArgument(where + "vertex " + std::to_string(tri.v[i]) +
+        return Status::InvalidArgument(where() + "vertex " + std::to_string(tri.v[i]) +
                                        " does not exist (" + std::to_string(nv) + " vertices)");
       if (tri.n[i] != kNoNeighbour && (tri.n[i] < 0 || static_cast<size_t>(tri.n[i]) >= nt))
-        return Status::InvalidArgument(where + "neighbour " + std::to_string(tri.n[i]) +
+        return Status::InvalidArgument(where() + "neighbour " + std::to_string(tri.n[i]) +
                                        " does not exist");
     }
     if (tri.tag != kNoTag && (tri.tag < 0 || static_cast<size_t>(tri.tag) >= tin.tags.size()))
-      return Status::InvalidArgument(where + "tag " + std::to_string(tri.tag) + " does not exist");
+      return Status::InvalidArgument(where() + "tag " + std::to_string(tri.tag) +
+                                     " does not exist");
   }
   for (const auto& [a, b] : tin.constraints) {
     if (a >= nv || b >= nv || a == b)
@@ -206,7 +213,9 @@ Result<LoadedSurface> SurfaceStore::Replace(const SurfaceInfo& surface, const Ti
     TB_ASSIGN_OR_RETURN(Statement * del, db.Cached(sql));
     TB_RETURN_IF_ERROR(del->Bind(1, surface.id).Run());
   }
-  return WriteRows(surface, tin);
+  TB_ASSIGN_OR_RETURN(LoadedSurface out, WriteRows(surface, tin));
+  out.tin = tin;
+  return out;
 }
 
 Result<LoadedSurface> SurfaceStore::WriteRows(const SurfaceInfo& surface, const Tin& tin) {
@@ -268,7 +277,6 @@ Result<LoadedSurface> SurfaceStore::WriteRows(const SurfaceInfo& surface, const 
     if (Status s = constraint->Run(); !s.ok())
       return s.WithContext("surface " + Quoted(surface.name));
   }
-  out.tin = tin;
   return out;
 }
 

@@ -88,16 +88,18 @@ class SurfaceStore {
 
   // Writes `tin` as a new surface named spec.name (Conflict if the name is taken), computing
   // the block grid and each triangle's block; returns spec with its id and block grid filled in.
-  // InvalidArgument when `tin` refers to a vertex, neighbour or tag it does not have.
-  // REQUIRES: inside a WriteTransaction; `tin`'s neighbour links are consistent (LinkNeighbours).
+  // InvalidArgument when `tin` refers to a vertex, neighbour or tag it does not have, or a
+  // coordinate is not finite. REQUIRES: inside a WriteTransaction; `tin`'s neighbour links are
+  // consistent (LinkNeighbours).
   Result<SurfaceInfo> Create(const SurfaceInfo& spec, const Tin& tin);
   // Replaces every vertex, triangle and constraint row of `surface` by `tin` (features and
   // changes stay). The surface keeps its block grid (blocks clamp at the grid's edge, so a larger
   // `tin` stays correct, only coarser to search). Returns the new ids. InvalidArgument when
-  // `tin` refers to a vertex, neighbour or tag it does not have. REQUIRES: inside a
-  // WriteTransaction; `tin`'s neighbour links are consistent.
+  // `tin` refers to a vertex, neighbour or tag it does not have or a coordinate is not finite.
+  // REQUIRES: inside a WriteTransaction; `tin`'s neighbour links are consistent.
   Result<LoadedSurface> Replace(const SurfaceInfo& surface, const Tin& tin);
 
+  // Every surface, by name.
   Result<std::vector<SurfaceInfo>> List();
   // NotFound "no surface named 'x'" when absent.
   Result<SurfaceInfo> Find(const std::string& name);
@@ -119,7 +121,7 @@ class SurfaceStore {
   Result<LoadedSurface> Load(const SurfaceInfo& surface);
 
  private:
-  // Writes `tin`'s rows for surface `id` with fresh ids; returns them.
+  // Writes `tin`'s rows for `surface` with fresh ids; returns the ids (and an empty Tin).
   Result<LoadedSurface> WriteRows(const SurfaceInfo& surface, const Tin& tin);
   Result<SurfaceInfo> FindWhere(const char* where, const std::function<void(Statement&)>& bind,
                                 const std::string& absent);

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <set>
 
 #include "tests/support/test_support.h"
@@ -206,6 +207,12 @@ TEST_F(SurfaceStoreTest, BadIndicesAreRejectedBeforeAnythingIsWritten) {
   EXPECT_NE(created.status().message().find("triangle 2: vertex 99"), std::string::npos)
       << created.status().message();
   EXPECT_EQ(*store_->db().QueryInt("SELECT count(*) FROM surfaces"), 0);
+
+  Tin nan = testing::PerturbedGridTin(3, 3, 4);
+  nan.vertices[4].z = std::nan("");
+  auto refused = SurfaceStore(*store_).Create(spec, nan);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_EQ(refused.status().message(), "surface 'broken': vertex 4: coordinates not finite");
 }
 
 TEST_F(SurfaceStoreTest, TagsAreOneDictionaryAcrossSurfaces) {
