@@ -91,10 +91,10 @@ Tin RandomDelaunayTin(const RandomTinOptions& options) {
   return tin;
 }
 
-Tin PerturbedGridTin(int nx, int ny, uint32_t seed, double cell) {
+Tin PerturbedGridTin(int nx, int ny, uint32_t seed, double cell, double displaced_fraction) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> shift(-0.2 * cell, 0.2 * cell);
-  std::bernoulli_distribution displaced(0.1), flip(0.5);
+  std::bernoulli_distribution displaced(displaced_fraction), flip(0.5);
   Tin tin;
   for (int j = 0; j < ny; ++j) {
     for (int i = 0; i < nx; ++i) {

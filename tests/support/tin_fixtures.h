@@ -23,14 +23,14 @@ struct RandomTinOptions {
   int points = 2000;
   uint32_t seed = 1;
   bool ring = false;  // a constrained 48-gon in the middle, its inside tagged "granite"
-  double x0 = 600000, y0 = 5100000, size = 10000;  // the square the points are drawn from
+  double x0 = 600000, y0 = 5100000, size = 10000;     // the square the points are drawn from
   std::vector<std::pair<double, double>> extra = {};  // more points (kind user), anywhere
 };
 Tin RandomDelaunayTin(const RandomTinOptions& options);
 
-// nx * ny grid points `cell` apart from (600000, 5100000); a tenth of the inner points are
-// displaced by up to 0.2 cell; each cell is split by a random diagonal.
-Tin PerturbedGridTin(int nx, int ny, uint32_t seed, double cell = 30);
+// nx * ny grid points `cell` apart from (600000, 5100000); `displaced` of the inner points are
+// moved by up to 0.2 cell; each cell is split by a random diagonal.
+Tin PerturbedGridTin(int nx, int ny, uint32_t seed, double cell = 30, double displaced = 0.1);
 
 // GoogleTest failure listing the first problems when CheckStore finds any.
 void ExpectStoreIntact(Store& store);
