@@ -14,8 +14,26 @@
 
 namespace tinbase {
 
+// Problem codes, by invariant (stable: scripts and tests match on them):
+//   1  vertex-missing        a triangle names a vertex that is not in its surface
+//      clockwise-triangle    vertices turn clockwise (exact orientation)
+//      degenerate-triangle   vertices are collinear (exact orientation)
+//      duplicate-vertex      two vertices of a surface share x, y (no triangle)
+//   2  bad-neighbour         a neighbour id is not a triangle of the surface
+//      neighbour-edge-mismatch  the named neighbour does not have the edge reversed
+//      asymmetric-neighbour  the neighbour has the edge but does not name this triangle back
+//      missing-neighbour     an edge shared with another triangle has no neighbour
+//      overused-edge         an edge is used twice in one direction (or by 3+ triangles)
+//   3  euler                 V - E + F != 2C - B, or a vertex used by no triangle (no triangle)
+//      overlap               the fan around a vertex turns more than once (on its lowest triangle)
+//   4  constraint-not-edge   a constrained edge is not an edge (no triangle)
+//   5  not-delaunay          across an unconstrained edge the far vertex is strictly inside the
+//                            circumcircle (`delaunay` surfaces only; on the lower triangle id)
+//   8  wrong-block           the block column is not the block of the centroid
+// Problems without a triangle come first in their surface. A corruption usually shows up under
+// several codes (a flipped triangle also breaks its links); the lowest triangle id comes first.
 struct Problem {
-  std::string code;  // e.g. "clockwise-triangle", "asymmetric-neighbour"; see docs/format.md
+  std::string code;  // one of the codes above
   int64_t surface = 0;
   std::optional<int64_t> triangle;
   std::string message;  // "surface 'terrain', triangle 412: vertices are clockwise"
@@ -25,7 +43,9 @@ struct CheckOptions {
   std::optional<std::string> surface;  // only this surface; default all
 };
 
-// The problems found (empty when the store is intact); a Status only when reading fails.
+// The problems found (empty when the store is intact); a Status only when reading fails, or
+// NotFound when options.surface names no surface. Reads each surface once, in one snapshot
+// (or inside the caller's transaction); O(n log n) time and O(n) memory per surface.
 Result<std::vector<Problem>> CheckStore(Store& store, const CheckOptions& options = {});
 
 }  // namespace tinbase

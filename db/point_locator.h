@@ -25,7 +25,10 @@ struct Location {
   int steps = 0;  // triangles visited by the walk
 };
 
-// NotFound "point (x, y) is outside surface 'name'" when no triangle holds it.
+// The triangle holding (x, y) (a point on an edge or a vertex is held by any of the triangles
+// around it), with z interpolated there. NotFound "point (x, y) is outside surface 'name'" when
+// no triangle holds it; Corruption when the rows the walk reads are inconsistent (CheckStore
+// tells which). Works inside a WriteTransaction too (then reads what it has written).
 Result<Location> LocatePoint(Store& store, const SurfaceInfo& surface, double x, double y);
 
 }  // namespace tinbase

@@ -7,6 +7,8 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -20,15 +22,17 @@ namespace tinbase {
 
 enum class SurfaceKind { kDelaunay, kFree };
 const char* SurfaceKindName(SurfaceKind kind);  // "delaunay" / "free"
+// False when `name` is not one of the store spellings.
+bool ParseSurfaceKind(const std::string& name, SurfaceKind* kind);
 
 struct SurfaceInfo {
   int64_t id = 0;
   std::string name;
   SurfaceKind kind = SurfaceKind::kDelaunay;
-  std::string method;                // "greedy", ...
-  std::optional<double> tolerance;   // vertical tolerance in metres, when one was asked for
-  std::optional<int64_t> dem;        // the DEM it is draped on
-  BlockGrid blocks;                  // bucket grid of triangle centroids
+  std::string method;               // "greedy", ...
+  std::optional<double> tolerance;  // vertical tolerance in metres, when one was asked for
+  std::optional<int64_t> dem;       // the DEM it is draped on
+  BlockGrid blocks;                 // bucket grid of triangle centroids
 };
 
 struct SurfaceCounts {
@@ -62,21 +66,45 @@ struct LoadedSurface {
   std::vector<int64_t> triangle_ids;  // likewise for tin.triangles
 };
 
+// The block of the triangle (a, b, c): the grid cell of its centroid. Every writer of `triangles`
+// uses this one formula, so the integrity check can recompute blocks bit for bit.
+int64_t CentroidBlock(const BlockGrid& grid, double ax, double ay, double bx, double by, double cx,
+                      double cy);
+
+// The WHERE condition, with the surface as parameter ?1, that reads a surface's rows of `table`
+// (vertices or triangles) in id order. A surface's rows are written with consecutive ids, so
+// SQLite scans that rowid range instead of walking the (surface, ...) index and sorting a million
+// rows. `alias` is how the query names the table ("t" or the table's own name).
+std::string SurfaceRowsInIdOrder(const std::string& table, const std::string& alias);
+
+// A ReadSnapshot for a multi-query read, or null when the connection is already inside a
+// transaction (a WriteTransaction's own view is then the consistent one, and SQLite cannot nest
+// BEGIN). Fails only when starting the snapshot fails.
+Result<std::unique_ptr<ReadSnapshot>> SnapshotUnlessInTransaction(Store& store);
+
 class SurfaceStore {
  public:
   explicit SurfaceStore(Store& store) : store_(store) {}
 
   // Writes `tin` as a new surface named spec.name (Conflict if the name is taken), computing
-  // the block grid and each triangle's block. REQUIRES: inside a WriteTransaction; `tin`'s
-  // neighbour links are consistent (LinkNeighbours).
+  // the block grid and each triangle's block; returns spec with its id and block grid filled in.
+  // InvalidArgument when `tin` refers to a vertex, neighbour or tag it does not have, or a
+  // coordinate is not finite. REQUIRES: inside a WriteTransaction; `tin`'s neighbour links are
+  // consistent (LinkNeighbours).
   Result<SurfaceInfo> Create(const SurfaceInfo& spec, const Tin& tin);
   // Replaces every vertex, triangle and constraint row of `surface` by `tin` (features and
-  // changes stay). Returns the new ids. REQUIRES: inside a WriteTransaction.
+  // changes stay). The surface keeps its block grid (blocks clamp at the grid's edge, so a larger
+  // `tin` stays correct, only coarser to search). Returns the new ids. InvalidArgument when
+  // `tin` refers to a vertex, neighbour or tag it does not have or a coordinate is not finite.
+  // REQUIRES: inside a WriteTransaction; `tin`'s neighbour links are consistent.
   Result<LoadedSurface> Replace(const SurfaceInfo& surface, const Tin& tin);
 
+  // Every surface, by name.
   Result<std::vector<SurfaceInfo>> List();
   // NotFound "no surface named 'x'" when absent.
   Result<SurfaceInfo> Find(const std::string& name);
+  // NotFound "no surface with id n" when absent.
+  Result<SurfaceInfo> FindById(int64_t id);
   Result<SurfaceCounts> Count(const SurfaceInfo& surface);
 
   // NotFound naming the triangle and surface when `id` is not a triangle of `surface`.
@@ -87,10 +115,17 @@ class SurfaceStore {
   // Some triangle of the surface; NotFound when it has none.
   Result<int64_t> AnyTriangle(const SurfaceInfo& surface);
 
-  // The whole surface in memory.
+  // The whole surface in memory, vertices and triangles in id order. Corruption when a triangle
+  // or constraint refers to a vertex or triangle the surface does not have (CheckStore says
+  // more).
   Result<LoadedSurface> Load(const SurfaceInfo& surface);
 
  private:
+  // Writes `tin`'s rows for `surface` with fresh ids; returns the ids (and an empty Tin).
+  Result<LoadedSurface> WriteRows(const SurfaceInfo& surface, const Tin& tin);
+  Result<SurfaceInfo> FindWhere(const char* where, const std::function<void(Statement&)>& bind,
+                                const std::string& absent);
+
   Store& store_;
 };
 

@@ -1,0 +1,414 @@
+#include "db/integrity_check.h"
+
+#include <algorithm>
+#include <array>
+#include <climits>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <unordered_map>
+
+#include "core/geometry/predicates.h"
+#include "db/surface_store.h"
+
+namespace tinbase {
+
+namespace {
+
+struct Row {
+  int64_t id = 0;
+  std::array<int64_t, 3> v{};
+  std::array<std::optional<int64_t>, 3> n;
+  int64_t block = 0;
+  bool valid = false;  // all three vertices exist
+  int orientation = 0;
+};
+
+// A directed edge a->b of triangle `t` (index into the rows), opposite its vertex `i`.
+struct HalfEdge {
+  int64_t a = 0, b = 0;
+  uint32_t t = 0;
+  int i = 0;
+  bool operator<(const HalfEdge& o) const { return a != o.a ? a < o.a : b < o.b; }
+};
+
+// Checks one surface; reads it with three queries and keeps it in hash maps and sorted vectors,
+// so the whole check is O(n log n).
+class SurfaceChecker {
+ public:
+  SurfaceChecker(Store& store, const SurfaceInfo& surface, std::vector<Problem>* problems)
+      : store_(store), surface_(surface), problems_(problems) {}
+
+  Status Run() {
+    TB_RETURN_IF_ERROR(Read());
+    CheckTriangles();
+    CheckDuplicateVertices();
+    BuildHalfEdges();
+    CheckNeighbours();
+    CheckEuler();
+    CheckWinding();
+    CheckConstraints();
+    if (surface_.kind == SurfaceKind::kDelaunay) CheckDelaunay();
+    CheckBlocks();
+    return Status::Ok();
+  }
+
+ private:
+  Status Read() {
+    SqliteDb& db = store_.db();
+    TB_ASSIGN_OR_RETURN(
+        Statement * vertices,
+        db.Cached("SELECT id, x, y FROM vertices " + SurfaceRowsInIdOrder("vertices", "vertices")));
+    vertices->Bind(1, surface_.id);
+    for (;;) {
+      TB_ASSIGN_OR_RETURN(bool row, vertices->Step());
+      if (!row) break;
+      vertex_ids_.push_back(vertices->ColumnInt(0));
+      points_.emplace(vertices->ColumnInt(0),
+                      Point2{vertices->ColumnDouble(1), vertices->ColumnDouble(2)});
+    }
+    vertices->Reset();
+
+    TB_ASSIGN_OR_RETURN(Statement * triangles,
+                        db.Cached("SELECT id, v0, v1, v2, n0, n1, n2, block FROM triangles " +
+                                  SurfaceRowsInIdOrder("triangles", "triangles")));
+    triangles->Bind(1, surface_.id);
+    for (;;) {
+      TB_ASSIGN_OR_RETURN(bool row, triangles->Step());
+      if (!row) break;
+      Row r;
+      r.id = triangles->ColumnInt(0);
+      for (int i = 0; i < 3; ++i) {
+        r.v[i] = triangles->ColumnInt(1 + i);
+        if (!triangles->ColumnIsNull(4 + i)) r.n[i] = triangles->ColumnInt(4 + i);
+      }
+      r.block = triangles->ColumnInt(7);
+      index_.emplace(r.id, static_cast<uint32_t>(rows_.size()));
+      rows_.push_back(r);
+    }
+    triangles->Reset();
+
+    TB_ASSIGN_OR_RETURN(Statement * constraints,
+                        db.Cached("SELECT va, vb FROM constraints WHERE surface = ? "
+                                  "ORDER BY va, vb"));
+    constraints->Bind(1, surface_.id);
+    for (;;) {
+      TB_ASSIGN_OR_RETURN(bool row, constraints->Step());
+      if (!row) break;
+      const int64_t a = constraints->ColumnInt(0), b = constraints->ColumnInt(1);
+      constraints_.emplace_back(std::min(a, b), std::max(a, b));
+    }
+    constraints->Reset();
+    std::sort(constraints_.begin(), constraints_.end());
+    return Status::Ok();
+  }
+
+  void Add(const char* code, std::optional<int64_t> triangle, const std::string& text) {
+    std::string message = "surface '" + surface_.name + "'";
+    if (triangle) message += ", triangle " + std::to_string(*triangle);
+    problems_->push_back({code, surface_.id, triangle, message + ": " + text});
+  }
+
+  const Point2& At(int64_t vertex) const { return points_.at(vertex); }
+
+  // Invariant 1: vertices exist and turn counter-clockwise.
+  void CheckTriangles() {
+    for (Row& r : rows_) {
+      r.valid = true;
+      for (int64_t v : r.v) {
+        if (points_.count(v)) continue;
+        r.valid = false;
+        Add("vertex-missing", r.id, "vertex " + std::to_string(v) + " is not in the surface");
+      }
+      if (!r.valid) continue;
+      r.orientation = Orientation(At(r.v[0]), At(r.v[1]), At(r.v[2]));
+      if (r.orientation < 0) Add("clockwise-triangle", r.id, "vertices are clockwise");
+      if (r.orientation == 0) Add("degenerate-triangle", r.id, "vertices are collinear");
+    }
+  }
+
+  void CheckDuplicateVertices() {
+    std::vector<int64_t> order = vertex_ids_;
+    const auto xy = [&](int64_t v) { return std::make_pair(At(v).x, At(v).y); };
+    std::stable_sort(order.begin(), order.end(),
+                     [&](int64_t a, int64_t b) { return xy(a) < xy(b); });
+    for (size_t k = 1; k < order.size(); ++k) {
+      if (xy(order[k - 1]) != xy(order[k])) continue;
+      Add("duplicate-vertex", std::nullopt,
+          "vertices " + std::to_string(order[k - 1]) + " and " + std::to_string(order[k]) +
+              " share x, y");
+    }
+  }
+
+  // Sorted directed edges; an edge used twice in one direction is reported on the later
+  // triangle (an undirected edge in three triangles necessarily repeats a direction).
+  void BuildHalfEdges() {
+    half_edges_.reserve(rows_.size() * 3);
+    for (uint32_t t = 0; t < rows_.size(); ++t) {
+      for (int i = 0; i < 3; ++i)
+        half_edges_.push_back({rows_[t].v[(i + 1) % 3], rows_[t].v[(i + 2) % 3], t, i});
+    }
+    std::sort(half_edges_.begin(), half_edges_.end(), [](const HalfEdge& x, const HalfEdge& y) {
+      return x < y || (!(y < x) && x.t < y.t);
+    });
+    for (size_t k = 1; k < half_edges_.size(); ++k) {
+      const HalfEdge& prev = half_edges_[k - 1];
+      const HalfEdge& e = half_edges_[k];
+      if (prev < e) continue;
+      overused_ = true;
+      Add("overused-edge", rows_[e.t].id,
+          "edge (" + std::to_string(e.a) + ", " + std::to_string(e.b) +
+              ") is also used by "
+              "triangle " +
+              std::to_string(rows_[prev.t].id) + " in the same direction");
+    }
+  }
+
+  // The first half-edge a->b, or null.
+  const HalfEdge* FindHalfEdge(int64_t a, int64_t b) const {
+    const HalfEdge key{a, b, 0, 0};
+    auto it = std::lower_bound(half_edges_.begin(), half_edges_.end(), key);
+    return it != half_edges_.end() && !(key < *it) ? &*it : nullptr;
+  }
+
+  std::string EdgeText(const Row& r, int i) const {
+    return "(" + std::to_string(r.v[(i + 1) % 3]) + ", " + std::to_string(r.v[(i + 2) % 3]) + ")";
+  }
+
+  // Invariant 2: links point to triangles of the surface that share the edge and link back;
+  // boundary edges (and only they) have none.
+  void CheckNeighbours() {
+    for (const Row& r : rows_) {
+      for (int i = 0; i < 3; ++i) {
+        const int64_t a = r.v[(i + 1) % 3], b = r.v[(i + 2) % 3];
+        if (!r.n[i]) {
+          if (const HalfEdge* twin = FindHalfEdge(b, a))
+            Add("missing-neighbour", r.id,
+                "edge " + EdgeText(r, i) + " is shared with triangle " +
+                    std::to_string(rows_[twin->t].id) + " but has no neighbour");
+          continue;
+        }
+        const std::string across =
+            "neighbour " + std::to_string(*r.n[i]) + " across edge " + EdgeText(r, i);
+        auto it = index_.find(*r.n[i]);
+        if (it == index_.end()) {
+          Add("bad-neighbour", r.id, across + " is not a triangle of the surface");
+          continue;
+        }
+        const Row& u = rows_[it->second];
+        int j = 0;
+        while (j < 3 && !(u.v[(j + 1) % 3] == b && u.v[(j + 2) % 3] == a)) ++j;
+        if (j == 3) {
+          Add("neighbour-edge-mismatch", r.id, across + " does not have that edge");
+        } else if (u.n[j] != r.id) {
+          Add("asymmetric-neighbour", r.id, across + " does not name this triangle back");
+        }
+      }
+    }
+  }
+
+  // Invariant 3, counts: V - E + F = 2C - B for C edge-connected components with B boundary
+  // loops, over the vertices the triangles use; every vertex is used.
+  void CheckEuler() {
+    std::vector<int64_t> used;
+    used.reserve(rows_.size() * 3);
+    for (const Row& r : rows_) used.insert(used.end(), r.v.begin(), r.v.end());
+    std::sort(used.begin(), used.end());
+    used.erase(std::unique(used.begin(), used.end()), used.end());
+    for (int64_t v : vertex_ids_) {
+      if (!std::binary_search(used.begin(), used.end(), v))
+        Add("euler", std::nullopt, "vertex " + std::to_string(v) + " is used by no triangle");
+    }
+    if (overused_ || rows_.empty()) return;  // counts mean nothing then; already reported
+
+    std::vector<uint32_t> parent(rows_.size());
+    for (uint32_t t = 0; t < parent.size(); ++t) parent[t] = t;
+    const auto find = [&](uint32_t t) {
+      while (parent[t] != t) t = parent[t] = parent[parent[t]];
+      return t;
+    };
+    int64_t interior_half_edges = 0;
+    std::vector<HalfEdge> boundary;
+    for (const HalfEdge& e : half_edges_) {
+      if (const HalfEdge* twin = FindHalfEdge(e.b, e.a)) {
+        ++interior_half_edges;
+        parent[find(e.t)] = find(twin->t);
+      } else {
+        boundary.push_back(e);
+      }
+    }
+    int64_t components = 0;
+    for (uint32_t t = 0; t < parent.size(); ++t) components += find(t) == t;
+    const int64_t loops = CountLoops(boundary);
+    const int64_t v = static_cast<int64_t>(used.size());
+    const int64_t e = static_cast<int64_t>(boundary.size()) + interior_half_edges / 2;
+    const int64_t f = static_cast<int64_t>(rows_.size());
+    if (v - e + f != 2 * components - loops)
+      Add("euler", std::nullopt,
+          "V - E + F = " + std::to_string(v - e + f) +
+              " but 2C - B = " + std::to_string(2 * components - loops) + " (V " +
+              std::to_string(v) + ", E " + std::to_string(e) + ", F " + std::to_string(f) + ", C " +
+              std::to_string(components) + ", B " + std::to_string(loops) + ")");
+  }
+
+  // Closed walks that use every boundary half-edge once (sorted by start vertex).
+  static int64_t CountLoops(const std::vector<HalfEdge>& boundary) {
+    std::vector<bool> used(boundary.size(), false);
+    int64_t loops = 0;
+    for (size_t start = 0; start < boundary.size(); ++start) {
+      if (used[start]) continue;
+      ++loops;
+      size_t k = start;
+      while (!used[k]) {
+        used[k] = true;
+        // Next: an unused boundary half-edge leaving where this one ends.
+        auto it = std::lower_bound(boundary.begin(), boundary.end(),
+                                   HalfEdge{boundary[k].b, INT64_MIN, 0, 0});
+        while (it != boundary.end() && it->a == boundary[k].b && used[it - boundary.begin()]) ++it;
+        if (it == boundary.end() || it->a != boundary[k].b) break;
+        k = static_cast<size_t>(it - boundary.begin());
+      }
+    }
+    return loops;
+  }
+
+  // Invariant 3, tiling: the signed angles of the triangles around a vertex add up to exactly
+  // one turn at an interior vertex and to less at a boundary vertex; an extra triangle or a fan
+  // wound twice adds at least the smallest angle of some triangle, which is far above the
+  // round-off of a few atan2 calls (~1e-15 turns each), so a loose 1e-9 turn tolerance tells
+  // them apart.
+  void CheckWinding() {
+    struct Fan {
+      double angle = 0;
+      int64_t first_triangle = INT64_MAX;
+      bool complete = true;  // every triangle around it could be measured
+    };
+    std::unordered_map<int64_t, Fan> fans;
+    for (const Row& r : rows_) {
+      for (int i = 0; i < 3; ++i) {
+        Fan& fan = fans[r.v[i]];
+        fan.first_triangle = std::min(fan.first_triangle, r.id);
+        if (!r.valid) {
+          fan.complete = false;
+          continue;
+        }
+        const Point2 &o = At(r.v[i]), &p = At(r.v[(i + 1) % 3]), &q = At(r.v[(i + 2) % 3]);
+        const double ux = p.x - o.x, uy = p.y - o.y, wx = q.x - o.x, wy = q.y - o.y;
+        fan.angle += std::atan2(ux * wy - uy * wx, ux * wx + uy * wy);
+      }
+    }
+    std::vector<int64_t> on_boundary;
+    for (const HalfEdge& e : half_edges_) {
+      if (FindHalfEdge(e.b, e.a)) continue;
+      on_boundary.push_back(e.a);
+      on_boundary.push_back(e.b);
+    }
+    std::sort(on_boundary.begin(), on_boundary.end());
+    std::vector<int64_t> vertices;  // in id order, so problems come out in a stable order
+    vertices.reserve(fans.size());
+    for (const auto& entry : fans) vertices.push_back(entry.first);
+    std::sort(vertices.begin(), vertices.end());
+    constexpr double kTurn = 2 * std::numbers::pi;
+    constexpr double kTolerance = 1e-9;
+    for (int64_t vertex : vertices) {
+      const Fan& fan = fans[vertex];
+      if (!fan.complete) continue;
+      const bool boundary = std::binary_search(on_boundary.begin(), on_boundary.end(), vertex);
+      const double turns = fan.angle / kTurn;
+      if (boundary ? turns < 1 + kTolerance : std::abs(turns - 1) <= kTolerance) continue;
+      char text[160];
+      std::snprintf(text, sizeof text, "triangles around %s vertex %lld turn %.9f times around it",
+                    boundary ? "boundary" : "interior", static_cast<long long>(vertex), turns);
+      Add("overlap", fan.first_triangle, text);
+    }
+  }
+
+  bool IsConstrained(int64_t a, int64_t b) const {
+    return std::binary_search(constraints_.begin(), constraints_.end(),
+                              std::make_pair(std::min(a, b), std::max(a, b)));
+  }
+
+  // Invariant 4.
+  void CheckConstraints() {
+    for (const auto& [a, b] : constraints_) {
+      if (FindHalfEdge(a, b) || FindHalfEdge(b, a)) continue;
+      Add("constraint-not-edge", std::nullopt,
+          "constraint (" + std::to_string(a) + ", " + std::to_string(b) +
+              ") is not an edge of the triangulation");
+    }
+  }
+
+  // Invariant 5: across each unconstrained interior edge, the far vertex is not strictly inside
+  // the circumcircle (exact; a tie is allowed because grid points are co-circular everywhere).
+  // Reported on the lower triangle id of the pair.
+  void CheckDelaunay() {
+    for (const Row& r : rows_) {
+      if (!r.valid || r.orientation <= 0) continue;
+      for (int i = 0; i < 3; ++i) {
+        const int64_t a = r.v[(i + 1) % 3], b = r.v[(i + 2) % 3];
+        const HalfEdge* twin = FindHalfEdge(b, a);
+        if (!twin || IsConstrained(a, b)) continue;
+        const Row& u = rows_[twin->t];
+        if (u.id <= r.id || !u.valid || u.orientation <= 0) continue;
+        const int64_t far = u.v[twin->i];
+        if (InCircle(At(r.v[0]), At(r.v[1]), At(r.v[2]), At(far)) > 0)
+          Add("not-delaunay", r.id,
+              "edge " + EdgeText(r, i) + " is not locally Delaunay: vertex " + std::to_string(far) +
+                  " of triangle " + std::to_string(u.id) + " is inside the circumcircle");
+      }
+    }
+  }
+
+  // Invariant 8.
+  void CheckBlocks() {
+    for (const Row& r : rows_) {
+      if (!r.valid) continue;
+      const Point2 &a = At(r.v[0]), &b = At(r.v[1]), &c = At(r.v[2]);
+      const int64_t block = CentroidBlock(surface_.blocks, a.x, a.y, b.x, b.y, c.x, c.y);
+      if (block != r.block)
+        Add("wrong-block", r.id,
+            "block is " + std::to_string(r.block) + " but the centroid is in block " +
+                std::to_string(block));
+    }
+  }
+
+  Store& store_;
+  const SurfaceInfo& surface_;
+  std::vector<Problem>* problems_;
+  std::vector<int64_t> vertex_ids_;
+  std::unordered_map<int64_t, Point2> points_;
+  std::vector<Row> rows_;  // by id
+  std::unordered_map<int64_t, uint32_t> index_;
+  std::vector<std::pair<int64_t, int64_t>> constraints_;  // (min, max), sorted
+  std::vector<HalfEdge> half_edges_;                      // sorted by (a, b), then triangle
+  bool overused_ = false;
+};
+
+}  // namespace
+
+Result<std::vector<Problem>> CheckStore(Store& store, const CheckOptions& options) {
+  TB_ASSIGN_OR_RETURN(auto snapshot, SnapshotUnlessInTransaction(store));
+  SurfaceStore surfaces(store);
+  std::vector<SurfaceInfo> targets;
+  if (options.surface) {
+    TB_ASSIGN_OR_RETURN(SurfaceInfo one, surfaces.Find(*options.surface));
+    targets.push_back(std::move(one));
+  } else {
+    TB_ASSIGN_OR_RETURN(targets, surfaces.List());
+  }
+  std::sort(targets.begin(), targets.end(),
+            [](const SurfaceInfo& a, const SurfaceInfo& b) { return a.id < b.id; });
+  std::vector<Problem> problems;
+  for (const SurfaceInfo& surface : targets) {
+    std::vector<Problem> found;
+    TB_RETURN_IF_ERROR(SurfaceChecker(store, surface, &found).Run());
+    // Surface-wide problems (no triangle) first, then by triangle; within a triangle, in the
+    // order of the invariants.
+    std::stable_sort(found.begin(), found.end(),
+                     [](const Problem& a, const Problem& b) { return a.triangle < b.triangle; });
+    problems.insert(problems.end(), found.begin(), found.end());
+  }
+  return problems;
+}
+
+}  // namespace tinbase

@@ -1,0 +1,197 @@
+#include "db/point_locator.h"
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <charconv>
+#include <cstdlib>
+#include <random>
+#include <unordered_map>
+
+#include "core/geometry/predicates.h"
+
+namespace tinbase {
+
+namespace {
+
+// Rings of blocks searched around an empty block before settling for any triangle: the walk
+// from a triangle a few blocks away is still short, and beyond that an arbitrary start is as good.
+constexpr int kJumpRings = 3;
+
+struct WalkVertex {
+  Point2 p;
+  double z = 0;
+};
+
+struct WalkTriangle {
+  std::array<int64_t, 3> v{};
+  std::array<std::optional<int64_t>, 3> n;
+};
+
+// Reads the rows a walk touches, one by id, remembering vertices (consecutive triangles share
+// two of them).
+class WalkReader {
+ public:
+  WalkReader(Store& store, const SurfaceInfo& surface) : db_(store.db()), surface_(surface) {}
+
+  Result<WalkTriangle> Triangle(int64_t id) {
+    TB_ASSIGN_OR_RETURN(
+        Statement * stmt,
+        db_.Cached("SELECT v0, v1, v2, n0, n1, n2 FROM triangles WHERE id = ? AND surface = ?"));
+    stmt->Bind(1, id).Bind(2, surface_.id);
+    TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
+    if (!row)
+      return Status::Corruption(Where() + ": the walk reached triangle " + std::to_string(id) +
+                                ", which does not exist; run tinbase check");
+    WalkTriangle t;
+    for (int i = 0; i < 3; ++i) {
+      t.v[i] = stmt->ColumnInt(i);
+      if (!stmt->ColumnIsNull(3 + i)) t.n[i] = stmt->ColumnInt(3 + i);
+    }
+    stmt->Reset();
+    return t;
+  }
+
+  Result<WalkVertex> Vertex(int64_t id) {
+    if (auto it = vertices_.find(id); it != vertices_.end()) return it->second;
+    TB_ASSIGN_OR_RETURN(Statement * stmt,
+                        db_.Cached("SELECT x, y, z FROM vertices WHERE id = ? AND surface = ?"));
+    stmt->Bind(1, id).Bind(2, surface_.id);
+    TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
+    if (!row)
+      return Status::Corruption(Where() + ": vertex " + std::to_string(id) +
+                                " does not exist; run tinbase check");
+    WalkVertex v{{stmt->ColumnDouble(0), stmt->ColumnDouble(1)}, stmt->ColumnDouble(2)};
+    stmt->Reset();
+    vertices_.emplace(id, v);
+    return v;
+  }
+
+  std::string Where() const { return "surface '" + surface_.name + "'"; }
+
+ private:
+  SqliteDb& db_;
+  const SurfaceInfo& surface_;
+  std::unordered_map<int64_t, WalkVertex> vertices_;
+};
+
+// A triangle near (x, y): one in the point's block, else in the nearest non-empty ring of blocks
+// around it, else any.
+Result<int64_t> JumpStart(SurfaceStore& surfaces, const SurfaceInfo& surface, double x, double y) {
+  const BlockGrid& grid = surface.blocks;
+  const int64_t bx = grid.ColumnOf(x), by = grid.RowOf(y);
+  for (int64_t r = 0; r <= kJumpRings; ++r) {
+    for (int64_t dy = -r; dy <= r; ++dy) {
+      for (int64_t dx = -r; dx <= r; ++dx) {
+        if (std::max(std::abs(dx), std::abs(dy)) != r) continue;  // ring r only
+        const int64_t cx = bx + dx, cy = by + dy;
+        if (cx < 0 || cy < 0 || cx >= BlockGrid::kStride || cy >= BlockGrid::kStride) continue;
+        TB_ASSIGN_OR_RETURN(auto id, surfaces.AnyTriangleInBlock(surface, BlockGrid::Pack(cx, cy)));
+        if (id) return *id;
+      }
+    }
+  }
+  return surfaces.AnyTriangle(surface);
+}
+
+// Barycentric interpolation of z over the triangle, relative to its first vertex so large map
+// coordinates do not cancel away the small differences that matter.
+double InterpolateZ(const std::array<WalkVertex, 3>& t, double x, double y) {
+  const double bx = t[1].p.x - t[0].p.x, by = t[1].p.y - t[0].p.y;
+  const double cx = t[2].p.x - t[0].p.x, cy = t[2].p.y - t[0].p.y;
+  const double px = x - t[0].p.x, py = y - t[0].p.y;
+  const double det = bx * cy - by * cx;
+  if (det == 0) return t[0].z;  // degenerate; CheckStore reports it
+  const double l1 = (px * cy - py * cx) / det;
+  const double l2 = (bx * py - by * px) / det;
+  return t[0].z + l1 * (t[1].z - t[0].z) + l2 * (t[2].z - t[0].z);
+}
+
+// Shortest text that reads back as the same double, so a reported point can be located again.
+std::string Number(double v) {
+  char buf[32];
+  const auto end = std::to_chars(buf, buf + sizeof buf, v).ptr;
+  return std::string(buf, end);
+}
+
+std::string PointText(double x, double y) {
+  std::string text = "(";
+  text += Number(x);
+  text += ", ";
+  text += Number(y);
+  return text + ")";
+}
+
+}  // namespace
+
+Result<Location> LocatePoint(Store& store, const SurfaceInfo& surface, double x, double y) {
+  TB_ASSIGN_OR_RETURN(auto snapshot, SnapshotUnlessInTransaction(store));
+  SurfaceStore surfaces(store);
+  WalkReader reader(store, surface);
+  const Point2 p{x, y};
+
+  // Seeded by the point, so a query repeats exactly (and a failure reproduces).
+  std::minstd_rand rng(
+      static_cast<uint32_t>(std::bit_cast<uint64_t>(x) * 31 ^ std::bit_cast<uint64_t>(y)) | 1u);
+  TB_ASSIGN_OR_RETURN(int64_t current, JumpStart(surfaces, surface, x, y));
+  std::optional<int64_t> came_from;
+  // On a valid triangulation the walk ends with probability 1 (Devillers, Pion, Teillaud,
+  // "Walking in a triangulation"); broken links can make it cycle, so give up eventually.
+  int64_t step_limit = int64_t{1} << 16;
+  bool limit_checked = false;
+  Location location;
+  for (;;) {
+    ++location.steps;
+    if (location.steps > step_limit) {
+      if (limit_checked)
+        return Status::Corruption(reader.Where() + ": the walk to " + PointText(x, y) +
+                                  " does not end; run tinbase check");
+      TB_ASSIGN_OR_RETURN(SurfaceCounts counts, surfaces.Count(surface));
+      step_limit = std::max(step_limit, 4 * counts.triangles + 16);
+      limit_checked = true;
+    }
+    TB_ASSIGN_OR_RETURN(WalkTriangle tri, reader.Triangle(current));
+    std::array<WalkVertex, 3> corner;
+    for (int i = 0; i < 3; ++i) {
+      TB_ASSIGN_OR_RETURN(corner[i], reader.Vertex(tri.v[i]));
+    }
+    // Test the edges from a random one; the edge we came through has p on its inner side
+    // (it was strictly outside it from the other triangle), so it needs no test.
+    const int first = static_cast<int>(rng() % 3);
+    std::optional<int> exit_edge;
+    for (int k = 0; k < 3 && !exit_edge; ++k) {
+      const int i = (first + k) % 3;
+      if (came_from && tri.n[i] == came_from) continue;
+      if (Orientation(corner[(i + 1) % 3].p, corner[(i + 2) % 3].p, p) < 0) exit_edge = i;
+    }
+    if (!exit_edge) {
+      // The skipped edge holds p inside only if the links are symmetric; check, so broken links
+      // give an error rather than a wrong triangle.
+      for (int i = 0; i < 3; ++i) {
+        if (came_from && tri.n[i] == came_from &&
+            Orientation(corner[(i + 1) % 3].p, corner[(i + 2) % 3].p, p) < 0)
+          return Status::Corruption(reader.Where() + ": triangle " + std::to_string(current) +
+                                    " and its neighbour " + std::to_string(*came_from) +
+                                    " do not share the edge they link across; run tinbase check");
+      }
+      location.triangle = current;
+      location.z = InterpolateZ(corner, x, y);
+      break;
+    }
+    const std::optional<int64_t> next = tri.n[*exit_edge];
+    // Strictly beyond a boundary edge is outside because domains are convex: builders
+    // triangulate the hull or the DEM's rectangle, and clip/erase hide triangles rather than
+    // remove them. (On a non-convex domain a point across a notch would be called outside.)
+    if (!next)
+      return Status::NotFound("point " + PointText(x, y) + " is outside surface '" + surface.name +
+                              "'");
+    came_from = current;
+    current = *next;
+  }
+  TB_ASSIGN_OR_RETURN(StoredTriangle found, surfaces.Triangle(surface, location.triangle));
+  location.visible = found.visible;
+  location.tag = found.tag;
+  return location;
+}
+
+}  // namespace tinbase
