@@ -188,7 +188,7 @@ struct Box {
     min_x = std::min(min_x, p.x), min_y = std::min(min_y, p.y);
     max_x = std::max(max_x, p.x), max_y = std::max(max_y, p.y);
   }
-  void Add(const Box& b) { Add({b.min_x, b.min_y}), Add({b.max_x, b.max_y}); }
+  void Add(const Box& b) { Add(Point2{b.min_x, b.min_y}), Add(Point2{b.max_x, b.max_y}); }
 };
 
 Box BoxOf(const EditorFeature& f) {
