@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "db/sqlite/sqlite_db.h"
 #include "tests/support/test_support.h"
 
 namespace tinbase {
@@ -147,6 +148,41 @@ TEST_F(CliTest, BadInputIsRejectedAndChangesNothing) {
   CliResult r = RunCli("info " + Quote(other));
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.err.find("not a tinbase store"), std::string::npos) << r.err;
+}
+
+// `check` names the first broken triangle and exits non-zero; each corruption is made with SQL.
+TEST_F(CliTest, CheckNamesTheFirstBrokenTriangle) {
+  const struct {
+    const char* sql;
+    const char* code;
+  } cases[] = {
+      {"UPDATE triangles SET v1 = v2, v2 = v1 WHERE id = (SELECT min(id) + 7 FROM triangles)",
+       "clockwise-triangle"},
+      {"UPDATE triangles SET n0 = NULL WHERE id = (SELECT min(id) + 7 FROM triangles WHERE "
+       "n0 IS NOT NULL)",
+       "neighbour"},
+      {"DELETE FROM triangles WHERE id = (SELECT min(id) + 7 FROM triangles)", ""},
+      {"UPDATE triangles SET block = block + 1 WHERE id = (SELECT min(id) + 7 FROM triangles)",
+       "wrong-block"},
+  };
+  for (const auto& c : cases) {
+    const std::string copy = dir_.Path("corrupt.tinbase");
+    std::filesystem::remove(copy);
+    ASSERT_EQ(RunCli("check " + Quote(store_)).exit_code, 0);
+    std::filesystem::copy_file(store_, copy);
+    {
+      auto db = SqliteDb::Open(copy, SqliteDb::Mode::kReadWrite);
+      ASSERT_TRUE(db.ok());
+      ASSERT_TRUE((*db)->Exec(c.sql).ok()) << c.sql;
+    }
+    CliResult r = RunCli("check " + Quote(copy));
+    EXPECT_NE(r.exit_code, 0) << c.sql;
+    EXPECT_NE(r.err.find("triangle"), std::string::npos) << c.sql << "\n" << r.err;
+    EXPECT_NE(r.err.find(c.code), std::string::npos) << c.sql << "\n" << r.err;
+    auto j = nlohmann::json::parse(RunCli("check --json " + Quote(copy)).out);
+    EXPECT_FALSE(j["ok"].get<bool>());
+    EXPECT_FALSE(j["problems"].empty());
+  }
 }
 
 TEST(CliStandalone, RasterWithoutCrsIsRejected) {
