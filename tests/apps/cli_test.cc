@@ -122,6 +122,70 @@ TEST_F(CliTest, ExportsObjAndGeoJson) {
   EXPECT_EQ(doc["features"].size(), static_cast<size_t>(triangles));
 }
 
+TEST_F(CliTest, PolygonsAreDrapedAndTagTheTriangles) {
+  const std::string geology = DataPath("geology/hamersley/geology.geojson");
+  RunWrite(store_, "polygon add " + Quote(store_) + " " + Quote(geology) +
+                       " --surface terrain --mode fill --tag-field unitname");
+  auto info = Json(RunCli("info --json " + Quote(store_)));
+  EXPECT_EQ(info["surfaces"][0]["features"], 61);
+  // Neighbouring units share their boundary: each shared edge is one constrained edge.
+  EXPECT_GT(info["surfaces"][0]["constraints"].get<int>(), 3000);
+  // The centre of the map lies in some unit: the triangle there carries its name.
+  const auto& bbox = info["dems"][0]["bbox"];
+  const double x = (bbox[0].get<double>() + bbox[2].get<double>()) / 2;
+  const double y = (bbox[1].get<double>() + bbox[3].get<double>()) / 2;
+  auto where = Json(RunCli("locate --json " + Quote(store_) + " --surface terrain -- " +
+                           std::to_string(x) + " " + std::to_string(y)));
+  EXPECT_TRUE(where["tag"].is_string()) << where.dump();
+
+  // An erase polygon hides what it covers.
+  const std::string square = dir_.Path("square.geojson");
+  std::ofstream(square) << R"({"type":"FeatureCollection","crs":{"type":"name","properties":)"
+                        << R"({"name":"EPSG:28350"}},"features":[{"type":"Feature","properties":)"
+                        << R"({},"geometry":{"type":"Polygon","coordinates":[[)"
+                        << "[" << x - 2000 << "," << y - 2000 << "],[" << x + 2000 << ","
+                        << y - 2000 << "],[" << x + 2000 << "," << y + 2000 << "],[" << x - 2000
+                        << "," << y + 2000 << "],[" << x - 2000 << "," << y - 2000 << "]]]}}]}";
+  RunWrite(store_, "polygon add " + Quote(store_) + " " + Quote(square) +
+                       " --surface terrain --mode erase");
+  where = Json(RunCli("locate --json " + Quote(store_) + " --surface terrain -- " +
+                      std::to_string(x) + " " + std::to_string(y)));
+  EXPECT_FALSE(where["visible"].get<bool>());
+  auto changes = Json(RunCli("changes --json --since 1 " + Quote(store_)));
+  ASSERT_EQ(changes.size(), 2u);
+  EXPECT_EQ(changes[1]["action"], "polygon add");
+}
+
+TEST_F(CliTest, BadPolygonsAreRejectedAndChangeNothing) {
+  const auto write = [&](const std::string& name, const std::string& coordinates) {
+    const std::string path = dir_.Path(name);
+    std::ofstream(path) << R"({"type":"FeatureCollection","crs":{"type":"name","properties":)"
+                        << R"({"name":"EPSG:28350"}},"features":[{"type":"Feature","properties":)"
+                        << R"({},"geometry":{"type":"Polygon","coordinates":)" << coordinates
+                        << "}}]}";
+    return Quote(path);
+  };
+  const std::string s = Quote(store_);
+  // A bow tie: the ring crosses itself.
+  ExpectRejected(store_, "polygon add " + s + " --surface terrain --mode fill " +
+                             write("bowtie.geojson", "[[[540000,7497000],[542000,7499000],"
+                                                     "[542000,7497000],[540000,7499000],"
+                                                     "[540000,7497000]]]"),
+                 "crosses itself");
+  // Far outside the DEM.
+  ExpectRejected(store_, "polygon add " + s + " --surface terrain --mode fill " +
+                             write("far.geojson", "[[[0,0],[10,0],[10,10],[0,10],[0,0]]]"),
+                 "ring 0");
+  ExpectRejected(store_, "polygon add " + s + " --surface terrain --mode paint " +
+                             write("ok.geojson", "[[[540000,7497000],[541000,7497000],"
+                                                 "[541000,7498000],[540000,7497000]]]"),
+                 "paint");
+  ExpectRejected(store_, "polygon add " + s + " --surface terrain --mode replace " +
+                             write("ok2.geojson", "[[[540000,7497000],[541000,7497000],"
+                                                  "[541000,7498000],[540000,7497000]]]"),
+                 "--level");
+}
+
 TEST_F(CliTest, ChangesLogHasTheBuild) {
   auto j = Json(RunCli("changes --json " + Quote(store_)));
   ASSERT_EQ(j.size(), 1u);
