@@ -29,7 +29,8 @@
 // takes the mean of the nearest valid cells, and triangles whose centroid lies on nodata are
 // invisible.
 //
-// The result is NOT a Delaunay triangulation: store it as a `free` surface.
+// The result is not a Delaunay triangulation in general (on square cells it passes the
+// empty-circle test up to ties, on rectangular cells it does not): store it as a `free` surface.
 // Thread-safety: pure function.
 #pragma once
 
