@@ -38,16 +38,15 @@ bool PlaneThrough(const std::array<Cell, 3>& p, const std::array<double, 3>& z, 
   return true;
 }
 
-NodataElevation::NodataElevation(const Grid& dem)
-    : dem_(dem), cache_(dem.cells.size(), std::numeric_limits<double>::quiet_NaN()) {
-  const int64_t w = dem.geometry.width, h = dem.geometry.height;
+void NodataElevation::BuildValidPrefix() {
+  const int64_t w = dem_.geometry.width, h = dem_.geometry.height;
   valid_prefix_.assign(static_cast<size_t>((w + 1) * (h + 1)), 0);
   for (int64_t r = 0; r < h; ++r) {
     for (int64_t c = 0; c < w; ++c) {
       valid_prefix_[static_cast<size_t>((r + 1) * (w + 1) + c + 1)] =
           valid_prefix_[static_cast<size_t>(r * (w + 1) + c + 1)] +
           valid_prefix_[static_cast<size_t>((r + 1) * (w + 1) + c)] -
-          valid_prefix_[static_cast<size_t>(r * (w + 1) + c)] + (dem.IsValid(c, r) ? 1 : 0);
+          valid_prefix_[static_cast<size_t>(r * (w + 1) + c)] + (dem_.IsValid(c, r) ? 1 : 0);
     }
   }
 }
@@ -64,8 +63,9 @@ int64_t NodataElevation::ValidInWindow(int64_t col, int64_t row, int64_t radius)
 
 double NodataElevation::At(int64_t col, int64_t row) {
   if (dem_.IsValid(col, row)) return dem_.At(col, row);
-  double& cached = cache_[static_cast<size_t>(row * dem_.geometry.width + col)];
-  if (!std::isnan(cached)) return cached;
+  const int64_t key = row * dem_.geometry.width + col;
+  if (const auto it = cache_.find(key); it != cache_.end()) return it->second;
+  if (valid_prefix_.empty()) BuildValidPrefix();
   // Smallest radius whose window holds a valid cell; the count grows with the radius.
   int64_t lo = 1, hi = std::max(dem_.geometry.width, dem_.geometry.height);
   assert(ValidInWindow(col, row, hi) > 0);
@@ -91,8 +91,9 @@ double NodataElevation::At(int64_t col, int64_t row) {
       }
     }
   }
-  cached = sum / static_cast<double>(count);
-  return cached;
+  const double mean = sum / static_cast<double>(count);
+  cache_.emplace(key, mean);
+  return mean;
 }
 
 Cell CellOf(const GridGeometry& g, const TinVertex& v) {

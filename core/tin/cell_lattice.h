@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <limits>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "core/base/status.h"
@@ -82,20 +83,22 @@ void RasteriseTriangle(const std::array<Cell, 3>& p, int64_t width, int64_t heig
 
 // The elevation a TIN vertex takes at a cell: the cell's value, or on a nodata cell the mean of
 // the valid cells in the smallest square window around it that holds any (the rule of
-// greedy_builder.h). A summed-area table of valid-cell counts finds that window's radius by
-// bisection, so a cell deep inside a large void costs O(log r + r^2) once, then is cached.
+// greedy_builder.h). A summed-area table of valid-cell counts (built at the first nodata query)
+// finds that window's radius by bisection, so a cell deep inside a large void costs
+// O(log r + r^2) once, then is cached; a grid without nodata costs nothing extra.
 class NodataElevation {
  public:
   // REQUIRES: `dem` has a valid cell and outlives this object.
-  explicit NodataElevation(const Grid& dem);
+  explicit NodataElevation(const Grid& dem) : dem_(dem) {}
   double At(int64_t col, int64_t row);
 
  private:
+  void BuildValidPrefix();
   int64_t ValidInWindow(int64_t col, int64_t row, int64_t radius) const;
 
   const Grid& dem_;
-  std::vector<int32_t> valid_prefix_;  // (width + 1) x (height + 1) summed-area table
-  std::vector<double> cache_;          // NaN: not computed yet
+  std::vector<int64_t> valid_prefix_;          // (width + 1) x (height + 1), empty until needed
+  std::unordered_map<int64_t, double> cache_;  // by row * width + col, nodata cells only
 };
 
 // The cell whose centre a vertex lies on (rounded; exact for vertices placed at cell centres).
