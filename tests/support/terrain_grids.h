@@ -1,0 +1,53 @@
+// Generated terrains and real-DEM windows for the TIN builder tests. Header-only; pure
+// functions.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <functional>
+
+#include "core/raster/grid.h"
+
+namespace tinbase::testing {
+
+// A width x height grid with 10 m cells whose origin is away from zero (as real data is), cell
+// values f(x, y) at the cell centres, x and y relative to the origin.
+inline Grid MakeGrid(int64_t width, int64_t height,
+                     const std::function<double(double, double)>& f) {
+  Grid grid;
+  grid.geometry = GridGeometry{500000.0, 5200000.0, 10.0, -10.0, width, height};
+  grid.cells.resize(static_cast<size_t>(width * height));
+  for (int64_t r = 0; r < height; ++r) {
+    for (int64_t c = 0; c < width; ++c) {
+      grid.cells[static_cast<size_t>(r * width + c)] = static_cast<float>(
+          f(grid.geometry.CellCenterX(c) - 500000.0, grid.geometry.CellCenterY(r) - 5200000.0));
+    }
+  }
+  return grid;
+}
+
+inline double Sines(double x, double y) {
+  return 300 + 120 * std::sin(x / 170.0) * std::cos(y / 230.0) + 35 * std::sin((x + 2 * y) / 61.0);
+}
+
+// The width x height window of `grid` whose top-left cell is (col, row), with its geometry.
+// REQUIRES: the window lies inside the grid.
+inline Grid Window(const Grid& grid, int64_t col, int64_t row, int64_t width, int64_t height) {
+  Grid out;
+  const GridGeometry& g = grid.geometry;
+  out.geometry = GridGeometry{g.origin_x + static_cast<double>(col) * g.cell_x,
+                              g.origin_y + static_cast<double>(row) * g.cell_y,
+                              g.cell_x,
+                              g.cell_y,
+                              width,
+                              height};
+  out.crs_wkt = grid.crs_wkt;
+  out.source_nodata = grid.source_nodata;
+  out.cells.reserve(static_cast<size_t>(width * height));
+  for (int64_t r = row; r < row + height; ++r) {
+    for (int64_t c = col; c < col + width; ++c) out.cells.push_back(grid.At(c, r));
+  }
+  return out;
+}
+
+}  // namespace tinbase::testing
