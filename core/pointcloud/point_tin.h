@@ -50,7 +50,8 @@ struct PointTin {
 Result<PointCloud> ReadPointFile(const std::string& path, std::string* format);
 
 // Builds the TIN of the file's points. `target` is the CRS the TIN must be in (the store's), or
-// nullopt to keep the file's. Errors: those of ReadPointFile, ReprojectXy and
+// nullopt to keep the file's; a file without a CRS (XYZ, or LAS without projection records) is
+// taken to be in `target` already. Errors: those of ReadPointFile, ReprojectXy and
 // ThinByVoronoiDensity (with the file named); InvalidArgument when the kept points span no
 // triangle (fewer than three distinct points, or all collinear).
 Result<PointTin> BuildPointTin(const std::string& path, const PointTinOptions& options,

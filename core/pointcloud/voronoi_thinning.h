@@ -18,7 +18,9 @@
 //     interpolates only its old neighbours: with kAllNeighbours it passes within
 //     `vertical_threshold` of every point dropped in the pass. That is what keeps the result
 //     faithful, and what the paper's "Voronoi tree" update (its step d) achieves.
-// Further passes (`passes` > 1) repeat 1-4 on the survivors with the first pass's area threshold.
+// Further passes (`passes` > 1) repeat 1-4 on the survivors with the first pass's area threshold;
+// the bound then loosens to passes x vertical_threshold for points dropped in early passes (a
+// later pass may drop a neighbour they were interpolated from).
 //
 // Input points with the same x, y as an earlier one are duplicates: the first is kept, the rest
 // are counted and never appear in the output. Stateless; thread-safe.
