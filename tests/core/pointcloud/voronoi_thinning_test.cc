@@ -389,6 +389,15 @@ TEST(VoronoiThinning, PaperExperimentOnAutzenGround) {
   const double point_ratio = double(r->report.kept) / double(best.size());
   EXPECT_NEAR(ratio, point_ratio, 0.05);
   ExpectFaithfulPass(best, *r, 0.15);
+
+  // The default density threshold (0.75 of the median cell) on the same window, for comparison.
+  auto by_default = ThinByVoronoiDensity(best, ThinningOptions{});
+  ASSERT_TRUE(by_default.ok());
+  std::cout << "same window, default threshold " << by_default->report.cell_area_threshold
+            << " ft2: " << by_default->report.kept << " kept, " << by_default->report.dropped
+            << " dropped\n";
+  EXPECT_GT(by_default->report.dropped, 0u);
+  ExpectFaithfulPass(best, *by_default, ThinningOptions{}.vertical_threshold);
 }
 
 }  // namespace
