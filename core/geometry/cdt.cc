@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cassert>
+#include <cmath>
 #include <numeric>
 
 namespace tinbase {
@@ -196,6 +197,63 @@ uint64_t Cdt::FaceStamp(FaceRef face) const {
 
 void Cdt::SetFaceStamp(FaceRef face, uint64_t stamp) {
   static_cast<Triangulation::Face*>(face.opaque)->info().stamp = stamp;
+}
+
+std::vector<VoronoiCell> Cdt::VoronoiCells() const {
+  const Triangulation& cdt = impl_->cdt;
+  assert(std::none_of(cdt.finite_edges_begin(), cdt.finite_edges_end(),
+                      [](const auto& e) { return e.first->is_constrained(e.second); }));
+  std::vector<VoronoiCell> cells(vertices_.size());
+  if (cdt.dimension() < 2) {
+    // Collinear or fewer than three points: every cell reaches infinity. Neighbours still follow
+    // the edges CGAL keeps in one dimension.
+    for (const auto& [f, i] : cdt.finite_edges()) {
+      const uint32_t a = f->vertex(Triangulation::cw(i))->info().index;
+      const uint32_t b = f->vertex(Triangulation::ccw(i))->info().index;
+      cells[a].neighbours.push_back(b);
+      cells[b].neighbours.push_back(a);
+    }
+    return cells;
+  }
+  using Point2 = K::Point_2;
+  for (VertexHandle v : cdt.finite_vertex_handles()) {
+    VoronoiCell& cell = cells[v->info().index];
+    Triangulation::Vertex_circulator vc = cdt.incident_vertices(v);
+    const Triangulation::Vertex_circulator vdone = vc;
+    bool on_hull = false;
+    do {
+      if (cdt.is_infinite(vc)) {
+        on_hull = true;
+      } else {
+        cell.neighbours.push_back(vc->info().index);
+      }
+    } while (++vc != vdone);
+    if (on_hull) continue;
+    // The cell's corners are the circumcentres of the incident triangles, in counter-clockwise
+    // order. They are taken relative to the vertex so the shoelace sum does not cancel large
+    // projected coordinates against each other.
+    const Point& o = v->point();
+    std::vector<Point2> corners;
+    Triangulation::Face_circulator fc = cdt.incident_faces(v);
+    const Triangulation::Face_circulator fdone = fc;
+    do {
+      const Point& a = fc->vertex(0)->point();
+      const Point& b = fc->vertex(1)->point();
+      const Point& c = fc->vertex(2)->point();
+      corners.push_back(CGAL::circumcenter(Point2(a.x() - o.x(), a.y() - o.y()),
+                                           Point2(b.x() - o.x(), b.y() - o.y()),
+                                           Point2(c.x() - o.x(), c.y() - o.y())));
+    } while (++fc != fdone);
+    double twice_area = 0;
+    for (size_t k = 0; k < corners.size(); ++k) {
+      const Point2& p = corners[k];
+      const Point2& q = corners[(k + 1) % corners.size()];
+      twice_area += p.x() * q.y() - q.x() * p.y();
+    }
+    cell.bounded = true;
+    cell.area = std::abs(twice_area) / 2;
+  }
+  return cells;
 }
 
 Tin Cdt::ToTin(const ElevationFn& elevation) {

@@ -36,6 +36,14 @@ struct CdtFaceRef {
   void* opaque = nullptr;
 };
 
+// A vertex's Voronoi cell, read off the dual of the triangulation (paper 003 measures local
+// point density by it).
+struct VoronoiCell {
+  bool bounded = false;   // false for a vertex on the convex hull: its cell is unbounded
+  double area = 0;        // plan area of the cell when bounded, else 0
+  std::vector<uint32_t> neighbours;  // vertices sharing a triangulation edge, counter-clockwise
+};
+
 class Cdt {
  public:
   using FaceRef = CdtFaceRef;
@@ -78,6 +86,11 @@ class Cdt {
   std::array<uint32_t, 3> FaceVertices(FaceRef face) const;
   uint64_t FaceStamp(FaceRef face) const;
   void SetFaceStamp(FaceRef face, uint64_t stamp);
+
+  // The Voronoi cell of every vertex, by index. The cell is the dual of the vertex's star, so it
+  // is the true Voronoi cell only while no constraint has been inserted. REQUIRES: no
+  // constraints; every vertex has an index (true without constraints).
+  std::vector<VoronoiCell> VoronoiCells() const;
 
   // The triangulation in our table layout: vertices in index order (vertices() first, then the
   // vertices CGAL created at constraint crossings, kind kSteiner, z from `elevation`), every

@@ -1,0 +1,40 @@
+#include "core/geometry/reproject.h"
+
+#include <ogr_spatialref.h>
+
+#include <cmath>
+#include <memory>
+#include <string>
+
+namespace tinbase {
+
+Status ReprojectXy(const Crs& from, const Crs& to, std::vector<TinVertex>& vertices) {
+  std::unique_ptr<OGRCoordinateTransformation> transform(
+      OGRCreateCoordinateTransformation(&from.ogr(), &to.ogr()));
+  if (!transform) {
+    return Status::InvalidArgument("no coordinate transformation from " + from.Label() + " to " +
+                                   to.Label());
+  }
+  std::vector<double> x(vertices.size()), y(vertices.size());
+  for (size_t i = 0; i < vertices.size(); ++i) {
+    x[i] = vertices[i].x;
+    y[i] = vertices[i].y;
+  }
+  std::vector<int> ok(vertices.size(), 0);
+  transform->Transform(vertices.size(), x.data(), y.data(), nullptr, ok.data());
+  for (size_t i = 0; i < vertices.size(); ++i) {
+    if (!ok[i] || !std::isfinite(x[i]) || !std::isfinite(y[i])) {
+      return Status::InvalidArgument("point " + std::to_string(i) + " (" +
+                                     std::to_string(vertices[i].x) + ", " +
+                                     std::to_string(vertices[i].y) + ") does not transform from " +
+                                     from.Label() + " to " + to.Label());
+    }
+  }
+  for (size_t i = 0; i < vertices.size(); ++i) {
+    vertices[i].x = x[i];
+    vertices[i].y = y[i];
+  }
+  return Status::Ok();
+}
+
+}  // namespace tinbase

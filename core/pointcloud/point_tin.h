@@ -1,0 +1,60 @@
+// PointTin: a point file (LAS or XYZ) to a Delaunay TIN of `lidar` vertices, in memory.
+//
+// The steps db/point_import runs before it writes: read the file, keep the chosen classes,
+// reproject to the target CRS, optionally thin by Voronoi density (voronoi_thinning.h), and
+// bulk-Delaunay the survivors through the Cdt adapter (spatially sorted insertion). Kept apart
+// from the store so all of it can be tested without one. Stateless; thread-safe.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <set>
+#include <string>
+
+#include "core/base/status.h"
+#include "core/geometry/crs.h"
+#include "core/pointcloud/point_cloud.h"
+#include "core/pointcloud/voronoi_thinning.h"
+#include "core/tin/tin.h"
+
+namespace tinbase {
+
+struct PointTinOptions {
+  std::set<uint8_t> classes;  // empty: ground (class 2) when the file has any, else all points
+  bool thin = false;
+  ThinningOptions thinning;
+};
+
+struct PointTinReport {
+  std::string format;          // "LAS 1.2, point format 3" or "XYZ"
+  std::string classes;         // what the class filter kept (ClassSelection::description)
+  size_t points_in = 0;        // points in the file
+  size_t selected = 0;         // points of the kept classes
+  size_t duplicates = 0;       // selected points at the x, y of an earlier one, left out
+  size_t dropped = 0;          // thinned out
+  size_t kept = 0;             // vertices of the TIN
+  size_t triangles = 0;
+  double cell_area_threshold = 0;  // when thinned
+  std::string reprojected_from;    // the file's CRS label when it was reprojected, else empty
+};
+
+struct PointTin {
+  Tin tin;                  // every vertex kind kLidar; neighbours linked
+  std::optional<Crs> crs;   // the TIN's CRS: the target when given, else the file's
+  PointTinReport report;
+};
+
+// Reads `path` as LAS (extension .las; .laz is refused with the LAS reader's message) or as XYZ
+// (any other extension). `format` receives the report's format string. Errors as ReadLas and
+// ReadXyz.
+Result<PointCloud> ReadPointFile(const std::string& path, std::string* format);
+
+// Builds the TIN of the file's points. `target` is the CRS the TIN must be in (the store's), or
+// nullopt to keep the file's; a file without a CRS (XYZ, or LAS without projection records) is
+// taken to be in `target` already. Errors: those of ReadPointFile, ReprojectXy and
+// ThinByVoronoiDensity (with the file named); InvalidArgument when the kept points span no
+// triangle (fewer than three distinct points, or all collinear).
+Result<PointTin> BuildPointTin(const std::string& path, const PointTinOptions& options,
+                               const std::optional<Crs>& target);
+
+}  // namespace tinbase

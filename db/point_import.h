@@ -1,0 +1,40 @@
+// PointImport: a LiDAR (LAS) or XYZ point file to a new `delaunay` surface of `lidar` vertices.
+//
+// One write transaction: read the file and build its TIN (core/pointcloud/point_tin.h: class
+// filter, reprojection to the store's CRS, optional Voronoi density thinning, bulk Delaunay),
+// adopt the file's CRS when the store has none yet, write the surface with SurfaceStore::Create.
+// Nothing is written on any error. Thread-safety: as Store (one per thread).
+#pragma once
+
+#include <cstdint>
+#include <set>
+#include <string>
+
+#include "core/base/status.h"
+#include "core/pointcloud/point_tin.h"
+#include "db/store.h"
+
+namespace tinbase {
+
+struct PointImportOptions {
+  std::string file;             // .las, or a text file of x y z
+  std::string surface;          // name of the new surface
+  std::set<uint8_t> classes;    // empty: ground (class 2) when the file has any, else all points
+  bool thin = false;
+  ThinningOptions thresholds;   // used when `thin`
+};
+
+struct PointImportReport {
+  int64_t surface_id = 0;
+  std::string crs;              // label of the CRS the surface is in, empty when none
+  bool adopted_crs = false;     // the store took the file's CRS
+  PointTinReport points;        // points in, selected, duplicates, dropped, kept, triangles
+};
+
+// Imports options.file as surface options.surface. Returns the report on success. Errors:
+// InvalidArgument for an empty surface name and for everything BuildPointTin rejects (named by
+// file), Conflict when the surface name is taken, Busy when another writer holds the store,
+// and the store's errors.
+Result<PointImportReport> ImportPoints(Store& store, const PointImportOptions& options);
+
+}  // namespace tinbase
