@@ -26,6 +26,7 @@ void RegisterTinCommands(CLI::App& app, int* exit_code);      // tin build
 void RegisterQueryCommands(CLI::App& app, int* exit_code);    // locate, neighbours
 void RegisterExportCommands(CLI::App& app, int* exit_code);   // export
 void RegisterPolygonCommands(CLI::App& app, int* exit_code);  // polygon add
+void RegisterPointsCommands(CLI::App& app, int* exit_code);   // points import
 void RegisterDemoCommand(CLI::App& app, int* exit_code);      // demo
 
 }  // namespace tinbase::cli

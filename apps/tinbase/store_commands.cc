@@ -24,7 +24,7 @@ int RunInit(const InitArgs& args) {
   if (!store.ok()) return ReportError(store.status());
   auto crs = (*store)->GetCrs();
   std::cout << "created " << args.store << " (schema version " << (*store)->SchemaVersion()
-            << ", CRS " << (crs.ok() && crs->has_value() ? (*crs)->Label() : "set by first DEM")
+            << ", CRS " << (crs.ok() && crs->has_value() ? (*crs)->Label() : "set by the first import")
             << ")\n";
   return kExitOk;
 }
