@@ -27,5 +27,7 @@ void RegisterQueryCommands(CLI::App& app, int* exit_code);    // locate, neighbo
 void RegisterExportCommands(CLI::App& app, int* exit_code);   // export
 void RegisterPolygonCommands(CLI::App& app, int* exit_code);  // polygon add
 void RegisterDemoCommand(CLI::App& app, int* exit_code);      // demo
+// dem from-contours. REQUIRES: RegisterDemCommands ran first (it adds to the `dem` command).
+void RegisterContourCommand(CLI::App& app, int* exit_code);
 
 }  // namespace tinbase::cli
