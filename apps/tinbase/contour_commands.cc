@@ -44,7 +44,9 @@ void RegisterContourCommand(CLI::App& app, int* exit_code) {
       ->required();
   cmd->add_option("--field", args->options.field, "Numeric field holding the elevation")
       ->required();
-  cmd->add_option("--cell", args->options.cell, "Cell size in the store's CRS units")->required();
+  cmd->add_option("--cell", args->options.cell,
+                  "Cell size in CRS units (the store's, else the contours')")
+      ->required();
   cmd->add_option("--name", args->options.name, "Name of the new DEM")->required();
   cmd->add_option("--layer", args->options.layer, "Layer (default: the source's only layer)");
   cmd->add_option("--block-size", args->options.block_size,

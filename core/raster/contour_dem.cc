@@ -151,6 +151,9 @@ class SteinerPlanner {
       }
     }
     if (nearest != nullptr) return level + (nearest->z - level) * d1 / (d1 + nearest_distance);
+    // Walk cut short: the region is not known to be closed off; later rounds reach it from its
+    // repaired edges.
+    if (!queue.empty()) return std::nullopt;
     // Closed off by contour `level` alone: mirror the level across that contour.
     for (size_t u : flat_region) {
       const TinTriangle& tri = tin_.triangles[u];

@@ -13,7 +13,9 @@
 // the edge's ends (on contour L) and d2 the distance from m to that vertex at L'. A flat region
 // closed off by contour L alone (a summit or a pit) has no such vertex; then L' is the level on
 // the other side of the contour, mirrored: z = L + (L - L') / 2, half an interval beyond L, the
-// unbiased guess for a top known only to lie between L and L + interval. The Steiner point is
+// unbiased guess for a top known only to lie between L and L + interval. (A walk visits at most
+// 4096 flat triangles; a larger flat region is repaired from its edges inward over several
+// rounds, and the mirror rule applies only to a region walked to its end.) The Steiner point is
 // strictly between two levels, so it makes no new flat triangle at its own level; rounds repeat
 // until none is left (at most kMaxSteinerRounds). Thread-safety: pure functions.
 #pragma once

@@ -70,6 +70,36 @@ class ConstrainedEdgeMap {
   const Context* ctx_;
 };
 
+// True when every triangle that survives collapsing the profile's edge (one with exactly one of
+// its two vertices) still turns strictly counter-clockwise in plan view with that vertex moved to
+// `placement`. Then the new fan covers the old fan's region exactly once: nothing folds over,
+// nothing leaves the domain.
+template <typename Profile>
+bool FansStayUnfolded(const Mesh& mesh, const Profile& profile, const Point3& placement) {
+  const VertexIndex ends[2] = {profile.v0(), profile.v1()};
+  const Point2 moved{placement.x(), placement.y()};
+  for (VertexIndex end : ends) {
+    for (HalfedgeIndex h : CGAL::halfedges_around_target(end, mesh)) {
+      const FaceIndex f = mesh.face(h);
+      if (f == Mesh::null_face()) continue;
+      Point2 corner[3];
+      int on_edge = 0, i = 0;
+      for (VertexIndex w : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) {
+        if (w == ends[0] || w == ends[1]) {
+          ++on_edge;
+          corner[i++] = moved;
+        } else {
+          const Point3& p = mesh.point(w);
+          corner[i++] = Point2{p.x(), p.y()};
+        }
+      }
+      if (on_edge == 2) continue;  // the collapse removes this triangle
+      if (Orientation(corner[0], corner[1], corner[2]) <= 0) return false;
+    }
+  }
+  return true;
+}
+
 // Wraps a strategy's placement with the outline rules (the role of CGAL's Constrained_placement,
 // which only knows constrained edges): when an endpoint is on the boundary or fixed, the new
 // vertex is that endpoint; a boundary vertex may go only along a boundary edge; a fixed one
@@ -83,7 +113,7 @@ class OutlinePlacement {
   OptionalPoint operator()(const Profile& profile) const {
     const uint8_t r0 = ctx_->rank[profile.v0()];
     const uint8_t r1 = ctx_->rank[profile.v1()];
-    if (r0 == kFree && r1 == kFree) return (*base_)(profile);
+    if (r0 == kFree && r1 == kFree) return FreePlacement(profile);
     const bool keep_v0 = r0 >= r1;
     const uint8_t removed = keep_v0 ? r1 : r0;
     if (removed == kFixed) return boost::none;
@@ -93,47 +123,38 @@ class OutlinePlacement {
   }
 
  private:
+  // The strategy's point; when that folds a fan, the endpoint nearer to it, then the other (a
+  // quadric optimum far off in a steep fan is common, and refusing such collapses outright would
+  // leave the budget out of reach on rough terrain). The cost is then computed for the point
+  // actually used. A point that folds every way is returned as is for the filter to refuse.
+  template <typename Profile>
+  OptionalPoint FreePlacement(const Profile& profile) const {
+    const OptionalPoint wanted = (*base_)(profile);
+    if (!wanted || FansStayUnfolded(ctx_->mesh, profile, *wanted)) return wanted;
+    const bool v0_first = CGAL::squared_distance(*wanted, profile.p0()) <=
+                          CGAL::squared_distance(*wanted, profile.p1());
+    for (const Point3& end : {v0_first ? profile.p0() : profile.p1(),
+                              v0_first ? profile.p1() : profile.p0()}) {
+      if (FansStayUnfolded(ctx_->mesh, profile, end)) return end;
+    }
+    return wanted;
+  }
+
   const Context* ctx_;
   const Base* base_;
 };
 
-// Refuses a collapse when a triangle that survives it (one with exactly one of the edge's two
-// vertices) would no longer turn counter-clockwise in plan view once that vertex moves to the
-// placement. With every surviving triangle strictly counter-clockwise, the new fan covers the
-// old fan's region exactly once: nothing folds over, nothing leaves the domain.
+// The last word on every collapse, whatever placed it: CGAL collapses to the placement it
+// computed, and a filter can only accept or refuse it (returning another point has no effect).
 class NoFoldOverFilter {
  public:
   explicit NoFoldOverFilter(Context* ctx) : ctx_(ctx) {}
 
   template <typename Profile>
   OptionalPoint operator()(const Profile& profile, OptionalPoint placement) const {
-    if (!placement) return placement;
-    const Mesh& mesh = ctx_->mesh;
-    const VertexIndex ends[2] = {profile.v0(), profile.v1()};
-    const Point2 moved{placement->x(), placement->y()};
-    for (VertexIndex end : ends) {
-      for (HalfedgeIndex h : CGAL::halfedges_around_target(end, mesh)) {
-        const FaceIndex f = mesh.face(h);
-        if (f == Mesh::null_face()) continue;
-        Point2 corner[3];
-        int on_edge = 0, i = 0;
-        for (VertexIndex w : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) {
-          if (w == ends[0] || w == ends[1]) {
-            ++on_edge;
-            corner[i++] = moved;
-          } else {
-            const Point3& p = mesh.point(w);
-            corner[i++] = Point2{p.x(), p.y()};
-          }
-        }
-        if (on_edge == 2) continue;  // the collapse removes this triangle
-        if (Orientation(corner[0], corner[1], corner[2]) <= 0) {
-          ++ctx_->foldovers;
-          return boost::none;
-        }
-      }
-    }
-    return placement;
+    if (!placement || FansStayUnfolded(ctx_->mesh, profile, *placement)) return placement;
+    ++ctx_->foldovers;
+    return boost::none;
   }
 
  private:

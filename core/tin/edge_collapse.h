@@ -14,9 +14,11 @@
 //     every vertex stays a DEM sample.
 // Two rules hold for every collapse, whatever the strategy, so the result is a valid plan-view
 // tiling of the same domain (a "free" surface, DESIGN.md):
-//   - no fold-over: a collapse is refused when any triangle around it would turn clockwise or
-//     collinear in plan view (exact orientation, core/geometry/predicates.h). Then the new fan
-//     covers exactly the old one.
+//   - no fold-over: a placement is refused when any triangle around it would turn clockwise or
+//     collinear in plan view (exact orientation, core/geometry/predicates.h); then the new fan
+//     covers exactly the old one. Between two free vertices the placement falls back to an
+//     endpoint (the nearer to the strategy's point first) when the strategy's point folds;
+//     otherwise the collapse is refused.
 //   - the outline is kept: boundary vertices stay where they are, except that a boundary vertex
 //     lying on the straight line between its two boundary neighbours may merge into one of them
 //     along the boundary (the outline's shape does not change). Corners of the outline and
