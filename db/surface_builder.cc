@@ -4,6 +4,7 @@
 #include <chrono>
 #include <limits>
 
+#include "core/tin/grid_triangulation.h"
 #include "db/change_log.h"
 
 namespace tinbase {
@@ -30,6 +31,30 @@ Change BuildChange(const SurfaceInfo& surface, const Tin& tin) {
   return change;
 }
 
+// The TIN of `method` from `grid`; fills the method's part of `report` and the surface's kind
+// and tolerance in `spec`.
+Result<Tin> BuildTin(const Grid& grid, const SurfaceBuildOptions& options, SurfaceInfo* spec,
+                     SurfaceBuildReport* report) {
+  if (options.method == "greedy") {
+    TB_ASSIGN_OR_RETURN(Tin tin, BuildGreedyTin(grid, options.greedy, &report->quality));
+    spec->kind = SurfaceKind::kDelaunay;
+    // With a point budget the tolerance may not be reached: record what the surface really keeps.
+    spec->tolerance = std::max(options.greedy.tolerance, report->quality.max_error);
+    return tin;
+  }
+  const Tin full = GridTriangulation(grid);
+  if (full.triangles.empty())
+    return Status::InvalidArgument("the DEM has no 2 x 2 cells of data to triangulate");
+  TB_ASSIGN_OR_RETURN(Tin tin,
+                      CollapseToFaceBudget(full, options.collapse, &report->collapse, &grid));
+  report->quality.max_error = report->collapse.max_error;
+  report->quality.rms_error = report->collapse.rms_error;
+  report->quality.points = report->collapse.vertices_out;
+  spec->kind = SurfaceKind::kFree;
+  spec->tolerance = report->collapse.max_error;
+  return tin;
+}
+
 }  // namespace
 
 Result<DemInfo> ResolveDem(DemStore& dems, const std::string& name) {
@@ -45,8 +70,11 @@ Result<DemInfo> ResolveDem(DemStore& dems, const std::string& name) {
 }
 
 Result<SurfaceBuildReport> BuildSurfaceFromDem(Store& store, const SurfaceBuildOptions& options) {
-  if (options.method != "greedy")
-    return Status::InvalidArgument("unknown TIN method '" + options.method + "' (known: greedy)");
+  if (options.method != "greedy" && options.method != "collapse")
+    return Status::InvalidArgument("unknown TIN method '" + options.method +
+                                   "' (known: greedy, collapse)");
+  if (options.method == "collapse" && options.collapse.faces < 2)
+    return Status::InvalidArgument("the collapse method needs a face budget of at least 2");
   if (options.surface.empty()) return Status::InvalidArgument("a surface needs a name");
   SurfaceStore surfaces(store);
   if (surfaces.Find(options.surface).ok())
@@ -57,17 +85,14 @@ Result<SurfaceBuildReport> BuildSurfaceFromDem(Store& store, const SurfaceBuildO
   SurfaceBuildReport report;
   auto start = std::chrono::steady_clock::now();
   TB_ASSIGN_OR_RETURN(Grid grid, dems.ReadGrid(dem));
-  TB_ASSIGN_OR_RETURN(Tin tin, BuildGreedyTin(grid, options.greedy, &report.quality));
+  SurfaceInfo spec;
+  TB_ASSIGN_OR_RETURN(Tin tin, BuildTin(grid, options, &spec, &report));
   report.build_seconds = SecondsSince(start);
 
   start = std::chrono::steady_clock::now();
   TB_ASSIGN_OR_RETURN(auto tx, store.BeginWrite());
-  SurfaceInfo spec;
   spec.name = options.surface;
-  spec.kind = SurfaceKind::kDelaunay;
   spec.method = options.method;
-  // With a point budget the tolerance may not be reached: record what the surface really keeps.
-  spec.tolerance = std::max(options.greedy.tolerance, report.quality.max_error);
   spec.dem = dem.id;
   TB_ASSIGN_OR_RETURN(report.surface, surfaces.Create(spec, tin));
   TB_ASSIGN_OR_RETURN(report.tx, AppendChange(store, BuildChange(report.surface, tin)));

@@ -1,14 +1,21 @@
 // SurfaceBuilder: builds a terrain surface from a stored DEM and writes it in one transaction.
 //
-// Reads the DEM's level-0 grid, runs a core TIN builder (greedy insertion today) and writes
+// Reads the DEM's level-0 grid, runs a core TIN builder and writes
 // vertices, triangles, neighbour links, visibility, blocks and a `changes` row together: on any
-// error nothing is written. Thread-safety: through one Store.
+// error nothing is written. Builders, by `method`:
+//   greedy    greedy insertion to a vertical tolerance (core/tin/greedy_builder.h); a
+//             `delaunay` surface.
+//   collapse  the grid triangulation of the DEM, edge-collapsed to a face budget
+//             (core/tin/edge_collapse.h); a `free` surface whose tolerance is the largest
+//             |TIN - DEM| it keeps.
+// Thread-safety: through one Store.
 #pragma once
 
 #include <cstdint>
 #include <string>
 
 #include "core/base/status.h"
+#include "core/tin/edge_collapse.h"
 #include "core/tin/greedy_builder.h"
 #include "db/dem_store.h"
 #include "db/store.h"
@@ -19,13 +26,15 @@ namespace tinbase {
 struct SurfaceBuildOptions {
   std::string surface;  // new surface name
   std::string dem;      // DEM name; empty: the store's only DEM
-  std::string method = "greedy";
-  GreedyOptions greedy;
+  std::string method = "greedy";  // "greedy" or "collapse"
+  GreedyOptions greedy;           // for greedy
+  CollapseOptions collapse;       // for collapse
 };
 
 struct SurfaceBuildReport {
   SurfaceInfo surface;
-  GreedyReport quality;
+  GreedyReport quality;      // max and RMS |TIN - DEM| for every method; points for greedy
+  CollapseReport collapse;   // for collapse
   int64_t vertices = 0;
   int64_t triangles = 0;
   int64_t tx = 0;

@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
   int exit_code = tinbase::cli::kExitOk;
   tinbase::cli::RegisterStoreCommands(app, &exit_code);
   tinbase::cli::RegisterDemCommands(app, &exit_code);
+  tinbase::cli::RegisterContourCommand(app, &exit_code);
   tinbase::cli::RegisterTinCommands(app, &exit_code);
   tinbase::cli::RegisterQueryCommands(app, &exit_code);
   tinbase::cli::RegisterExportCommands(app, &exit_code);

@@ -330,4 +330,21 @@ Result<std::vector<LineFeature>> ReadLineFeatures(const std::string& path,
   return features;
 }
 
+Result<std::optional<Crs>> ReadVectorCrs(const std::string& path,
+                                         const VectorSourceOptions& options) {
+  QuietGdalErrors quiet;
+  VectorSourceOptions as_stored = options;
+  as_stored.target_crs.reset();
+  as_stored.assumed_source_crs.reset();
+  TB_ASSIGN_OR_RETURN(OpenLayer open, Open(path, as_stored));
+  const OGRSpatialReference* srs = open.layer->GetSpatialRef();
+  if (srs == nullptr) return std::optional<Crs>();
+  char* wkt = nullptr;
+  srs->exportToWkt(&wkt);
+  auto crs = Crs::FromWkt(wkt != nullptr ? wkt : "");
+  CPLFree(wkt);
+  if (!crs.ok()) return crs.status().WithContext(open.name);
+  return std::optional<Crs>(std::move(crs).value());
+}
+
 }  // namespace tinbase

@@ -62,4 +62,9 @@ Result<std::vector<PolygonFeature>> ReadPolygonFeatures(const std::string& path,
 Result<std::vector<LineFeature>> ReadLineFeatures(const std::string& path,
                                                   const VectorSourceOptions& options);
 
+// The CRS the source's layer declares, nullopt when it declares none (options.target_crs and
+// assumed_source_crs are ignored). Errors as ReadPolygonFeatures for the file and the layer.
+Result<std::optional<Crs>> ReadVectorCrs(const std::string& path,
+                                         const VectorSourceOptions& options);
+
 }  // namespace tinbase

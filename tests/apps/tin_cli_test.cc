@@ -1,0 +1,122 @@
+// `tinbase tin build --method collapse` and `tinbase dem from-contours` end to end on real data:
+// each write followed by `check`, and bad input rejected with one line on stderr, a non-zero exit
+// and the store left exactly as it was.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include <nlohmann/json.hpp>
+
+#include "tests/support/make_contours.h"
+#include "tests/support/test_support.h"
+
+namespace tinbase {
+namespace {
+
+using testing::CliResult;
+using testing::DataPath;
+using testing::RunCli;
+using testing::TableChecksums;
+using testing::TempDir;
+
+std::string Quote(const std::string& s) { return "'" + s + "'"; }
+
+CliResult RunWrite(const std::string& store, const std::string& args) {
+  CliResult r = RunCli(args);
+  EXPECT_EQ(r.exit_code, 0) << args << "\n" << r.err;
+  CliResult check = RunCli("check " + Quote(store));
+  EXPECT_EQ(check.exit_code, 0) << "check after: " << args << "\n" << check.out << check.err;
+  return r;
+}
+
+void ExpectRejected(const std::string& store, const std::string& args,
+                    const std::string& expected) {
+  const auto before = TableChecksums(store);
+  CliResult r = RunCli(args);
+  EXPECT_NE(r.exit_code, 0) << args;
+  EXPECT_NE(r.err.find(expected), std::string::npos) << args << "\nstderr: " << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "one line expected: " << r.err;
+  EXPECT_EQ(r.err.rfind("tinbase: ", 0), 0u) << r.err;
+  EXPECT_EQ(TableChecksums(store), before) << "store changed by rejected: " << args;
+}
+
+nlohmann::json Surface(const std::string& store, const std::string& name) {
+  CliResult r = RunCli("info --json " + Quote(store));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json info = nlohmann::json::parse(r.out);
+  for (const auto& s : info["surfaces"]) {
+    if (s["name"] == name) return s;
+  }
+  ADD_FAILURE() << "no surface " << name;
+  return {};
+}
+
+class TinCliTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    store_ = dir_.Path("s.tinbase");
+    RunWrite(store_, "init " + Quote(store_));
+    RunWrite(store_, "dem import " + Quote(store_) + " " +
+                         Quote(DataPath("geology/hamersley/dtm_rp.tif")));
+  }
+  TempDir dir_;
+  std::string store_;
+};
+
+TEST_F(TinCliTest, CollapseBuildsFreeSurfacesWithinTheBudget) {
+  for (const auto& [name, faces, strategy] :
+       {std::tuple{"q6000", 6000, "quadric"}, {"q60", 60, "quadric"}, {"p600", 600, "paper"}}) {
+    CliResult r = RunWrite(store_, "tin build " + Quote(store_) + " --surface " + name +
+                                       " --method collapse --faces " + std::to_string(faces) +
+                                       " --strategy " + strategy);
+    EXPECT_NE(r.out.find("(collapse)"), std::string::npos) << r.out;
+    const auto s = Surface(store_, name);
+    EXPECT_EQ(s["kind"], "free");
+    EXPECT_EQ(s["method"], "collapse");
+    EXPECT_LE(s["triangles"].get<int>(), faces);
+    EXPECT_GT(s["triangles"].get<int>(), faces / 2);
+  }
+}
+
+TEST_F(TinCliTest, CollapseRejectsBadOptions) {
+  const std::string build = "tin build " + Quote(store_) + " --surface t --method collapse";
+  ExpectRejected(store_, build, "face budget");
+  ExpectRejected(store_, build + " --faces 1", "face budget");
+  ExpectRejected(store_, build + " --faces 100 --strategy fastest",
+                 "unknown collapse strategy 'fastest'");
+  ExpectRejected(store_, "tin build " + Quote(store_) + " --surface t --method magic",
+                 "unknown TIN method 'magic'");
+}
+
+TEST_F(TinCliTest, DemFromContoursThenCollapse) {
+  const std::string contours = dir_.Path("contours.gpkg");
+  ASSERT_TRUE(testing::MakeContours(DataPath("geology/hamersley/dtm_rp.tif"), contours, 25).ok());
+  CliResult r = RunWrite(store_, "dem from-contours " + Quote(store_) + " " + Quote(contours) +
+                                     " --field ELEV --cell 344.404386931320971 --name fromc");
+  EXPECT_NE(r.out.find("DEM 'fromc'"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(" 0 left"), std::string::npos) << r.out;
+  CliResult info = RunCli("info --json " + Quote(store_));
+  ASSERT_EQ(info.exit_code, 0);
+  const auto dems = nlohmann::json::parse(info.out)["dems"];
+  ASSERT_EQ(dems.size(), 2u);
+  RunWrite(store_, "tin build " + Quote(store_) +
+                       " --surface c --dem fromc --method collapse --faces 3000");
+  EXPECT_LE(Surface(store_, "c")["triangles"].get<int>(), 3000);
+
+  ExpectRejected(store_,
+                 "dem from-contours " + Quote(store_) + " " + Quote(contours) +
+                     " --field HEIGHT --cell 300 --name other",
+                 "no field 'HEIGHT'");
+  ExpectRejected(store_,
+                 "dem from-contours " + Quote(store_) + " " + Quote(contours) +
+                     " --field ELEV --cell 300 --name fromc",
+                 "already exists");
+  ExpectRejected(store_,
+                 "dem from-contours " + Quote(store_) + " " + Quote(dir_.Path("none.shp")) +
+                     " --field ELEV --cell 300 --name other",
+                 "none.shp");
+}
+
+}  // namespace
+}  // namespace tinbase
