@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "core/tin/grid_triangulation.h"
+#include "core/tin/terrain_builder.h"
 #include "db/change_log.h"
 
 namespace tinbase {
@@ -35,11 +36,24 @@ Change BuildChange(const SurfaceInfo& surface, const Tin& tin) {
 // and tolerance in `spec`.
 Result<Tin> BuildTin(const Grid& grid, const SurfaceBuildOptions& options, SurfaceInfo* spec,
                      SurfaceBuildReport* report) {
-  if (options.method == "greedy") {
-    TB_ASSIGN_OR_RETURN(Tin tin, BuildGreedyTin(grid, options.greedy, &report->quality));
-    spec->kind = SurfaceKind::kDelaunay;
-    // With a point budget the tolerance may not be reached: record what the surface really keeps.
-    spec->tolerance = std::max(options.greedy.tolerance, report->quality.max_error);
+  TerrainMethod terrain;
+  if (ParseTerrainMethod(options.method, &terrain)) {
+    TerrainBuildOptions o;
+    o.method = terrain;
+    o.tolerance = options.greedy.tolerance;
+    o.threshold = options.vip_threshold;
+    o.max_points = options.greedy.max_points;
+    TerrainBuildReport r;
+    TB_ASSIGN_OR_RETURN(Tin tin, BuildTerrainTin(grid, o, &r));
+    report->quality.max_error = r.max_error;
+    report->quality.rms_error = r.rms_error;
+    report->quality.points = r.points;
+    spec->kind = r.delaunay ? SurfaceKind::kDelaunay : SurfaceKind::kFree;
+    // VIP has no error bound, and a point budget may stop greedy early: record the tolerance the
+    // surface really keeps, so invariant 7 is a promise and not a wish.
+    spec->tolerance = terrain == TerrainMethod::kVip
+                          ? r.max_error
+                          : std::max(options.greedy.tolerance, r.max_error);
     return tin;
   }
   const Tin full = GridTriangulation(grid);
@@ -70,9 +84,10 @@ Result<DemInfo> ResolveDem(DemStore& dems, const std::string& name) {
 }
 
 Result<SurfaceBuildReport> BuildSurfaceFromDem(Store& store, const SurfaceBuildOptions& options) {
-  if (options.method != "greedy" && options.method != "collapse")
+  TerrainMethod terrain;
+  if (options.method != "collapse" && !ParseTerrainMethod(options.method, &terrain))
     return Status::InvalidArgument("unknown TIN method '" + options.method +
-                                   "' (known: greedy, collapse)");
+                                   "' (known: greedy, vip, rtin, collapse)");
   if (options.method == "collapse" && options.collapse.faces < 2)
     return Status::InvalidArgument("the collapse method needs a face budget of at least 2");
   if (options.surface.empty()) return Status::InvalidArgument("a surface needs a name");

@@ -5,6 +5,10 @@
 // error nothing is written. Builders, by `method`:
 //   greedy    greedy insertion to a vertical tolerance (core/tin/greedy_builder.h); a
 //             `delaunay` surface.
+//   vip       very important points (core/tin/vip_builder.h) above a threshold, Delaunay; no
+//             error bound, so its tolerance is the largest |TIN - DEM| measured.
+//   rtin      the binary triangle tree (core/tin/rtin_builder.h) with a true error bound; a
+//             `free` surface.
 //   collapse  the grid triangulation of the DEM, edge-collapsed to a face budget
 //             (core/tin/edge_collapse.h); a `free` surface whose tolerance is the largest
 //             |TIN - DEM| it keeps.
@@ -26,8 +30,9 @@ namespace tinbase {
 struct SurfaceBuildOptions {
   std::string surface;  // new surface name
   std::string dem;      // DEM name; empty: the store's only DEM
-  std::string method = "greedy";  // "greedy" or "collapse"
-  GreedyOptions greedy;           // for greedy
+  std::string method = "greedy";  // "greedy", "vip", "rtin" or "collapse"
+  GreedyOptions greedy;           // tolerance (greedy, rtin) and max_points (greedy, vip)
+  double vip_threshold = 1.0;     // vip: the significance threshold in metres
   CollapseOptions collapse;       // for collapse
 };
 

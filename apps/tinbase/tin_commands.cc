@@ -48,7 +48,10 @@ void RegisterTinCommands(CLI::App& app, int* exit_code) {
   build->add_option("store", args->store, "Store file")->required();
   build->add_option("--surface", args->options.surface, "Name of the new surface")->required();
   build->add_option("--method", args->options.method,
-                    "Builder: greedy (to a tolerance) or collapse (to a face budget)");
+                    "Builder: greedy or rtin (to a tolerance), vip (to a significance "
+                    "threshold) or collapse (to a face budget)");
+  build->add_option("--threshold", args->options.vip_threshold,
+                    "vip: keep cells at least this significant, in metres (default 1)");
   build->add_option("--dem", args->options.dem, "DEM name (default: the only DEM)");
   build->add_option("--tolerance", args->options.greedy.tolerance,
                     "Largest vertical error in metres (default 1)");

@@ -79,6 +79,27 @@ TEST_F(TinCliTest, CollapseBuildsFreeSurfacesWithinTheBudget) {
   }
 }
 
+// Every tolerance-driven method: the surface kind says whether it is Delaunay, and the stored
+// tolerance is what the surface keeps (VIP has no bound: its measured error).
+TEST_F(TinCliTest, GreedyRtinAndVipBuildCheckedSurfaces) {
+  RunWrite(store_, "tin build " + Quote(store_) + " --surface g --method greedy --tolerance 15");
+  RunWrite(store_, "tin build " + Quote(store_) + " --surface r --method rtin --tolerance 15");
+  RunWrite(store_, "tin build " + Quote(store_) + " --surface v --method vip --threshold 30");
+  EXPECT_EQ(Surface(store_, "g")["kind"], "delaunay");
+  EXPECT_EQ(Surface(store_, "r")["kind"], "free");
+  EXPECT_EQ(Surface(store_, "v")["kind"], "delaunay");
+  EXPECT_DOUBLE_EQ(Surface(store_, "g")["tolerance"].get<double>(), 15);
+  EXPECT_DOUBLE_EQ(Surface(store_, "r")["tolerance"].get<double>(), 15);
+  EXPECT_GT(Surface(store_, "v")["tolerance"].get<double>(), 0);
+  const auto before = TableChecksums(store_);
+  CliResult r = RunCli("tin build " + Quote(store_) + " --surface x --method rtin --tolerance 5 "
+                       "--max-points 100");
+  EXPECT_NE(r.exit_code, 0);
+  r = RunCli("tin build " + Quote(store_) + " --surface x --method nosuch");
+  EXPECT_NE(r.err.find("nosuch"), std::string::npos) << r.err;
+  EXPECT_EQ(TableChecksums(store_), before);
+}
+
 TEST_F(TinCliTest, CollapseRejectsBadOptions) {
   const std::string build = "tin build " + Quote(store_) + " --surface t --method collapse";
   ExpectRejected(store_, build, "face budget");
