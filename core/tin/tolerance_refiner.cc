@@ -5,6 +5,7 @@
 #include <set>
 #include <utility>
 
+#include "core/geometry/predicates.h"
 #include "core/tin/tin_raster.h"
 
 namespace tinbase {
@@ -67,6 +68,7 @@ class Refiner {
     cdt_.SetFaceStamp(face, stamp);
     const std::array<uint32_t, 3> v = cdt_.FaceVertices(face);
     const std::vector<TinVertex>& vertices = cdt_.vertices();
+    if (options_.in_region && !options_.in_region(v)) return;
     const CellTriangle t =
         ToCellSpace(dem_.geometry, vertices[v[0]], vertices[v[1]], vertices[v[2]]);
     CellPlane plane;
@@ -82,13 +84,26 @@ class Refiner {
         if (std::isnan(value)) continue;
         const double error = std::fabs(plane.At(static_cast<double>(c), static_cast<double>(r)) -
                                        value);
-        if (error <= worst || Skipped(c, r)) continue;
+        if (error <= worst || Skipped(c, r) || !Covers(v, c, r)) continue;
         worst = error;
         worst_col = c;
         worst_row = r;
       }
     });
     if (worst_col >= 0) queue_.push(Candidate{worst, face, stamp, worst_col, worst_row});
+  }
+
+  // The rasteriser's margin admits cell centres a rounding away from the face; the exact test
+  // keeps only those inside or on it, so an insertion never lands outside the region.
+  bool Covers(const std::array<uint32_t, 3>& v, int64_t col, int64_t row) const {
+    const Point2 p{dem_.geometry.CellCenterX(col), dem_.geometry.CellCenterY(row)};
+    const std::vector<TinVertex>& vs = cdt_.vertices();
+    for (int i = 0; i < 3; ++i) {
+      const TinVertex& a = vs[v[i]];
+      const TinVertex& b = vs[v[(i + 1) % 3]];
+      if (Orientation({a.x, a.y}, {b.x, b.y}, p) < 0) return false;
+    }
+    return true;
   }
 
   bool Skipped(int64_t col, int64_t row) const {
@@ -108,10 +123,8 @@ class Refiner {
 }  // namespace
 
 std::vector<uint32_t> RefineToTolerance(Cdt& cdt, const Grid& dem, const RefineOptions& options,
-                                        const std::vector<Cdt::FaceRef>* region,
                                         RefineReport* report) {
   Refiner refiner(cdt, dem, options);
-  if (region != nullptr) return refiner.Run(*region, report);
   return refiner.Run(cdt.FiniteFaces(), report);
 }
 

@@ -12,6 +12,7 @@
 // Thread-safety: works on the caller's Cdt; one thread.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <vector>
@@ -27,6 +28,10 @@ struct RefineOptions {
   // Cells whose centre (world x, y) it returns true for are not approximated (replace
   // polygons: their inside is flat by design). Null: every valid cell counts.
   std::function<bool(double x, double y)> excluded;
+  // The faces to refine, by their vertex indices: only faces it accepts are scanned, initial ones
+  // and those insertions create (a point inserted on a boundary edge of the region also creates
+  // faces beyond it). Null: every face.
+  std::function<bool(const std::array<uint32_t, 3>& face)> in_region;
 };
 
 struct RefineReport {
@@ -35,12 +40,11 @@ struct RefineReport {
 };
 
 // Inserts DEM cell centres into `cdt` until every valid, non-excluded cell covered by a face of
-// `region` (or by any finite face when `region` is null) and by the faces insertions create is
-// within options.tolerance of the face's plane. Returns the indices of the new vertices in
+// the region (options.in_region, or every finite face) is within options.tolerance of the face's
+// plane. Returns the indices of the new vertices in
 // insertion order. REQUIRES: every vertex of `cdt` has an index (Cdt::IndexCrossings after
 // constraints crossed), dem's cells match its geometry, options.tolerance > 0.
 std::vector<uint32_t> RefineToTolerance(Cdt& cdt, const Grid& dem, const RefineOptions& options,
-                                        const std::vector<Cdt::FaceRef>* region = nullptr,
                                         RefineReport* report = nullptr);
 
 }  // namespace tinbase
