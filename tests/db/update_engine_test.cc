@@ -18,6 +18,7 @@
 #include "db/integrity_check.h"
 #include "db/polygon_editor.h"
 #include "db/surface_builder.h"
+#include "tests/support/polygon_files.h"
 #include "tests/support/test_support.h"
 #include "tests/support/tin_fixtures.h"
 
@@ -30,44 +31,9 @@ using testing::TempDir;
 // Centre of the Hamersley DEM (EPSG:28350), and its cell size.
 constexpr double kCx = 539300, kCy = 7497340, kCell = 344.404386931320971;
 
-using PointList = std::vector<std::pair<double, double>>;
-
-// A regular n-gon of radius r around (x, y), counter-clockwise, closed.
-PointList Ngon(double x, double y, double r, int n, double phase = 0.1) {
-  PointList ring;
-  for (int k = 0; k <= n; ++k) {
-    const double a = phase + 2 * M_PI * (k % n) / n;
-    ring.push_back({x + r * std::cos(a), y + r * std::sin(a)});
-  }
-  return ring;
-}
-
-std::string Coordinates(const PointList& ring) {
-  std::ostringstream out;
-  out.precision(17);
-  out << "[";
-  for (size_t i = 0; i < ring.size(); ++i)
-    out << (i ? "," : "") << "[" << ring[i].first << "," << ring[i].second << "]";
-  return out.str() + "]";
-}
-
-// One GeoJSON polygon feature per entry (shell, then holes), in the store's CRS.
-std::string WritePolygons(const TempDir& dir, const std::string& name,
-                          const std::vector<std::vector<PointList>>& polygons) {
-  const std::string path = dir.Path(name);
-  std::ofstream out(path);
-  out << R"({"type": "FeatureCollection", "crs": {"type": "name", "properties": {"name": )"
-      << R"("urn:ogc:def:crs:EPSG::28350"}}, "features": [)";
-  for (size_t f = 0; f < polygons.size(); ++f) {
-    out << (f ? "," : "") << R"({"type": "Feature", "properties": {"unit": "u)" << f
-        << R"("}, "geometry": {"type": "Polygon", "coordinates": [)";
-    for (size_t r = 0; r < polygons[f].size(); ++r)
-      out << (r ? "," : "") << Coordinates(polygons[f][r]);
-    out << "]}}";
-  }
-  out << "]}\n";
-  return path;
-}
+using testing::Ngon;
+using testing::PointList;
+using testing::WritePolygons;
 
 struct Row {
   std::vector<int64_t> columns;  // v0, v1, v2, visible, tag, block (n0..n2 apart)
