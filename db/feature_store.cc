@@ -1,6 +1,10 @@
 #include "db/feature_store.h"
 
+#include <array>
 #include <map>
+#include <unordered_map>
+
+#include "core/geometry/polygon_locator.h"
 
 #include "core/tin/tin_raster.h"
 #include "core/vector/feature_wkb.h"
@@ -153,6 +157,105 @@ Paint PaintFromFeatures(const std::vector<EditorFeature>& features, const Grid* 
       if (!TriangleOnData(*dem, tin, tin.triangles[t])) paint.visible[t] = 0;
   }
   return paint;
+}
+
+Result<LoadedSurface> LoadFeatureSurface(Store& store, int64_t feature) {
+  TB_ASSIGN_OR_RETURN(auto snapshot, SnapshotUnlessInTransaction(store));
+  TB_ASSIGN_OR_RETURN(Statement * owner,
+                      store.db().Cached("SELECT surface FROM features WHERE id = ?"));
+  owner->Bind(1, feature);
+  TB_ASSIGN_OR_RETURN(bool found, owner->Step());
+  const int64_t surface_id = found ? owner->ColumnInt(0) : 0;
+  owner->Reset();
+  if (!found) return Status::NotFound("no feature " + std::to_string(feature));
+  SurfaceStore surfaces(store);
+  TB_ASSIGN_OR_RETURN(SurfaceInfo surface, surfaces.FindById(surface_id));
+  TB_ASSIGN_OR_RETURN(EditorFeature f, LoadFeature(store, surface, feature));
+  if (IsBreakline(f.mode))
+    return Status::InvalidArgument("feature " + std::to_string(feature) +
+                                   " is a breakline: it has no inside to export");
+  const PolygonLocator inside(f.polygons);
+  const Box box = BoxOf(f);
+  TB_ASSIGN_OR_RETURN(Statement * triangles,
+                      store.db().Cached("SELECT t.id, t.v0, t.v1, t.v2, g.value FROM triangles t "
+                                        "LEFT JOIN tags g ON g.id = t.tag WHERE t.surface = ? "
+                                        "AND t.block BETWEEN ? AND ?"));
+  TB_ASSIGN_OR_RETURN(Statement * vertex,
+                      store.db().Cached("SELECT x, y, z, kind FROM vertices WHERE id = ?"));
+  LoadedSurface out;
+  std::unordered_map<int64_t, uint32_t> index;
+  std::map<std::string, int32_t> tags;
+  const auto vertex_index = [&](int64_t id) -> Result<uint32_t> {
+    if (auto it = index.find(id); it != index.end()) return it->second;
+    vertex->Bind(1, id);
+    TB_ASSIGN_OR_RETURN(bool row, vertex->Step());
+    if (!row) {
+      vertex->Reset();
+      return Status::Corruption("vertex " + std::to_string(id) + " is used but missing");
+    }
+    TinVertex v{vertex->ColumnDouble(0), vertex->ColumnDouble(1), vertex->ColumnDouble(2)};
+    ParseVertexKind(vertex->ColumnText(3), &v.kind);
+    vertex->Reset();
+    index.emplace(id, static_cast<uint32_t>(out.tin.vertices.size()));
+    out.tin.vertices.push_back(v);
+    out.vertex_ids.push_back(id);
+    return index.at(id);
+  };
+  const BlockGrid& g = surface.blocks;
+  const int64_t bx0 = g.ColumnOf(box.min_x), bx1 = g.ColumnOf(box.max_x);
+  for (int64_t by = g.RowOf(box.min_y); by <= g.RowOf(box.max_y); ++by) {
+    triangles->Bind(1, surface.id).Bind(2, BlockGrid::Pack(bx0, by)).Bind(3, BlockGrid::Pack(bx1, by));
+    std::vector<std::pair<int64_t, std::array<int64_t, 4>>> rows;  // id, v0..v2, tag?
+    std::vector<std::optional<std::string>> row_tags;
+    for (;;) {
+      TB_ASSIGN_OR_RETURN(bool row, triangles->Step());
+      if (!row) break;
+      rows.push_back({triangles->ColumnInt(0),
+                      {triangles->ColumnInt(1), triangles->ColumnInt(2), triangles->ColumnInt(3), 0}});
+      row_tags.push_back(triangles->ColumnIsNull(4)
+                             ? std::nullopt
+                             : std::optional<std::string>(triangles->ColumnText(4)));
+    }
+    triangles->Reset();
+    for (size_t k = 0; k < rows.size(); ++k) {
+      TinTriangle t;
+      for (int i = 0; i < 3; ++i) {
+        TB_ASSIGN_OR_RETURN(t.v[i], vertex_index(rows[k].second[i]));
+      }
+      const TinVertex &a = out.tin.vertices[t.v[0]], &b = out.tin.vertices[t.v[1]],
+                      &c = out.tin.vertices[t.v[2]];
+      if (inside.Locate({(a.x + b.x + c.x) / 3, (a.y + b.y + c.y) / 3}) == PointInPolygon::kOutside)
+        continue;
+      if (row_tags[k]) {
+        auto [it, added] = tags.emplace(*row_tags[k], static_cast<int32_t>(out.tin.tags.size()));
+        if (added) out.tin.tags.push_back(*row_tags[k]);
+        t.tag = it->second;
+      }
+      out.tin.triangles.push_back(t);
+      out.triangle_ids.push_back(rows[k].first);
+    }
+  }
+  // Vertices of triangles left outside were read too; keep only the used ones.
+  std::vector<int64_t> remap(out.tin.vertices.size(), -1);
+  Tin compact;
+  compact.tags = out.tin.tags;
+  std::vector<int64_t> ids;
+  for (TinTriangle t : out.tin.triangles) {
+    for (uint32_t& v : t.v) {
+      if (remap[v] < 0) {
+        remap[v] = static_cast<int64_t>(compact.vertices.size());
+        compact.vertices.push_back(out.tin.vertices[v]);
+        ids.push_back(out.vertex_ids[v]);
+      }
+      v = static_cast<uint32_t>(remap[v]);
+    }
+    compact.triangles.push_back(t);
+  }
+  if (!LinkNeighbours(compact))
+    return Status::Corruption("feature " + std::to_string(feature) + ": its triangles overlap");
+  out.tin = std::move(compact);
+  out.vertex_ids = std::move(ids);
+  return out;
 }
 
 std::vector<Polygon> ReplacePolygons(const std::vector<EditorFeature>& features) {

@@ -77,6 +77,12 @@ Status DeleteFeature(Store& store, int64_t id);
 // covers the triangles' centroids (a centroid off the window counts as nodata).
 Paint PaintFromFeatures(const std::vector<EditorFeature>& features, const Grid* dem, Tin& tin);
 
+// The surface of one polygon feature as paper 000 cuts it out: the triangles inside its
+// polygons (its rings are constrained edges, so they tile the inside exactly; holes are left
+// out), all visible, with their tags, neighbours re-linked among themselves. Reads the blocks of
+// the feature's box only. NotFound "no feature 12"; InvalidArgument for a breakline.
+Result<LoadedSurface> LoadFeatureSurface(Store& store, int64_t feature);
+
 // The polygons of the replace features: where invariant 7 does not apply.
 std::vector<Polygon> ReplacePolygons(const std::vector<EditorFeature>& features);
 
