@@ -208,9 +208,7 @@ Result<PolygonAddReport> ApplyEdit(SurfaceSession& session, std::vector<NewFeatu
   report.added = result.added;
   report.refinement_points = result.refinement_points;
   report.first_feature_id = added.empty() ? 0 : added.front().feature.id;
-  TB_ASSIGN_OR_RETURN(report.visible,
-                      store.db().QueryInt("SELECT count(*) FROM triangles WHERE surface = " +
-                                          std::to_string(session.surface.id) + " AND visible = 1"));
+  report.visible = result.visible_added;
   return report;
 }
 
@@ -264,7 +262,7 @@ Result<PolygonAddReport> AddPolygons(Store& store, const PolygonAddOptions& opti
     total.removed += one->removed;
     total.added += one->added;
     total.refinement_points += one->refinement_points;
-    total.visible = one->visible;
+    total.visible += one->visible;
     total.tx = one->tx;
   }
   return total;

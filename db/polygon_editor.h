@@ -40,7 +40,7 @@ struct PolygonAddReport {
   int64_t ring_vertices = 0;  // after draping and densifying
   int64_t removed = 0;        // triangles
   int64_t added = 0;
-  int64_t visible = 0;
+  int64_t visible = 0;  // of the added triangles (counting the whole surface would be O(n))
   int64_t first_feature_id = 0;
   int64_t tx = 0;  // the (last) transaction
   int64_t refinement_points = 0;

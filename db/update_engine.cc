@@ -935,6 +935,7 @@ class Edit {
         if (n) insert->Bind(6 + i, *n); else insert->BindNull(6 + i);
       }
       insert->Bind(9, int64_t{paint.visible[k] ? 1 : 0});
+      result_.visible_added += paint.visible[k] != 0;
       if (auto tag = tag_of(k)) insert->Bind(10, *tag); else insert->BindNull(10);
       const TinVertex &a = tin.vertices[tri.v[0]], &b = tin.vertices[tri.v[1]],
                       &c = tin.vertices[tri.v[2]];

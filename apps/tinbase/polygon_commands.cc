@@ -28,7 +28,7 @@ int RunAdd(AddArgs args, bool level_given) {
   std::cout << "added " << report->features << " " << args.options.mode << " feature(s) to '"
             << args.options.surface << "' (" << report->ring_vertices
             << " draped ring vertices): " << report->removed << " triangles replaced by "
-            << report->added << ", " << report->visible << " visible; transaction " << report->tx
+            << report->added << ", " << report->visible << " of them visible; transaction " << report->tx
             << " in " << Num(watch.Seconds(), 3) << " s\n";
   return report->failures.empty() ? kExitOk : kExitFailure;
 }
@@ -43,7 +43,7 @@ struct EditArgs {
 void PrintEdit(const char* verb, int64_t id, const PolygonAddReport& r, double seconds) {
   std::cout << verb << " feature " << id << ": " << r.removed << " triangles replaced by "
             << r.added << " (" << r.refinement_points << " refinement points), " << r.visible
-            << " visible; transaction " << r.tx << " in " << Num(seconds, 3) << " s\n";
+            << " of them visible; transaction " << r.tx << " in " << Num(seconds, 3) << " s\n";
 }
 
 int RunRemove(const EditArgs& args) {
