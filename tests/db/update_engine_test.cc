@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <iomanip>
 #include <map>
 #include <sstream>
 #include <string>
@@ -221,6 +222,24 @@ TEST_F(UpdateEngineTest, ReplaceFlattensAndRemovingItRestoresTheTolerance) {
   const PolygonAddReport r = AddChecked(
       WritePolygons(dir_, "lake.geojson", {{Ngon(kCx, kCy, 9 * kCell, 25)}}), "replace", 400.0);
   EXPECT_GT(Int("SELECT count(*) FROM vertices WHERE z = 400"), 25);
+  auto removed = RemovePolygon(*store_, r.first_feature_id);
+  ASSERT_TRUE(removed.ok()) << removed.status().ToString();
+  testing::ExpectStoreIntact(*store_, /*full=*/true);
+}
+
+TEST_F(UpdateEngineTest, BreaklinesCrossRingsAndGoAgain) {
+  AddChecked(WritePolygons(dir_, "a.geojson", {{Ngon(kCx, kCy, 8 * kCell, 24)}}), "fill");
+  const std::string line = dir_.Path("line.geojson");
+  std::ofstream(line) << std::setprecision(17)
+                      << R"({"type": "FeatureCollection", "crs": {"type": "name", "properties": )"
+                      << R"({"name": "urn:ogc:def:crs:EPSG::28350"}}, "features": [{"type": )"
+                      << R"("Feature", "properties": {}, "geometry": {"type": "LineString", )"
+                      << R"("coordinates": [[)" << kCx - 12 * kCell << "," << kCy - 3 * kCell
+                      << "],[" << kCx + 0.5 * kCell << "," << kCy + 0.3 * kCell << "],["
+                      << kCx + 12 * kCell << "," << kCy + 5 * kCell << "]]}}]}";
+  const PolygonAddReport r = AddChecked(line, "breakline");
+  // The line crosses the ring twice: two crossing vertices, shared by both features' rows.
+  EXPECT_GE(Int("SELECT count(*) FROM vertices WHERE kind = 'steiner'"), 2);
   auto removed = RemovePolygon(*store_, r.first_feature_id);
   ASSERT_TRUE(removed.ok()) << removed.status().ToString();
   testing::ExpectStoreIntact(*store_, /*full=*/true);
