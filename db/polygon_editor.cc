@@ -36,6 +36,7 @@ Result<std::vector<EditorFeature>> ReadFeatures(const PolygonAddOptions& o, cons
   source.where = o.where;
   source.tag_field = o.tag_field;
   source.target_crs = crs;
+  source.repair = o.repair;
   std::vector<EditorFeature> out;
   const auto base = [&](EditorFeature& f, const std::string& label, const nlohmann::json& attrs,
                         const std::optional<std::string>& tag) {

@@ -31,6 +31,7 @@ struct PolygonAddOptions {
   std::string tag_field;  // the field whose value tags the triangles (fill, replace)
   std::string tag;        // or one tag for every feature
   std::optional<double> level;  // replace: the flat z
+  bool repair = false;  // GEOS MakeValid before validation (core/vector/polygon_source)
   bool each = false;  // one transaction per feature; failures are reported, not fatal
   FaultHook fault_hook;  // tests: called before each write step of the engine
 };

@@ -86,6 +86,8 @@ void RegisterPolygonCommands(CLI::App& app, int* exit_code) {
   add->add_option("--tag-field", args->options.tag_field, "Field whose value tags the triangles");
   add->add_option("--tag", args->options.tag, "One tag for every feature");
   CLI::Option* level = add->add_option("--level", args->level, "replace: the flat z in metres");
+  add->add_flag("--repair", args->options.repair,
+                 "Repair invalid polygons with GEOS MakeValid before validating them");
   add->add_flag("--each", args->options.each,
                  "Commit feature by feature; report the features that failed and why");
   add->callback([=] { *exit_code = RunAdd(*args, level->count() > 0); });
@@ -107,6 +109,8 @@ void RegisterPolygonCommands(CLI::App& app, int* exit_code) {
   update->add_option("--where", update_args->options.where, "OGR attribute filter");
   update->add_option("--tag-field", update_args->options.tag_field, "Field giving the tag");
   update->add_option("--tag", update_args->options.tag, "The tag (default: the old one)");
+  update->add_flag("--repair", update_args->options.repair,
+                   "Repair invalid polygons with GEOS MakeValid before validating them");
   CLI::Option* update_level =
       update->add_option("--level", update_args->level, "replace: the flat z in metres");
   update->callback([=] { *exit_code = RunUpdate(*update_args, update_level->count() > 0); });

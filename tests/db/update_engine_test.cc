@@ -266,6 +266,28 @@ TEST_F(UpdateEngineTest, BadInputLeavesTheStoreUnchanged) {
   EXPECT_EQ(testing::TableChecksums(dir_.Path("s.tinbase")), before);
 }
 
+TEST_F(UpdateEngineTest, RepairTurnsABowTieIntoTwoPolygons) {
+  const double d = 5 * kCell;
+  const PointList bow_tie = {{kCx - d, kCy - d}, {kCx + d, kCy + d}, {kCx + d, kCy - d},
+                             {kCx - d, kCy + d}, {kCx - d, kCy - d}};
+  PolygonAddOptions o;
+  o.surface = "terrain";
+  o.mode = "fill";
+  o.tag = "bow";
+  o.file = WritePolygons(dir_, "bow.geojson", {{bow_tie}});
+  auto rejected = AddPolygons(*store_, o);
+  ASSERT_EQ(rejected.status().code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(rejected.status().message().find("ring 0"), std::string::npos)
+      << rejected.status().message();
+  o.repair = true;
+  auto repaired = AddPolygons(*store_, o);
+  ASSERT_TRUE(repaired.ok()) << repaired.status().ToString();
+  testing::ExpectStoreIntact(*store_, /*full=*/true);
+  EXPECT_GT(Int("SELECT count(*) FROM triangles t JOIN tags g ON g.id = t.tag "
+                "WHERE g.value = 'bow'"),
+            0);
+}
+
 TEST_F(UpdateEngineTest, EachCommitsFeatureByFeature) {
   PolygonAddOptions o;
   o.surface = "terrain";
