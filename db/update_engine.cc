@@ -443,10 +443,12 @@ class Edit {
     std::map<std::pair<int64_t, int64_t>, std::vector<Point2>> buckets;
     const auto bucket = [snap](double v) { return static_cast<int64_t>(std::floor(v / snap)); };
     for (EditPolyline& line : lines_) {
+      located_.emplace_back();
       for (size_t i = 0; i < line.points.size(); ++i) {
         TinVertex& p = line.points[i];
-        TB_ASSIGN_OR_RETURN(int64_t t, Locate({p.x, p.y}, "feature " + std::to_string(line.feature) +
-                                                              ", point " + std::to_string(i)));
+        const std::string what =
+            "feature " + std::to_string(line.feature) + ", point " + std::to_string(i);
+        TB_ASSIGN_OR_RETURN(int64_t t, Locate({p.x, p.y}, what));
         TB_ASSIGN_OR_RETURN(const MeshTriangle* tri, mesh_.Triangle(t));
         bool snapped = false;
         for (int64_t v : tri->v) {
@@ -465,11 +467,14 @@ class Edit {
               if (std::hypot(q.x - p.x, q.y - p.y) > snap) continue;
               p.x = q.x, p.y = q.y;
               snapped = true;
+              // q may lie in another triangle than p did.
+              TB_ASSIGN_OR_RETURN(t, Locate(q, what));
               break;
             }
           }
         }
         buckets[{bx, by}].push_back({p.x, p.y});
+        located_.back().push_back(t);
       }
     }
     return Status::Ok();
@@ -478,7 +483,8 @@ class Edit {
   // Every triangle a new segment touches (closed: a segment through a vertex takes its fan),
   // found by a walk over neighbours from the triangle holding the segment's first point.
   Status SeedPolylines() {
-    for (const EditPolyline& line : lines_) {
+    for (size_t l = 0; l < lines_.size(); ++l) {
+      const EditPolyline& line = lines_[l];
       const size_t n = line.points.size();
       const size_t segments = line.closed ? n : n - 1;
       for (size_t i = 0; i < n; ++i) {
@@ -486,13 +492,7 @@ class Edit {
         new_points_.push_back(p);
         if (i >= segments) continue;
         const Point2 q{line.points[(i + 1) % n].x, line.points[(i + 1) % n].y};
-        TB_ASSIGN_OR_RETURN(int64_t start, Locate(p, "feature " + std::to_string(line.feature) +
-                                                         ", point " + std::to_string(i)));
-        if (!line.closed && i + 2 == n)
-          TB_RETURN_IF_ERROR(
-              Locate(q, "feature " + std::to_string(line.feature) + ", point " +
-                            std::to_string(i + 1))
-                  .status());
+        const int64_t start = located_[l][i];  // SnapPoints located every point
         std::vector<int64_t> queue{start};
         std::unordered_set<int64_t> seen{start};
         while (!queue.empty()) {
@@ -1055,6 +1055,7 @@ class Edit {
   std::unique_ptr<PolygonLocator> replaced_;  // cells where tolerance does not apply
   std::unique_ptr<PolygonLocator> restore_;   // removed replace features: z back from the DEM
   std::vector<EditPolyline> lines_;  // edit.add, snapped
+  std::vector<std::vector<int64_t>> located_;  // a triangle holding each point of lines_
   std::vector<int64_t> around_;  // stored triangles whose paint may change
   Box paint_box_;
 
