@@ -48,8 +48,10 @@ inline constexpr double kSnapCells = 1e-3;
 
 struct LocalEdit {
   std::vector<EditPolyline> add;
-  std::vector<int64_t> remove;  // features whose constraint rows go (their rows already deleted
-                                // or not: the engine deletes them)
+  // Features whose constraints go: the engine deletes their constraint rows; their feature rows
+  // must still exist during Apply (a removed replace feature's polygons say which vertices get
+  // their DEM z back) and are the caller's to delete afterwards.
+  std::vector<int64_t> remove;
   // The surface's features as they are after the edit, in id order: what paint, replace levels
   // and the tolerance exceptions are computed from.
   std::vector<EditorFeature> features;
