@@ -79,6 +79,27 @@ class StoredMesh {
     return &vertices_.emplace(id, v).first->second;
   }
 
+  // Reads every vertex inside `box` with one range scan of the (surface, x, y) index: the scan
+  // reads the whole x-slab, so it pays only when the box spans a good part of the surface's
+  // height (the caller decides).
+  Status PreloadVertices(const Box& box) {
+    TB_ASSIGN_OR_RETURN(Statement * stmt,
+                        store_.db().Cached("SELECT id, x, y, z, kind FROM vertices WHERE "
+                                           "surface = ? AND x BETWEEN ? AND ? AND y BETWEEN ? "
+                                           "AND ?"));
+    stmt->Bind(1, surface_.id).Bind(2, box.min_x).Bind(3, box.max_x).Bind(4, box.min_y);
+    stmt->Bind(5, box.max_y);
+    for (;;) {
+      TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
+      if (!row) break;
+      TinVertex v{stmt->ColumnDouble(1), stmt->ColumnDouble(2), stmt->ColumnDouble(3)};
+      if (!ParseVertexKind(stmt->ColumnText(4), &v.kind)) v.kind = VertexKind::kUser;
+      vertices_.emplace(stmt->ColumnInt(0), v);
+    }
+    stmt->Reset();
+    return Status::Ok();
+  }
+
   Result<Point2> At(int64_t vertex) {
     TB_ASSIGN_OR_RETURN(const TinVertex* v, Vertex(vertex));
     return Point2{v->x, v->y};
@@ -572,6 +593,15 @@ class Edit {
   // and the box the DEM window must cover for their data test.
   Status FindPaintArea() {
     if (edit_.changed.empty()) return Status::Ok();
+    // A point lookup costs a few rows of a scan: with the box over more than half of the DEM's
+    // height (measured: a quarter is too little), one slab scan beats a lookup per vertex.
+    const GridGeometry& g = dem_.geometry;
+    if (edit_.changed.max_y - edit_.changed.min_y > 0.5 * (g.MaxY() - g.MinY())) {
+      const double margin = 2 * surface_.blocks.size;  // triangles reach about a block beyond
+      TB_RETURN_IF_ERROR(mesh_.PreloadVertices(
+          {edit_.changed.min_x - margin, edit_.changed.min_y - margin,
+           edit_.changed.max_x + margin, edit_.changed.max_y + margin}));
+    }
     TB_ASSIGN_OR_RETURN(around_, mesh_.TrianglesInBox(edit_.changed));
     paint_box_ = edit_.changed;
     for (int64_t t : around_) {
