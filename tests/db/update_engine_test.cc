@@ -245,6 +245,19 @@ TEST_F(UpdateEngineTest, BreaklinesCrossRingsAndGoAgain) {
   testing::ExpectStoreIntact(*store_, /*full=*/true);
 }
 
+TEST_F(UpdateEngineTest, RingsOnTheDomainBoundary) {
+  // The surface spans the DEM's cell centres; this square shares its north-west corner and runs
+  // along its west and north edges, so R reaches the domain boundary and new points split it.
+  const double x0 = 505374.706305430852808 + kCell / 2, y0 = 7532468.693823986686766 - kCell / 2;
+  const PointList corner = {{x0, y0}, {x0, y0 - 6.3 * kCell}, {x0 + 5.7 * kCell, y0 - 6.3 * kCell},
+                            {x0 + 5.7 * kCell, y0}, {x0, y0}};
+  const PolygonAddReport r =
+      AddChecked(WritePolygons(dir_, "corner.geojson", {{corner}}), "erase");
+  auto removed = RemovePolygon(*store_, r.first_feature_id);
+  ASSERT_TRUE(removed.ok()) << removed.status().ToString();
+  testing::ExpectStoreIntact(*store_, /*full=*/true);
+}
+
 TEST_F(UpdateEngineTest, BadInputLeavesTheStoreUnchanged) {
   store_.reset();
   const auto before = testing::TableChecksums(dir_.Path("s.tinbase"));
