@@ -258,6 +258,39 @@ TEST_F(UpdateEngineTest, RingsOnTheDomainBoundary) {
   testing::ExpectStoreIntact(*store_, /*full=*/true);
 }
 
+// Luxembourg: a warped geographic DEM with nodata all around the country; R meets nodata
+// triangles, which must stay hidden.
+TEST(UpdateEngineNodataTest, PolygonsNearNodataKeepEveryInvariant) {
+  TempDir dir;
+  auto store = Store::Create(dir.Path("lux.tinbase"), "");
+  ASSERT_TRUE(store.ok());
+  DemStore dems(**store);
+  auto imported = dems.Import({DataPath("dem/elev.tif")}, {});
+  ASSERT_TRUE(imported.ok()) << imported.status().ToString();
+  SurfaceBuildOptions o;
+  o.surface = "terrain";
+  o.greedy.tolerance = 5;
+  ASSERT_TRUE(BuildSurfaceFromDem(**store, o).ok());
+  const GridGeometry& g = imported->dem.geometry;
+  const double cx = (g.MinX() + g.MaxX()) / 2, cy = (g.MinY() + g.MaxY()) / 2;
+  auto crs = (*store)->GetCrs();
+  ASSERT_TRUE(crs.ok() && crs->has_value());
+  auto epsg = (*crs)->Epsg();
+  ASSERT_TRUE(epsg.has_value());
+  for (int k = 0; k < 3; ++k) {
+    PolygonAddOptions add;
+    add.surface = "terrain";
+    add.mode = k == 1 ? "erase" : "fill";
+    add.tag = "unit" + std::to_string(k);
+    add.file = WritePolygons(
+        dir, "p" + std::to_string(k) + ".geojson",
+        {{Ngon(cx + (k - 1) * 5 * g.cell_x, cy, 10 * g.cell_x, 18 + k, 0.2 * k)}}, *epsg);
+    auto added = AddPolygons(**store, add);
+    ASSERT_TRUE(added.ok()) << added.status().ToString();
+    testing::ExpectStoreIntact(**store, /*full=*/true);
+  }
+}
+
 TEST_F(UpdateEngineTest, BadInputLeavesTheStoreUnchanged) {
   store_.reset();
   const auto before = testing::TableChecksums(dir_.Path("s.tinbase"));
