@@ -5,7 +5,6 @@
 #include <unordered_map>
 
 #include "core/geometry/polygon_locator.h"
-
 #include "core/tin/tin_raster.h"
 #include "core/vector/feature_wkb.h"
 
@@ -21,7 +20,10 @@ Result<std::vector<EditorFeature>> SelectFeatures(Store& store, const SurfaceInf
                                         "ON t.id = f.tag WHERE f.surface = ?1 "
                                         "AND (?2 IS NULL OR f.id = ?2) ORDER BY f.id"));
   stmt->Bind(1, surface.id);
-  if (only) stmt->Bind(2, *only); else stmt->BindNull(2);
+  if (only)
+    stmt->Bind(2, *only);
+  else
+    stmt->BindNull(2);
   std::vector<EditorFeature> out;
   Status status = Status::Ok();
   while (true) {
@@ -113,8 +115,14 @@ Status WriteFeature(Store& store, const SurfaceInfo& surface, int64_t tx, Editor
       IsBreakline(f.mode) ? LinesToWkb(f.lines) : PolygonsToWkb(f.polygons);
   const Box box = BoxOf(f);
   stmt->Bind(1, surface.id).Bind(2, f.tag.value_or(f.label)).Bind(3, f.mode);
-  if (f.level) stmt->Bind(4, *f.level); else stmt->BindNull(4);
-  if (tag_id) stmt->Bind(5, *tag_id); else stmt->BindNull(5);
+  if (f.level)
+    stmt->Bind(4, *f.level);
+  else
+    stmt->BindNull(4);
+  if (tag_id)
+    stmt->Bind(5, *tag_id);
+  else
+    stmt->BindNull(5);
   stmt->Bind(6, f.attributes.dump()).BindBlob(7, wkb.data(), wkb.size());
   stmt->Bind(8, box.min_x).Bind(9, box.min_y).Bind(10, box.max_x).Bind(11, box.max_y).Bind(12, tx);
   TB_RETURN_IF_ERROR(stmt->Run());
@@ -204,14 +212,17 @@ Result<LoadedSurface> LoadFeatureSurface(Store& store, int64_t feature) {
   const BlockGrid& g = surface.blocks;
   const int64_t bx0 = g.ColumnOf(box.min_x), bx1 = g.ColumnOf(box.max_x);
   for (int64_t by = g.RowOf(box.min_y); by <= g.RowOf(box.max_y); ++by) {
-    triangles->Bind(1, surface.id).Bind(2, BlockGrid::Pack(bx0, by)).Bind(3, BlockGrid::Pack(bx1, by));
+    triangles->Bind(1, surface.id)
+        .Bind(2, BlockGrid::Pack(bx0, by))
+        .Bind(3, BlockGrid::Pack(bx1, by));
     std::vector<std::pair<int64_t, std::array<int64_t, 4>>> rows;  // id, v0..v2, tag?
     std::vector<std::optional<std::string>> row_tags;
     for (;;) {
       TB_ASSIGN_OR_RETURN(bool row, triangles->Step());
       if (!row) break;
-      rows.push_back({triangles->ColumnInt(0),
-                      {triangles->ColumnInt(1), triangles->ColumnInt(2), triangles->ColumnInt(3), 0}});
+      rows.push_back(
+          {triangles->ColumnInt(0),
+           {triangles->ColumnInt(1), triangles->ColumnInt(2), triangles->ColumnInt(3), 0}});
       row_tags.push_back(triangles->ColumnIsNull(4)
                              ? std::nullopt
                              : std::optional<std::string>(triangles->ColumnText(4)));

@@ -1,8 +1,8 @@
 #include "db/polygon_editor.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
-#include <algorithm>
 #include <memory>
 
 #include "core/tin/drape.h"
@@ -196,9 +196,12 @@ Result<PolygonAddReport> ApplyEdit(SurfaceSession& session, std::vector<NewFeatu
   TB_ASSIGN_OR_RETURN(Statement * update,
                       store.db().Cached("UPDATE changes SET feature = ?, removed = ?, added = ?, "
                                         "min_x = ?, min_y = ?, max_x = ?, max_y = ? WHERE tx = ?"));
-  const int64_t feature = !added.empty() ? added.front().feature.id
-                                         : (!removed.empty() ? removed.front() : 0);
-  if (feature != 0) update->Bind(1, feature); else update->BindNull(1);
+  const int64_t feature =
+      !added.empty() ? added.front().feature.id : (!removed.empty() ? removed.front() : 0);
+  if (feature != 0)
+    update->Bind(1, feature);
+  else
+    update->BindNull(1);
   update->Bind(2, result.removed).Bind(3, result.added);
   update->Bind(4, box.min_x).Bind(5, box.min_y).Bind(6, box.max_x).Bind(7, box.max_y);
   TB_RETURN_IF_ERROR(update->Bind(8, report.tx).Run());
@@ -234,8 +237,7 @@ Result<PolygonAddReport> AddPolygons(Store& store, const PolygonAddOptions& opti
   TB_ASSIGN_OR_RETURN(SurfaceInfo surface, SurfaceStore(store).Find(options.surface));
   TB_ASSIGN_OR_RETURN(auto session, OpenSession(store, surface));
   TB_ASSIGN_OR_RETURN(std::vector<EditorFeature> features, ReadFeatures(options, *session->crs));
-  if (features.empty())
-    return Status::InvalidArgument(options.file + ": no features to add");
+  if (features.empty()) return Status::InvalidArgument(options.file + ": no features to add");
   if (!options.each) {
     std::vector<NewFeature> prepared;
     for (EditorFeature& f : features) {

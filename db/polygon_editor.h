@@ -13,7 +13,6 @@
 #include <cstdint>
 #include <optional>
 #include <string>
-
 #include <vector>
 
 #include "core/base/status.h"
@@ -25,15 +24,15 @@ namespace tinbase {
 struct PolygonAddOptions {
   std::string surface;
   std::string file;
-  std::string layer;      // OGR layer; empty: the only one
-  std::string where;      // OGR attribute filter
-  std::string mode;       // clip, erase, fill, replace, breakline
-  std::string tag_field;  // the field whose value tags the triangles (fill, replace)
-  std::string tag;        // or one tag for every feature
+  std::string layer;            // OGR layer; empty: the only one
+  std::string where;            // OGR attribute filter
+  std::string mode;             // clip, erase, fill, replace, breakline
+  std::string tag_field;        // the field whose value tags the triangles (fill, replace)
+  std::string tag;              // or one tag for every feature
   std::optional<double> level;  // replace: the flat z
-  bool repair = false;  // GEOS MakeValid before validation (core/vector/polygon_source)
-  bool each = false;  // one transaction per feature; failures are reported, not fatal
-  FaultHook fault_hook;  // tests: called before each write step of the engine
+  bool repair = false;          // GEOS MakeValid before validation (core/vector/polygon_source)
+  bool each = false;            // one transaction per feature; failures are reported, not fatal
+  FaultHook fault_hook;         // tests: called before each write step of the engine
 };
 
 struct PolygonAddReport {

@@ -142,14 +142,17 @@ class StoredMesh {
 
   // The triangles whose centroid block meets `box` (through the block index).
   Result<std::vector<int64_t>> TrianglesInBox(const Box& box) {
-    TB_ASSIGN_OR_RETURN(Statement * stmt,
-                        store_.db().Cached("SELECT v0, v1, v2, n0, n1, n2, visible, tag, id FROM "
-                                           "triangles WHERE surface = ? AND block BETWEEN ? AND ?"));
+    TB_ASSIGN_OR_RETURN(
+        Statement * stmt,
+        store_.db().Cached("SELECT v0, v1, v2, n0, n1, n2, visible, tag, id FROM "
+                           "triangles WHERE surface = ? AND block BETWEEN ? AND ?"));
     const BlockGrid& g = surface_.blocks;
     const int64_t bx0 = g.ColumnOf(box.min_x), bx1 = g.ColumnOf(box.max_x);
     std::vector<int64_t> ids;
     for (int64_t by = g.RowOf(box.min_y); by <= g.RowOf(box.max_y); ++by) {
-      stmt->Bind(1, surface_.id).Bind(2, BlockGrid::Pack(bx0, by)).Bind(3, BlockGrid::Pack(bx1, by));
+      stmt->Bind(1, surface_.id)
+          .Bind(2, BlockGrid::Pack(bx0, by))
+          .Bind(3, BlockGrid::Pack(bx1, by));
       for (;;) {
         TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
         if (!row) break;
@@ -281,8 +284,10 @@ std::vector<uint8_t> ClassifyInside(const Tin& tin, const std::set<Edge>& outlin
     const auto& v = tin.triangles[t].v;
     for (int i = 0; i < 3 && inside[t] == kUnknown; ++i) {
       const uint32_t a = v[i], b = v[(i + 1) % 3];
-      if (outline.count({a, b})) inside[t] = 1;
-      else if (outline.count({b, a})) inside[t] = 0;
+      if (outline.count({a, b}))
+        inside[t] = 1;
+      else if (outline.count({b, a}))
+        inside[t] = 0;
     }
     if (inside[t] != kUnknown) queue.push_back(t);
   }
@@ -335,9 +340,9 @@ struct OutlineEdge {
 
 // One re-triangulation of R: the local Tin and how its vertices map to the store.
 struct LocalPatch {
-  Tin tin;                            // local CDT, constraints include R's outline
-  std::vector<uint8_t> inside;        // per local triangle: part of R
-  std::vector<int64_t> store_ids;     // per local vertex: store id, 0 for a new vertex
+  Tin tin;                                   // local CDT, constraints include R's outline
+  std::vector<uint8_t> inside;               // per local triangle: part of R
+  std::vector<int64_t> store_ids;            // per local vertex: store id, 0 for a new vertex
   std::vector<std::vector<uint32_t>> lines;  // local index of each polyline point
   std::vector<std::pair<Edge, std::vector<int64_t>>> old_constraints;  // kept, in R, owners
   int64_t refinement_points = 0;
@@ -347,11 +352,18 @@ class Edit {
  public:
   Edit(Store& store, const SurfaceInfo& surface, DemStore& dems, const DemInfo& dem,
        const LocalEdit& edit, const FaultHook& hook)
-      : store_(store), surface_(surface), dems_(dems), dem_(dem), edit_(edit), hook_(hook),
-        mesh_(store, surface), levels_(edit.features), lines_(edit.add) {
+      : store_(store),
+        surface_(surface),
+        dems_(dems),
+        dem_(dem),
+        edit_(edit),
+        hook_(hook),
+        mesh_(store, surface),
+        levels_(edit.features),
+        lines_(edit.add) {
     for (const EditorFeature& f : edit.features)
-      if (f.mode == "replace") replace_polygons_.insert(replace_polygons_.end(),
-                                                        f.polygons.begin(), f.polygons.end());
+      if (f.mode == "replace")
+        replace_polygons_.insert(replace_polygons_.end(), f.polygons.begin(), f.polygons.end());
     replaced_ = std::make_unique<PolygonLocator>(replace_polygons_);
   }
 
@@ -411,7 +423,8 @@ class Edit {
     }
     for (int64_t v : touched) {
       TB_ASSIGN_OR_RETURN(const TinVertex* vertex, mesh_.Vertex(v));
-      TB_ASSIGN_OR_RETURN(int64_t start, Locate({vertex->x, vertex->y}, "vertex " + std::to_string(v)));
+      TB_ASSIGN_OR_RETURN(int64_t start,
+                          Locate({vertex->x, vertex->y}, "vertex " + std::to_string(v)));
       bool closed = true;
       TB_ASSIGN_OR_RETURN(std::vector<int64_t> star, mesh_.Star(v, start, &closed));
       for (int64_t t : star) AddToRegion(t);
@@ -460,7 +473,8 @@ class Edit {
   // it) or of an earlier new point onto it, so near-duplicates (rings of neighbouring features
   // digitised or reprojected apart by round-off) become one vertex instead of a sliver.
   Status SnapPoints() {
-    const double snap = kSnapCells * std::max(dem_.geometry.cell_x, std::fabs(dem_.geometry.cell_y));
+    const double snap =
+        kSnapCells * std::max(dem_.geometry.cell_x, std::fabs(dem_.geometry.cell_y));
     std::map<std::pair<int64_t, int64_t>, std::vector<Point2>> buckets;
     const auto bucket = [snap](double v) { return static_cast<int64_t>(std::floor(v / snap)); };
     for (EditPolyline& line : lines_) {
@@ -598,9 +612,9 @@ class Edit {
     const GridGeometry& g = dem_.geometry;
     if (edit_.changed.max_y - edit_.changed.min_y > 0.5 * (g.MaxY() - g.MinY())) {
       const double margin = 2 * surface_.blocks.size;  // triangles reach about a block beyond
-      TB_RETURN_IF_ERROR(mesh_.PreloadVertices(
-          {edit_.changed.min_x - margin, edit_.changed.min_y - margin,
-           edit_.changed.max_x + margin, edit_.changed.max_y + margin}));
+      TB_RETURN_IF_ERROR(
+          mesh_.PreloadVertices({edit_.changed.min_x - margin, edit_.changed.min_y - margin,
+                                 edit_.changed.max_x + margin, edit_.changed.max_y + margin}));
     }
     TB_ASSIGN_OR_RETURN(around_, mesh_.TrianglesInBox(edit_.changed));
     paint_box_ = edit_.changed;
@@ -671,8 +685,9 @@ class Edit {
     for (const Corners3& c : region_triangles)
       for (const Point2& p : c) result_.region.Add(p);
     const double cell = std::max(dem_.geometry.cell_x, std::fabs(dem_.geometry.cell_y));
-    TB_ASSIGN_OR_RETURN(grid_, dems_.ReadWindow(dem_, {box.min_x - 2 * cell, box.min_y - 2 * cell,
-                                                      box.max_x + 2 * cell, box.max_y + 2 * cell}));
+    TB_ASSIGN_OR_RETURN(grid_,
+                        dems_.ReadWindow(dem_, {box.min_x - 2 * cell, box.min_y - 2 * cell,
+                                                box.max_x + 2 * cell, box.max_y + 2 * cell}));
     if (order_.empty()) return patch;  // nothing to re-triangulate: a paint-only edit
 
     Cdt cdt;
@@ -801,8 +816,8 @@ class Edit {
   // it). Crossing points are constructed inexactly, so "on it" allows 1e-7 of its length; among
   // the candidates the one nearest the line wins, so a crossing constraint is never followed.
   static Result<std::vector<std::pair<uint32_t, uint32_t>>> Pieces(
-      const std::unordered_map<uint32_t, std::vector<uint32_t>>& graph, const Tin& tin,
-      uint32_t a, uint32_t b) {
+      const std::unordered_map<uint32_t, std::vector<uint32_t>>& graph, const Tin& tin, uint32_t a,
+      uint32_t b) {
     const TinVertex& pa = tin.vertices[a];
     const TinVertex& pb = tin.vertices[b];
     const double dx = pb.x - pa.x, dy = pb.y - pa.y, len2 = dx * dx + dy * dy;
@@ -887,7 +902,8 @@ class Edit {
 
     // R's triangles go, the patch's inside triangles come with fresh ids: above every id in the
     // table before the delete, so an id never comes back with another triangle.
-    TB_ASSIGN_OR_RETURN(int64_t base, db.QueryInt("SELECT coalesce(max(id), 0) + 1 FROM triangles"));
+    TB_ASSIGN_OR_RETURN(int64_t base,
+                        db.QueryInt("SELECT coalesce(max(id), 0) + 1 FROM triangles"));
     TB_RETURN_IF_ERROR(Step());
     TB_ASSIGN_OR_RETURN(Statement * del, db.Cached("DELETE FROM triangles WHERE id = ?"));
     for (int64_t t : order_) TB_RETURN_IF_ERROR(del->Bind(1, t).Run());
@@ -962,11 +978,17 @@ class Edit {
           auto it = outer_across.find(Edge{ids[tri.v[(i + 1) % 3]], ids[tri.v[(i + 2) % 3]]});
           if (it != outer_across.end()) n = it->second;
         }
-        if (n) insert->Bind(6 + i, *n); else insert->BindNull(6 + i);
+        if (n)
+          insert->Bind(6 + i, *n);
+        else
+          insert->BindNull(6 + i);
       }
       insert->Bind(9, int64_t{paint.visible[k] ? 1 : 0});
       result_.visible_added += paint.visible[k] != 0;
-      if (auto tag = tag_of(k)) insert->Bind(10, *tag); else insert->BindNull(10);
+      if (auto tag = tag_of(k))
+        insert->Bind(10, *tag);
+      else
+        insert->BindNull(10);
       const TinVertex &a = tin.vertices[tri.v[0]], &b = tin.vertices[tri.v[1]],
                       &c = tin.vertices[tri.v[2]];
       insert->Bind(11, CentroidBlock(surface_.blocks, a.x, a.y, b.x, b.y, c.x, c.y));
@@ -980,7 +1002,8 @@ class Edit {
     for (size_t t = 0; t < tin.triangles.size(); ++t) {
       if (!patch.inside[t]) continue;
       const auto& v = tin.triangles[t].v;
-      for (int i = 0; i < 3; ++i) inner_by_edge.emplace(Edge{ids[v[i]], ids[v[(i + 1) % 3]]}, new_id[t]);
+      for (int i = 0; i < 3; ++i)
+        inner_by_edge.emplace(Edge{ids[v[i]], ids[v[(i + 1) % 3]]}, new_id[t]);
     }
     std::map<int64_t, MeshTriangle> relinked;
     for (const OutlineEdge& e : outline_) {
@@ -1000,7 +1023,10 @@ class Edit {
     }
     for (const auto& [id, t] : relinked) {
       for (int i = 0; i < 3; ++i) {
-        if (t.n[i]) relink->Bind(1 + i, *t.n[i]); else relink->BindNull(1 + i);
+        if (t.n[i])
+          relink->Bind(1 + i, *t.n[i]);
+        else
+          relink->BindNull(1 + i);
       }
       TB_RETURN_IF_ERROR(relink->Bind(4, id).Run());
     }
@@ -1010,11 +1036,13 @@ class Edit {
     TB_RETURN_IF_ERROR(Step());
     TB_ASSIGN_OR_RETURN(Statement * del_feature,
                         db.Cached("DELETE FROM constraints WHERE surface = ? AND feature = ?"));
-    for (int64_t f : edit_.remove) TB_RETURN_IF_ERROR(del_feature->Bind(1, surface_.id).Bind(2, f).Run());
+    for (int64_t f : edit_.remove)
+      TB_RETURN_IF_ERROR(del_feature->Bind(1, surface_.id).Bind(2, f).Run());
     std::unordered_map<uint32_t, std::vector<uint32_t>> graph;
     for (const auto& [a, b] : tin.constraints) graph[a].push_back(b), graph[b].push_back(a);
-    TB_ASSIGN_OR_RETURN(Statement * del_edge,
-                        db.Cached("DELETE FROM constraints WHERE surface = ? AND va = ? AND vb = ?"));
+    TB_ASSIGN_OR_RETURN(
+        Statement * del_edge,
+        db.Cached("DELETE FROM constraints WHERE surface = ? AND va = ? AND vb = ?"));
     TB_ASSIGN_OR_RETURN(Statement * add_edge,
                         db.Cached("INSERT INTO constraints(surface, va, vb, feature) VALUES (?, ?, "
                                   "?, ?)"));
@@ -1025,7 +1053,10 @@ class Edit {
         const Edge e = Key(ids[u], ids[w]);
         if (!written.insert({e, feature}).second) continue;
         add_edge->Bind(1, surface_.id).Bind(2, e.first).Bind(3, e.second);
-        if (feature != 0) add_edge->Bind(4, feature); else add_edge->BindNull(4);
+        if (feature != 0)
+          add_edge->Bind(4, feature);
+        else
+          add_edge->BindNull(4);
         TB_RETURN_IF_ERROR(add_edge->Run());
       }
       return Status::Ok();
@@ -1035,7 +1066,8 @@ class Edit {
       bool whole = false;
       for (uint32_t w : graph[a]) whole |= w == b;
       if (whole) continue;
-      TB_RETURN_IF_ERROR(del_edge->Bind(1, surface_.id).Bind(2, edge.first).Bind(3, edge.second).Run());
+      TB_RETURN_IF_ERROR(
+          del_edge->Bind(1, surface_.id).Bind(2, edge.first).Bind(3, edge.second).Run());
       for (int64_t f : owners) TB_RETURN_IF_ERROR(write_pieces(a, b, f));
     }
     for (size_t l = 0; l < lines_.size(); ++l) {
@@ -1057,7 +1089,10 @@ class Edit {
       const std::optional<int64_t> tag = tag_of(k);
       if (stored->visible == visible && stored->tag == tag) continue;
       repaint->Bind(1, int64_t{visible ? 1 : 0});
-      if (tag) repaint->Bind(2, *tag); else repaint->BindNull(2);
+      if (tag)
+        repaint->Bind(2, *tag);
+      else
+        repaint->BindNull(2);
       TB_RETURN_IF_ERROR(repaint->Bind(3, kept_around[j]).Run());
       ++result_.repainted;
     }
@@ -1082,11 +1117,11 @@ class Edit {
   StoredMesh mesh_;
   ReplaceLevels levels_;
   std::vector<Polygon> replace_polygons_;
-  std::unique_ptr<PolygonLocator> replaced_;  // cells where tolerance does not apply
-  std::unique_ptr<PolygonLocator> restore_;   // removed replace features: z back from the DEM
-  std::vector<EditPolyline> lines_;  // edit.add, snapped
+  std::unique_ptr<PolygonLocator> replaced_;   // cells where tolerance does not apply
+  std::unique_ptr<PolygonLocator> restore_;    // removed replace features: z back from the DEM
+  std::vector<EditPolyline> lines_;            // edit.add, snapped
   std::vector<std::vector<int64_t>> located_;  // a triangle holding each point of lines_
-  std::vector<int64_t> around_;  // stored triangles whose paint may change
+  std::vector<int64_t> around_;                // stored triangles whose paint may change
   Box paint_box_;
 
   std::unordered_set<int64_t> region_;  // R

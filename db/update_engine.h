@@ -60,10 +60,10 @@ struct LocalEdit {
 };
 
 struct EditResult {
-  int64_t removed = 0;  // triangles deleted (the conflict region)
-  int64_t added = 0;    // triangles inserted
+  int64_t removed = 0;        // triangles deleted (the conflict region)
+  int64_t added = 0;          // triangles inserted
   int64_t visible_added = 0;  // of those, visible
-  int64_t repainted = 0;  // existing triangles outside R whose visibility or tag changed
+  int64_t repainted = 0;      // existing triangles outside R whose visibility or tag changed
   int64_t refinement_points = 0;
   int rounds = 0;  // re-triangulations of R until its outline was Delaunay
   Box region;      // bbox of R

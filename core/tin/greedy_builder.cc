@@ -1,10 +1,10 @@
 #include "core/tin/greedy_builder.h"
 
 #include <algorithm>
-#include <utility>
 #include <cmath>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/geometry/cdt.h"
@@ -71,7 +71,9 @@ Status Validate(const Grid& dem, const GreedyOptions& options) {
 Tin BuildFromCorners(const Grid& dem, const GreedyOptions& options) {
   const GridGeometry& g = dem.geometry;
   std::vector<TinVertex> corners;
-  for (auto [c, r] : {std::pair<int64_t, int64_t>{0, 0}, {g.width - 1, 0}, {0, g.height - 1},
+  for (auto [c, r] : {std::pair<int64_t, int64_t>{0, 0},
+                      {g.width - 1, 0},
+                      {0, g.height - 1},
                       {g.width - 1, g.height - 1}}) {
     const double z = dem.IsValid(c, r) ? dem.At(c, r) : MeanOfNearestValid(dem, c, r);
     corners.push_back(TinVertex{g.CellCenterX(c), g.CellCenterY(r), z, VertexKind::kDem});
@@ -94,8 +96,8 @@ void Measure(const Grid& dem, const Tin& tin, GreedyReport* report) {
   double max_error = 0, sum_sq = 0;
   int64_t count = 0;
   for (const TinTriangle& t : tin.triangles) {
-    const CellTriangle cells = ToCellSpace(dem.geometry, tin.vertices[t.v[0]],
-                                           tin.vertices[t.v[1]], tin.vertices[t.v[2]]);
+    const CellTriangle cells =
+        ToCellSpace(dem.geometry, tin.vertices[t.v[0]], tin.vertices[t.v[1]], tin.vertices[t.v[2]]);
     CellPlane plane;
     if (!PlaneOf(cells, &plane)) continue;
     ForEachCellSpan(cells, width, dem.geometry.height, [&](int64_t r, int64_t first, int64_t last) {
@@ -103,8 +105,8 @@ void Measure(const Grid& dem, const Tin& tin, GreedyReport* report) {
         const size_t at = static_cast<size_t>(r * width + c);
         if (seen[at] || std::isnan(dem.cells[at])) continue;
         seen[at] = 1;
-        const double error = std::fabs(plane.At(static_cast<double>(c), static_cast<double>(r)) -
-                                       dem.cells[at]);
+        const double error =
+            std::fabs(plane.At(static_cast<double>(c), static_cast<double>(r)) - dem.cells[at]);
         max_error = std::max(max_error, error);
         sum_sq += error * error;
         ++count;

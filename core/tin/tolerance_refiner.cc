@@ -82,8 +82,8 @@ class Refiner {
       for (int64_t c = first; c <= last; ++c) {
         const float value = row[c];
         if (std::isnan(value)) continue;
-        const double error = std::fabs(plane.At(static_cast<double>(c), static_cast<double>(r)) -
-                                       value);
+        const double error =
+            std::fabs(plane.At(static_cast<double>(c), static_cast<double>(r)) - value);
         if (error <= worst || Skipped(c, r) || !Covers(v, c, r)) continue;
         worst = error;
         worst_col = c;

@@ -50,9 +50,9 @@ class UpdateEngineConcurrencyTest : public ::testing::Test {
     o.greedy.tolerance = 5;
     ASSERT_TRUE(BuildSurfaceFromDem(**store, o).ok());
     for (int k = 0; k < 6; ++k)
-      files_.push_back(WritePolygons(
-          dir_, "p" + std::to_string(k) + ".geojson",
-          {{Ngon(kCx + (k - 3) * 3 * kCell, kCy + (k % 2) * 4 * kCell, 6 * kCell, 20 + k, 0.1 * k)}}));
+      files_.push_back(WritePolygons(dir_, "p" + std::to_string(k) + ".geojson",
+                                     {{Ngon(kCx + (k - 3) * 3 * kCell, kCy + (k % 2) * 4 * kCell,
+                                            6 * kCell, 20 + k, 0.1 * k)}}));
   }
 
   static PolygonAddOptions Fill(const std::string& file) {

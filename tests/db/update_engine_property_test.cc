@@ -95,10 +95,14 @@ std::vector<PointList> RandomPolygon(const std::vector<PointList>& earlier) {
 
 std::string RandomMode() {
   switch (*rc::gen::inRange(0, 8)) {
-    case 0: return "erase";
-    case 1: return "clip";
-    case 2: return "replace";
-    default: return "fill";
+    case 0:
+      return "erase";
+    case 1:
+      return "clip";
+    case 2:
+      return "replace";
+    default:
+      return "fill";
   }
 }
 

@@ -113,9 +113,9 @@ class UpdateEngineTest : public ::testing::Test {
         continue;
       }
       // Only visibility and tag may change (repaint), never the vertices or block.
-      const bool same_shape = std::equal(row.columns.begin(), row.columns.begin() + 3,
-                                         it->second.columns.begin()) &&
-                              row.columns[5] == it->second.columns[5];
+      const bool same_shape =
+          std::equal(row.columns.begin(), row.columns.begin() + 3, it->second.columns.begin()) &&
+          row.columns[5] == it->second.columns[5];
       EXPECT_TRUE(same_shape) << "triangle " << id << " kept its id but changed its vertices";
       repainted += !(row == it->second);
     }
@@ -142,17 +142,16 @@ class UpdateEngineTest : public ::testing::Test {
 };
 
 TEST_F(UpdateEngineTest, AddIsLocalAndKeepsEveryInvariant) {
-  const std::string file =
-      WritePolygons(dir_, "a.geojson",
-                    {{Ngon(kCx, kCy, 12 * kCell, 40), Ngon(kCx, kCy, 4 * kCell, 12, 0.3)}});
+  const std::string file = WritePolygons(
+      dir_, "a.geojson", {{Ngon(kCx, kCy, 12 * kCell, 40), Ngon(kCx, kCy, 4 * kCell, 12, 0.3)}});
   const PolygonAddReport r = AddChecked(file, "fill");
   EXPECT_EQ(r.features, 1);
   EXPECT_GT(r.removed, 0);
   // Constraints carry their feature; the hole's inside is untagged, the ring's inside tagged.
   EXPECT_EQ(Int("SELECT count(*) FROM constraints WHERE feature IS NULL"), 0);
-  EXPECT_GE(Int("SELECT count(*) FROM constraints WHERE feature = " +
-                std::to_string(r.first_feature_id)),
-            52);
+  EXPECT_GE(
+      Int("SELECT count(*) FROM constraints WHERE feature = " + std::to_string(r.first_feature_id)),
+      52);
   EXPECT_GT(Int("SELECT count(*) FROM triangles WHERE tag IS NOT NULL"), 0);
 }
 
@@ -189,9 +188,9 @@ TEST_F(UpdateEngineTest, RemoveAndUpdateAreLocalAndRestoreTheSurface) {
   ASSERT_TRUE(removed.ok()) << removed.status().ToString();
   ExpectKept(before, *removed);
   testing::ExpectStoreIntact(*store_, /*full=*/true);
-  EXPECT_EQ(Int("SELECT count(*) FROM constraints WHERE feature = " +
-                std::to_string(a.first_feature_id)),
-            0);
+  EXPECT_EQ(
+      Int("SELECT count(*) FROM constraints WHERE feature = " + std::to_string(a.first_feature_id)),
+      0);
   EXPECT_EQ(Int("SELECT count(*) FROM features WHERE id = " + std::to_string(a.first_feature_id)),
             0);
 
@@ -249,10 +248,12 @@ TEST_F(UpdateEngineTest, RingsOnTheDomainBoundary) {
   // The surface spans the DEM's cell centres; this square shares its north-west corner and runs
   // along its west and north edges, so R reaches the domain boundary and new points split it.
   const double x0 = 505374.706305430852808 + kCell / 2, y0 = 7532468.693823986686766 - kCell / 2;
-  const PointList corner = {{x0, y0}, {x0, y0 - 6.3 * kCell}, {x0 + 5.7 * kCell, y0 - 6.3 * kCell},
-                            {x0 + 5.7 * kCell, y0}, {x0, y0}};
-  const PolygonAddReport r =
-      AddChecked(WritePolygons(dir_, "corner.geojson", {{corner}}), "erase");
+  const PointList corner = {{x0, y0},
+                            {x0, y0 - 6.3 * kCell},
+                            {x0 + 5.7 * kCell, y0 - 6.3 * kCell},
+                            {x0 + 5.7 * kCell, y0},
+                            {x0, y0}};
+  const PolygonAddReport r = AddChecked(WritePolygons(dir_, "corner.geojson", {{corner}}), "erase");
   auto removed = RemovePolygon(*store_, r.first_feature_id);
   ASSERT_TRUE(removed.ok()) << removed.status().ToString();
   testing::ExpectStoreIntact(*store_, /*full=*/true);
@@ -298,8 +299,8 @@ TEST_F(UpdateEngineTest, BadInputLeavesTheStoreUnchanged) {
   ASSERT_TRUE(store.ok());
   store_ = std::move(*store);
   // Partly outside the DEM.
-  auto outside = Add(WritePolygons(dir_, "out.geojson", {{Ngon(505374, kCy, 10 * kCell, 12)}}),
-                     "fill");
+  auto outside =
+      Add(WritePolygons(dir_, "out.geojson", {{Ngon(505374, kCy, 10 * kCell, 12)}}), "fill");
   EXPECT_EQ(outside.status().code(), StatusCode::kInvalidArgument);
   EXPECT_NE(outside.status().message().find("ring 0"), std::string::npos)
       << outside.status().message();
@@ -314,8 +315,11 @@ TEST_F(UpdateEngineTest, BadInputLeavesTheStoreUnchanged) {
 
 TEST_F(UpdateEngineTest, RepairTurnsABowTieIntoTwoPolygons) {
   const double d = 5 * kCell;
-  const PointList bow_tie = {{kCx - d, kCy - d}, {kCx + d, kCy + d}, {kCx + d, kCy - d},
-                             {kCx - d, kCy + d}, {kCx - d, kCy - d}};
+  const PointList bow_tie = {{kCx - d, kCy - d},
+                             {kCx + d, kCy + d},
+                             {kCx + d, kCy - d},
+                             {kCx - d, kCy + d},
+                             {kCx - d, kCy - d}};
   PolygonAddOptions o;
   o.surface = "terrain";
   o.mode = "fill";
@@ -366,9 +370,9 @@ TEST_F(UpdateEngineTest, FailureAtEveryWriteStepRollsBack) {
     o.file = file;
     o.mode = "erase";
     o.fault_hook = [fail_at](int step) {
-      return step == fail_at ? Status::IOError("injected failure at write step " +
-                                               std::to_string(step))
-                             : Status::Ok();
+      return step == fail_at
+                 ? Status::IOError("injected failure at write step " + std::to_string(step))
+                 : Status::Ok();
     };
     auto report = AddPolygons(*store_, o);
     if (report.ok()) {

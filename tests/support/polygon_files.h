@@ -41,8 +41,8 @@ inline std::string WritePolygons(const TempDir& dir, const std::string& name,
     for (size_t r = 0; r < polygons[f].size(); ++r) {
       out << (r ? "," : "") << "[";
       for (size_t i = 0; i < polygons[f][r].size(); ++i)
-        out << (i ? "," : "") << "[" << polygons[f][r][i].first << ","
-            << polygons[f][r][i].second << "]";
+        out << (i ? "," : "") << "[" << polygons[f][r][i].first << "," << polygons[f][r][i].second
+            << "]";
       out << "]";
     }
     out << "]}}";
