@@ -448,8 +448,8 @@ class Edit {
     std::vector<Polygon> polygons;
     Box box;
     for (int64_t id : edit_.remove) {
-      auto f = LoadFeature(store_, surface_, id);
-      if (!f.ok()) continue;  // the caller may have deleted the row already
+      auto f = LoadFeature(store_, surface_, id);  // REQUIRES of Apply: the row still exists
+      if (!f.ok()) return f.status();
       if (f->mode != "replace") continue;
       polygons.insert(polygons.end(), f->polygons.begin(), f->polygons.end());
       box.Add(BoxOf(*f));
