@@ -99,6 +99,10 @@ void InsertAndUndo(benchmark::State& state, int64_t side, int n, double r_cells)
   // A long-lived writer's page cache (TINBASE_BENCH_CACHE_KIB, default SQLite's 2 MiB).
   if (const char* kib = std::getenv("TINBASE_BENCH_CACHE_KIB"))
     if (!(*store)->db().Exec("PRAGMA cache_size = -" + std::string(kib)).ok()) std::abort();
+  // Memory-mapped reads instead of pread (TINBASE_BENCH_MMAP_MIB).
+  if (const char* mib = std::getenv("TINBASE_BENCH_MMAP_MIB"))
+    if (!(*store)->db().Exec("PRAGMA mmap_size = " + std::to_string(std::atoll(mib) << 20)).ok())
+      std::abort();
   PolygonAddOptions o;
   o.surface = "terrain";
   o.file = file;
