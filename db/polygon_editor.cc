@@ -72,17 +72,21 @@ Status DrapeFeature(Store& store, const SurfaceInfo& surface, const EditorFeatur
                     std::vector<EditPolyline>* out) {
   const auto add = [&](const std::vector<Point2>& points, bool closed,
                        const std::string& where) -> Status {
+    // The input vertices name themselves in messages; points added between two of them lie on
+    // the segment, inside the surface when both ends are (surfaces from the builders are convex;
+    // the engine locates every point again and refuses any outside).
+    for (size_t i = 0; i < points.size(); ++i) {
+      auto located = LocatePoint(store, surface, points[i].x, points[i].y);
+      if (located.ok()) continue;
+      if (located.status().code() != StatusCode::kNotFound) return located.status();
+      return Status::InvalidArgument(f.label + ", " + where + ", vertex " + std::to_string(i) +
+                                     ": " + FormatPoint(points[i]) + " lies outside surface '" +
+                                     surface.name + "'");
+    }
     DrapeOptions options = base;
     options.closed = closed;
     auto draped = DrapePolyline(points, elevation, options);
     if (!draped.ok()) return draped.status().WithContext(f.label + ", " + where);
-    for (size_t i = 0; i < draped->size(); ++i) {
-      const TinVertex& v = (*draped)[i];
-      auto located = LocatePoint(store, surface, v.x, v.y);
-      if (!located.ok())
-        return Status::InvalidArgument(f.label + ", " + where + ": " + FormatPoint({v.x, v.y}) +
-                                       " lies outside surface '" + surface.name + "'");
-    }
     out->push_back({std::move(*draped), closed, 0});
     return Status::Ok();
   };

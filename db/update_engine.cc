@@ -517,31 +517,53 @@ class Edit {
 
   // Every triangle a new segment touches (closed: a segment through a vertex takes its fan),
   // found by a walk over neighbours from the triangle holding the segment's first point.
+  // Existing vertices closer than the snap distance to a new segment (but not its ends) become
+  // points of it: a crossing vertex an earlier edit constructed lies only nearly on the line, and
+  // CGAL would otherwise reroute the constraint through another vertex (CGAL#6602).
   Status SeedPolylines() {
+    const double snap =
+        kSnapCells * std::max(dem_.geometry.cell_x, std::fabs(dem_.geometry.cell_y));
     for (size_t l = 0; l < lines_.size(); ++l) {
-      const EditPolyline& line = lines_[l];
+      EditPolyline& line = lines_[l];
       const size_t n = line.points.size();
       const size_t segments = line.closed ? n : n - 1;
+      std::vector<TinVertex> points;
       for (size_t i = 0; i < n; ++i) {
         const Point2 p{line.points[i].x, line.points[i].y};
+        points.push_back(line.points[i]);
         new_points_.push_back(p);
         if (i >= segments) continue;
         const Point2 q{line.points[(i + 1) % n].x, line.points[(i + 1) % n].y};
         const int64_t start = located_[l][i];  // SnapPoints located every point
         std::vector<int64_t> queue{start};
         std::unordered_set<int64_t> seen{start};
+        std::map<double, TinVertex> on_segment;  // by position along pq
+        const double dx = q.x - p.x, dy = q.y - p.y, len2 = dx * dx + dy * dy;
         while (!queue.empty()) {
           const int64_t t = queue.back();
           queue.pop_back();
           AddToRegion(t);
           TB_ASSIGN_OR_RETURN(const MeshTriangle* tri, mesh_.Triangle(t));
+          for (int64_t v : tri->v) {
+            TB_ASSIGN_OR_RETURN(const TinVertex* w, mesh_.Vertex(v));
+            if (len2 == 0) break;
+            const double along = ((w->x - p.x) * dx + (w->y - p.y) * dy) / len2;
+            const double off = std::fabs((w->x - p.x) * dy - (w->y - p.y) * dx) / std::sqrt(len2);
+            const double ends = snap / std::sqrt(len2);
+            if (along > ends && along < 1 - ends && off <= snap) on_segment.emplace(along, *w);
+          }
           for (const std::optional<int64_t>& next : tri->n) {
             if (!next || !seen.insert(*next).second) continue;
             TB_ASSIGN_OR_RETURN(bool meets, Meets(*next, p, q));
             if (meets) queue.push_back(*next);
           }
         }
+        for (const auto& [along, w] : on_segment) {
+          points.push_back(w);
+          new_points_.push_back({w.x, w.y});
+        }
       }
+      line.points = std::move(points);
     }
     return Status::Ok();
   }
@@ -1047,10 +1069,12 @@ class Edit {
                         db.Cached("INSERT INTO constraints(surface, va, vb, feature) VALUES (?, ?, "
                                   "?, ?)"));
     std::set<std::pair<Edge, int64_t>> written;
+    std::set<Edge> accounted;  // store edges that are constraints after the edit, or R's outline
     const auto write_pieces = [&](uint32_t a, uint32_t b, int64_t feature) -> Status {
       TB_ASSIGN_OR_RETURN(auto pieces, Pieces(graph, tin, a, b));
       for (const auto& [u, w] : pieces) {
         const Edge e = Key(ids[u], ids[w]);
+        accounted.insert(e);
         if (!written.insert({e, feature}).second) continue;
         add_edge->Bind(1, surface_.id).Bind(2, e.first).Bind(3, e.second);
         if (feature != 0)
@@ -1065,7 +1089,10 @@ class Edit {
       const uint32_t a = local_.at(edge.first), b = local_.at(edge.second);
       bool whole = false;
       for (uint32_t w : graph[a]) whole |= w == b;
-      if (whole) continue;
+      if (whole) {
+        accounted.insert(edge);
+        continue;
+      }
       TB_RETURN_IF_ERROR(
           del_edge->Bind(1, surface_.id).Bind(2, edge.first).Bind(3, edge.second).Run());
       for (int64_t f : owners) TB_RETURN_IF_ERROR(write_pieces(a, b, f));
@@ -1077,6 +1104,22 @@ class Edit {
       for (size_t i = 0; i < segments; ++i)
         if (idx[i] != idx[(i + 1) % n])
           TB_RETURN_IF_ERROR(write_pieces(idx[i], idx[(i + 1) % n], lines_[l].feature));
+    }
+    // R's outline is constrained only in the patch; on the domain boundary new points may split
+    // it (it has no triangle across), so its pieces count too.
+    for (const OutlineEdge& e : outline_) {
+      TB_ASSIGN_OR_RETURN(auto pieces, Pieces(graph, tin, local_.at(e.a), local_.at(e.b)));
+      for (const auto& [u, w] : pieces) accounted.insert(Key(ids[u], ids[w]));
+    }
+    // Every edge CGAL constrained must be one we own; one that is not means CGAL rerouted a
+    // constraint through another vertex (CGAL#6602) and the edge would be stored unconstrained.
+    for (const auto& [a, b] : tin.constraints) {
+      if (accounted.count(Key(ids[a], ids[b]))) continue;
+      return Status::Corruption(
+          "surface '" + surface_.name + "': a constraint was rerouted through " +
+          FormatPoint({tin.vertices[a].x, tin.vertices[a].y}) + " - " +
+          FormatPoint({tin.vertices[b].x, tin.vertices[b].y}) +
+          " while re-triangulating; nothing was written");
     }
 
     // Paint of the stored triangles around the changed features, and their vertices' z.

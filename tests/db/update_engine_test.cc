@@ -304,6 +304,17 @@ TEST_F(UpdateEngineTest, BadInputLeavesTheStoreUnchanged) {
   EXPECT_EQ(outside.status().code(), StatusCode::kInvalidArgument);
   EXPECT_NE(outside.status().message().find("ring 0"), std::string::npos)
       << outside.status().message();
+  // Inside the DEM but outside the surface (which spans the cell centres): the outer half cell.
+  const double west = 505374.706305430852808 + 0.2 * kCell;
+  auto off_surface = Add(WritePolygons(dir_, "o.geojson",
+                                       {{{{west, kCy}, {kCx, kCy - 3 * kCell}, {kCx, kCy}, {west, kCy}}}}),
+                         "fill");
+  EXPECT_EQ(off_surface.status().code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(off_surface.status().message().find("ring 0, vertex 0"), std::string::npos)
+      << off_surface.status().message();
+  EXPECT_NE(off_surface.status().message().find("lies outside surface 'terrain'"),
+            std::string::npos)
+      << off_surface.status().message();
   auto mode = Add(WritePolygons(dir_, "m.geojson", {{Ngon(kCx, kCy, 3 * kCell, 5)}}), "paint");
   EXPECT_EQ(mode.status().code(), StatusCode::kInvalidArgument);
   std::ofstream(dir_.Path("empty.geojson")) << R"({"type": "FeatureCollection", "features": []})";
