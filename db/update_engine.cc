@@ -1115,11 +1115,11 @@ class Edit {
     // constraint through another vertex (CGAL#6602) and the edge would be stored unconstrained.
     for (const auto& [a, b] : tin.constraints) {
       if (accounted.count(Key(ids[a], ids[b]))) continue;
-      return Status::Corruption(
-          "surface '" + surface_.name + "': a constraint was rerouted through " +
-          FormatPoint({tin.vertices[a].x, tin.vertices[a].y}) + " - " +
-          FormatPoint({tin.vertices[b].x, tin.vertices[b].y}) +
-          " while re-triangulating; nothing was written");
+      return Status::Corruption("surface '" + surface_.name +
+                                "': a constraint was rerouted through " +
+                                FormatPoint({tin.vertices[a].x, tin.vertices[a].y}) + " - " +
+                                FormatPoint({tin.vertices[b].x, tin.vertices[b].y}) +
+                                " while re-triangulating; nothing was written");
     }
 
     // Paint of the stored triangles around the changed features, and their vertices' z.

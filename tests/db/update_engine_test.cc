@@ -292,6 +292,21 @@ TEST(UpdateEngineNodataTest, PolygonsNearNodataKeepEveryInvariant) {
   }
 }
 
+// Regression (found by the kill -9 test): re-adding a ring whose segment an earlier ring crossed
+// made CGAL reroute the new constraint through another vertex (CGAL#6602), leaving an edge
+// stored unconstrained and not locally Delaunay.
+TEST_F(UpdateEngineTest, RegressionReaddRingAlongEarlierCrossing) {
+  std::vector<std::string> files;
+  for (int k = 0; k < 6; ++k)
+    files.push_back(WritePolygons(dir_, "p" + std::to_string(k) + ".geojson",
+                                  {{Ngon(kCx + (k - 3) * 3 * kCell, kCy + (k % 2) * 4 * kCell,
+                                         6 * kCell, 20 + k, 0.1 * k)}}));
+  for (const std::string& file : files) AddChecked(file, "fill");
+  AddChecked(files[0], "fill");
+  AddChecked(files[1], "fill");
+  AddChecked(files[2], "fill");  // failed the full check before the fix
+}
+
 TEST_F(UpdateEngineTest, BadInputLeavesTheStoreUnchanged) {
   store_.reset();
   const auto before = testing::TableChecksums(dir_.Path("s.tinbase"));
@@ -306,9 +321,10 @@ TEST_F(UpdateEngineTest, BadInputLeavesTheStoreUnchanged) {
       << outside.status().message();
   // Inside the DEM but outside the surface (which spans the cell centres): the outer half cell.
   const double west = 505374.706305430852808 + 0.2 * kCell;
-  auto off_surface = Add(WritePolygons(dir_, "o.geojson",
-                                       {{{{west, kCy}, {kCx, kCy - 3 * kCell}, {kCx, kCy}, {west, kCy}}}}),
-                         "fill");
+  auto off_surface =
+      Add(WritePolygons(dir_, "o.geojson",
+                        {{{{west, kCy}, {kCx, kCy - 3 * kCell}, {kCx, kCy}, {west, kCy}}}}),
+          "fill");
   EXPECT_EQ(off_surface.status().code(), StatusCode::kInvalidArgument);
   EXPECT_NE(off_surface.status().message().find("ring 0, vertex 0"), std::string::npos)
       << off_surface.status().message();
