@@ -8,7 +8,11 @@
 #include <numbers>
 #include <unordered_map>
 
+#include "core/geometry/polygon_locator.h"
 #include "core/geometry/predicates.h"
+#include "core/tin/cell_cover.h"
+#include "db/dem_store.h"
+#include "db/feature_store.h"
 #include "db/surface_store.h"
 
 namespace tinbase {
@@ -36,8 +40,9 @@ struct HalfEdge {
 // so the whole check is O(n log n).
 class SurfaceChecker {
  public:
-  SurfaceChecker(Store& store, const SurfaceInfo& surface, std::vector<Problem>* problems)
-      : store_(store), surface_(surface), problems_(problems) {}
+  SurfaceChecker(Store& store, const SurfaceInfo& surface, bool full,
+                 std::vector<Problem>* problems)
+      : store_(store), surface_(surface), full_(full), problems_(problems) {}
 
   Status Run() {
     TB_RETURN_IF_ERROR(Read());
@@ -50,6 +55,8 @@ class SurfaceChecker {
     CheckConstraints();
     if (surface_.kind == SurfaceKind::kDelaunay) CheckDelaunay();
     CheckBlocks();
+    // Paint and tolerance are only meaningful over a sound triangulation.
+    if (full_ && problems_->empty()) TB_RETURN_IF_ERROR(CheckPaintAndTolerance());
     return Status::Ok();
   }
 
@@ -372,8 +379,86 @@ class SurfaceChecker {
     }
   }
 
+  // Invariants 6 and 7, on the surface loaded as a Tin (rows in id order, as rows_).
+  Status CheckPaintAndTolerance() {
+    TB_ASSIGN_OR_RETURN(LoadedSurface loaded, SurfaceStore(store_).Load(surface_));
+    TB_ASSIGN_OR_RETURN(std::vector<EditorFeature> features, LoadFeatures(store_, surface_));
+    std::optional<Grid> dem;
+    if (surface_.dem) {
+      DemStore dems(store_);
+      TB_ASSIGN_OR_RETURN(DemInfo info, dems.FindById(*surface_.dem));
+      TB_ASSIGN_OR_RETURN(dem, dems.ReadGrid(info));
+    }
+    Tin& tin = loaded.tin;
+    std::vector<std::optional<std::string>> stored_tags;
+    stored_tags.reserve(tin.triangles.size());
+    for (const TinTriangle& t : tin.triangles)
+      stored_tags.push_back(t.tag == kNoTag ? std::nullopt
+                                            : std::optional<std::string>(tin.tags[t.tag]));
+    const Paint paint = PaintFromFeatures(features, dem ? &*dem : nullptr, tin);
+    const auto tag_text = [](const std::optional<std::string>& tag) {
+      return tag ? "'" + *tag + "'" : std::string("none");
+    };
+    for (size_t t = 0; t < tin.triangles.size(); ++t) {
+      const int64_t id = loaded.triangle_ids[t];
+      if (tin.triangles[t].visible != (paint.visible[t] != 0))
+        Add("wrong-visibility", id,
+            std::string("visible is ") + (tin.triangles[t].visible ? "1" : "0") +
+                " but the features and the DEM's data give " + (paint.visible[t] ? "1" : "0"));
+      const std::optional<std::string> expected =
+          paint.tag[t] == kNoTag ? std::nullopt : std::optional<std::string>(tin.tags[paint.tag[t]]);
+      if (stored_tags[t] != expected)
+        Add("wrong-tag", id,
+            "tag is " + tag_text(stored_tags[t]) + " but the features give " + tag_text(expected));
+    }
+    if (dem && surface_.tolerance) CheckTolerance(tin, loaded.triangle_ids, paint, features, *dem);
+    return Status::Ok();
+  }
+
+  // Invariant 7 over the cell centres each visible triangle covers, replace polygons excepted.
+  // The slack covers the round-off of evaluating a plane from another vertex order.
+  void CheckTolerance(const Tin& tin, const std::vector<int64_t>& ids, const Paint& paint,
+                      const std::vector<EditorFeature>& features, const Grid& dem) {
+    constexpr double kSlack = 1e-6;
+    const double tolerance = *surface_.tolerance;
+    const PolygonLocator replaced(ReplacePolygons(features));
+    const GridGeometry& g = dem.geometry;
+    for (size_t t = 0; t < tin.triangles.size(); ++t) {
+      if (!paint.visible[t]) continue;
+      const TinTriangle& tri = tin.triangles[t];
+      const CellTriangle cells = ToCellSpace(g, tin.vertices[tri.v[0]], tin.vertices[tri.v[1]],
+                                             tin.vertices[tri.v[2]]);
+      CellPlane plane;
+      if (!PlaneOf(cells, &plane)) continue;
+      double worst = tolerance + kSlack, worst_z = 0;
+      int64_t worst_col = -1, worst_row = -1;
+      ForEachCellSpan(cells, g.width, g.height, [&](int64_t r, int64_t first, int64_t last) {
+        for (int64_t c = first; c <= last; ++c) {
+          if (!dem.IsValid(c, r)) continue;
+          const double z = plane.At(static_cast<double>(c), static_cast<double>(r));
+          const double error = std::fabs(z - dem.At(c, r));
+          if (error <= worst) continue;
+          if (!replaced.empty() &&
+              replaced.Locate({g.CellCenterX(c), g.CellCenterY(r)}) != PointInPolygon::kOutside)
+            continue;
+          worst = error, worst_z = z, worst_col = c, worst_row = r;
+        }
+      });
+      if (worst_col < 0) continue;
+      char text[200];
+      std::snprintf(text, sizeof text,
+                    "|TIN - DEM| = %.6g m at the cell centre %s (TIN %.6g, DEM %.6g) exceeds the "
+                    "tolerance %.6g m",
+                    worst, FormatPoint({g.CellCenterX(worst_col), g.CellCenterY(worst_row)})
+                                   .c_str(),
+                    worst_z, static_cast<double>(dem.At(worst_col, worst_row)), tolerance);
+      Add("tolerance", ids[t], text);
+    }
+  }
+
   Store& store_;
   const SurfaceInfo& surface_;
+  const bool full_;
   std::vector<Problem>* problems_;
   std::vector<int64_t> vertex_ids_;
   std::unordered_map<int64_t, Point2> points_;
@@ -401,7 +486,7 @@ Result<std::vector<Problem>> CheckStore(Store& store, const CheckOptions& option
   std::vector<Problem> problems;
   for (const SurfaceInfo& surface : targets) {
     std::vector<Problem> found;
-    TB_RETURN_IF_ERROR(SurfaceChecker(store, surface, &found).Run());
+    TB_RETURN_IF_ERROR(SurfaceChecker(store, surface, options.full, &found).Run());
     // Surface-wide problems (no triangle) first, then by triangle; within a triangle, in the
     // order of the invariants.
     std::stable_sort(found.begin(), found.end(),

@@ -1,5 +1,5 @@
-// IntegrityCheck: verifies the invariants a store promises (DESIGN.md 1-5 and 8), as
-// PRAGMA integrity_check does for SQLite. Each broken invariant is a coded Problem naming the
+// IntegrityCheck: verifies the invariants a store promises (DESIGN.md 1-5 and 8; with the
+// `full` option also 6 and 7), as PRAGMA integrity_check does for SQLite. Each broken invariant is a coded Problem naming the
 // surface and triangle, in a stable order (by surface, then triangle id), so the first one is
 // what `tinbase check` reports. Thread-safety: reads through one Store.
 #pragma once
@@ -30,6 +30,15 @@ namespace tinbase {
 //   5  not-delaunay          across an unconstrained edge the far vertex is strictly inside the
 //                            circumcircle (`delaunay` surfaces only; on the lower triangle id)
 //   8  wrong-block           the block column is not the block of the centroid
+// With CheckOptions::full, on a surface whose structure (1-5, 8) is sound:
+//   6  wrong-visibility      visible differs from the features' paint recomputed from scratch
+//                            (db/feature_store PaintFromFeatures: modes in feature id order, and
+//                            hidden where the centroid lies on DEM nodata)
+//      wrong-tag             the tag differs from that paint
+//   7  tolerance             a DEM cell centre covered by this visible triangle, outside every
+//                            replace polygon, is further from the triangle's plane than the
+//                            surface's tolerance (surfaces with a DEM and a tolerance; the
+//                            message names the worst cell)
 // Problems without a triangle come first in their surface. A corruption usually shows up under
 // several codes (a flipped triangle also breaks its links); the lowest triangle id comes first.
 struct Problem {
@@ -41,6 +50,7 @@ struct Problem {
 
 struct CheckOptions {
   std::optional<std::string> surface;  // only this surface; default all
+  bool full = false;                   // also invariants 6 and 7 (reads features and the DEM)
 };
 
 // The problems found (empty when the store is intact); a Status only when reading fails, or

@@ -1,36 +1,23 @@
 #include "db/polygon_editor.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
-#include <map>
+#include <memory>
 
-#include "core/tin/constrained_rebuild.h"
 #include "core/tin/drape.h"
 #include "core/tin/feature_paint.h"
 #include "core/vector/feature_wkb.h"
 #include "core/vector/polygon_source.h"
 #include "db/change_log.h"
 #include "db/dem_store.h"
+#include "db/feature_store.h"
 #include "db/point_locator.h"
 #include "db/surface_store.h"
 
 namespace tinbase {
 
 namespace {
-
-// A feature as the editor handles it, read from a file or from the store.
-struct EditorFeature {
-  int64_t id = 0;  // store id; 0 until written
-  std::string label;
-  std::string mode;
-  std::optional<std::string> tag;
-  std::optional<double> level;
-  nlohmann::json attributes = nlohmann::json::object();
-  std::vector<Polygon> polygons;
-  std::vector<std::vector<Point2>> lines;
-};
-
-bool IsBreakline(const std::string& mode) { return mode == "breakline"; }
 
 Status CheckModeOptions(const PolygonAddOptions& o) {
   if (!IsBreakline(o.mode)) TB_RETURN_IF_ERROR(ParsePaintMode(o.mode).status());
@@ -49,6 +36,7 @@ Result<std::vector<EditorFeature>> ReadFeatures(const PolygonAddOptions& o, cons
   source.where = o.where;
   source.tag_field = o.tag_field;
   source.target_crs = crs;
+  source.repair = o.repair;
   std::vector<EditorFeature> out;
   const auto base = [&](EditorFeature& f, const std::string& label, const nlohmann::json& attrs,
                         const std::optional<std::string>& tag) {
@@ -81,21 +69,25 @@ Result<std::vector<EditorFeature>> ReadFeatures(const PolygonAddOptions& o, cons
 // Every ring and line of `f`, draped and densified, each vertex checked to lie on the surface.
 Status DrapeFeature(Store& store, const SurfaceInfo& surface, const EditorFeature& f,
                     const ElevationFn& elevation, const DrapeOptions& base,
-                    std::vector<ConstraintPolyline>* out) {
+                    std::vector<EditPolyline>* out) {
   const auto add = [&](const std::vector<Point2>& points, bool closed,
                        const std::string& where) -> Status {
+    // The input vertices name themselves in messages; points added between two of them lie on
+    // the segment, inside the surface when both ends are (surfaces from the builders are convex;
+    // the engine locates every point again and refuses any outside).
+    for (size_t i = 0; i < points.size(); ++i) {
+      auto located = LocatePoint(store, surface, points[i].x, points[i].y);
+      if (located.ok()) continue;
+      if (located.status().code() != StatusCode::kNotFound) return located.status();
+      return Status::InvalidArgument(f.label + ", " + where + ", vertex " + std::to_string(i) +
+                                     ": " + FormatPoint(points[i]) + " lies outside surface '" +
+                                     surface.name + "'");
+    }
     DrapeOptions options = base;
     options.closed = closed;
     auto draped = DrapePolyline(points, elevation, options);
     if (!draped.ok()) return draped.status().WithContext(f.label + ", " + where);
-    for (size_t i = 0; i < draped->size(); ++i) {
-      const TinVertex& v = (*draped)[i];
-      auto located = LocatePoint(store, surface, v.x, v.y);
-      if (!located.ok())
-        return Status::InvalidArgument(f.label + ", " + where + ": " + FormatPoint({v.x, v.y}) +
-                                       " lies outside surface '" + surface.name + "'");
-    }
-    out->push_back({std::move(*draped), closed});
+    out->push_back({std::move(*draped), closed, 0});
     return Status::Ok();
   };
   for (size_t p = 0; p < f.polygons.size(); ++p) {
@@ -109,172 +101,207 @@ Status DrapeFeature(Store& store, const SurfaceInfo& surface, const EditorFeatur
   return Status::Ok();
 }
 
-Result<std::vector<EditorFeature>> LoadFeatures(Store& store, const SurfaceInfo& surface) {
-  TB_ASSIGN_OR_RETURN(Statement * stmt,
-                      store.db().Cached("SELECT f.id, f.name, f.mode, f.level, t.value, "
-                                        "f.geometry FROM features f LEFT JOIN tags t "
-                                        "ON t.id = f.tag WHERE f.surface = ? ORDER BY f.id"));
-  stmt->Bind(1, surface.id);
-  std::vector<EditorFeature> out;
-  while (true) {
-    TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
-    if (!row) break;
-    EditorFeature f;
-    f.id = stmt->ColumnInt(0);
-    f.label = "feature " + std::to_string(f.id);
-    f.mode = stmt->ColumnText(2);
-    if (!stmt->ColumnIsNull(3)) f.level = stmt->ColumnDouble(3);
-    if (!stmt->ColumnIsNull(4)) f.tag = stmt->ColumnText(4);
-    size_t size = 0;
-    const uint8_t* blob = stmt->ColumnBlob(5, &size);
-    std::vector<uint8_t> wkb(blob, blob + size);
-    if (IsBreakline(f.mode)) {
-      TB_ASSIGN_OR_RETURN(f.lines, LinesFromWkb(wkb));
-    } else {
-      TB_ASSIGN_OR_RETURN(f.polygons, PolygonsFromWkb(wkb));
-    }
-    out.push_back(std::move(f));
-  }
-  stmt->Reset();
+// What every edit of one surface needs: the surface, its DEM and the draping rules.
+struct SurfaceSession {
+  explicit SurfaceSession(Store& s) : store(s), dems(s) {}
+  Store& store;
+  SurfaceInfo surface;
+  DemStore dems;
+  DemInfo dem;
+  std::optional<Crs> crs;
+  DrapeOptions drape;
+  ElevationFn elevation;
+};
+
+Result<std::unique_ptr<SurfaceSession>> OpenSession(Store& store, const SurfaceInfo& surface) {
+  auto session = std::make_unique<SurfaceSession>(store);
+  session->surface = surface;
+  if (!surface.dem)
+    return Status::InvalidArgument("surface '" + surface.name + "' is not draped on a DEM");
+  TB_ASSIGN_OR_RETURN(session->crs, store.GetCrs());
+  if (!session->crs) return Status::InvalidArgument("the store has no CRS yet: import a DEM first");
+  TB_ASSIGN_OR_RETURN(session->dem, session->dems.FindById(*surface.dem));
+  session->drape.tolerance = surface.tolerance.value_or(1.0);
+  session->drape.min_spacing =
+      std::min(session->dem.geometry.cell_x, std::fabs(session->dem.geometry.cell_y));
+  SurfaceSession* s = session.get();
+  session->elevation = [s](double x, double y) {
+    auto z = s->dems.Sample(s->dem, x, y);
+    return z.ok() ? *z : std::numeric_limits<double>::quiet_NaN();
+  };
+  return session;
+}
+
+// A feature to add with its draped polylines.
+struct NewFeature {
+  EditorFeature feature;
+  std::vector<EditPolyline> lines;
+};
+
+Result<NewFeature> Prepare(SurfaceSession& session, EditorFeature f) {
+  NewFeature out;
+  TB_RETURN_IF_ERROR(DrapeFeature(session.store, session.surface, f, session.elevation,
+                                  session.drape, &out.lines));
+  out.feature = std::move(f);
   return out;
 }
 
-// Visibility and tags from scratch: the features' paint, and no triangle visible over nodata.
-void RepaintSurface(const std::vector<EditorFeature>& features, const ElevationFn& elevation,
-                    Tin& tin) {
-  tin.tags.clear();
-  std::map<std::string, int32_t> tag_index;
-  std::vector<PaintedFeature> painted;
-  for (const EditorFeature& f : features) {
-    if (IsBreakline(f.mode)) continue;
-    PaintedFeature p;
-    p.polygons = f.polygons;
-    p.mode = *ParsePaintMode(f.mode);
-    p.level = f.level.value_or(0);
-    if (f.tag) {
-      auto [it, added] = tag_index.emplace(*f.tag, static_cast<int32_t>(tin.tags.size()));
-      if (added) tin.tags.push_back(*f.tag);
-      p.tag = it->second;
+// One transaction: the new features' rows, the engine's local edit (their constraints in, the
+// removed features' constraints out), the removed features' rows gone, one `changes` row.
+Result<PolygonAddReport> ApplyEdit(SurfaceSession& session, std::vector<NewFeature> added,
+                                   const std::vector<int64_t>& removed, const std::string& action,
+                                   const FaultHook& hook) {
+  Store& store = session.store;
+  TB_ASSIGN_OR_RETURN(auto tx, store.BeginWrite());
+  TB_ASSIGN_OR_RETURN(std::vector<EditorFeature> existing, LoadFeatures(store, session.surface));
+  Change change;
+  change.surface = session.surface.id;
+  change.action = action;
+  PolygonAddReport report;
+  TB_ASSIGN_OR_RETURN(report.tx, AppendChange(store, change));
+
+  // Clip polygons act as one union over the whole surface: adding or removing one can hide or
+  // show triangles anywhere, so the paint area is then the whole DEM.
+  const auto is_clip = [](const EditorFeature& f) { return f.mode == "clip"; };
+  bool clip = std::any_of(added.begin(), added.end(),
+                          [&](const NewFeature& n) { return is_clip(n.feature); });
+  for (const EditorFeature& f : existing)
+    clip |= is_clip(f) && std::find(removed.begin(), removed.end(), f.id) != removed.end();
+  LocalEdit edit;
+  edit.remove = removed;
+  if (clip) {
+    const GridGeometry& g = session.dem.geometry;
+    edit.changed.Add(Point2{g.MinX(), g.MinY()});
+    edit.changed.Add(Point2{g.MaxX(), g.MaxY()});
+  }
+  for (EditorFeature& f : existing) {
+    if (std::find(removed.begin(), removed.end(), f.id) == removed.end())
+      edit.features.push_back(std::move(f));
+    else
+      edit.changed.Add(BoxOf(f));
+  }
+  for (NewFeature& n : added) {
+    TB_RETURN_IF_ERROR(WriteFeature(store, session.surface, report.tx, n.feature));
+    for (EditPolyline& line : n.lines) {
+      line.feature = n.feature.id;
+      report.ring_vertices += static_cast<int64_t>(line.points.size());
+      edit.add.push_back(std::move(line));
     }
-    painted.push_back(std::move(p));
+    edit.changed.Add(BoxOf(n.feature));
+    edit.features.push_back(n.feature);
   }
-  ApplyPaint(ComputePaint(tin, painted), tin, /*apply_levels=*/true);
-  for (TinTriangle& t : tin.triangles) {
-    const TinVertex& a = tin.vertices[t.v[0]];
-    const TinVertex& b = tin.vertices[t.v[1]];
-    const TinVertex& c = tin.vertices[t.v[2]];
-    if (!std::isfinite(elevation((a.x + b.x + c.x) / 3, (a.y + b.y + c.y) / 3))) t.visible = false;
-  }
+  UpdateEngine engine(store, session.surface, session.dems, session.dem);
+  engine.set_fault_hook(hook);
+  TB_ASSIGN_OR_RETURN(EditResult result, engine.Apply(edit));
+  for (int64_t id : removed) TB_RETURN_IF_ERROR(DeleteFeature(store, id));
+
+  Box box = edit.changed;
+  box.Add(result.region);
+  TB_ASSIGN_OR_RETURN(Statement * update,
+                      store.db().Cached("UPDATE changes SET feature = ?, removed = ?, added = ?, "
+                                        "min_x = ?, min_y = ?, max_x = ?, max_y = ? WHERE tx = ?"));
+  const int64_t feature =
+      !added.empty() ? added.front().feature.id : (!removed.empty() ? removed.front() : 0);
+  if (feature != 0)
+    update->Bind(1, feature);
+  else
+    update->BindNull(1);
+  update->Bind(2, result.removed).Bind(3, result.added);
+  update->Bind(4, box.min_x).Bind(5, box.min_y).Bind(6, box.max_x).Bind(7, box.max_y);
+  TB_RETURN_IF_ERROR(update->Bind(8, report.tx).Run());
+  TB_RETURN_IF_ERROR(tx->Commit());
+
+  report.features = static_cast<int64_t>(added.size());
+  report.removed = result.removed;
+  report.added = result.added;
+  report.refinement_points = result.refinement_points;
+  report.first_feature_id = added.empty() ? 0 : added.front().feature.id;
+  report.visible = result.visible_added;
+  return report;
 }
 
-Result<int64_t> InternTag(Store& store, const std::string& value) {
-  TB_ASSIGN_OR_RETURN(Statement * insert,
-                      store.db().Cached("INSERT OR IGNORE INTO tags(value) VALUES (?)"));
-  insert->Bind(1, value);
-  TB_RETURN_IF_ERROR(insert->Run());
-  TB_ASSIGN_OR_RETURN(Statement * select, store.db().Cached("SELECT id FROM tags WHERE value = ?"));
-  select->Bind(1, value);
-  TB_ASSIGN_OR_RETURN(bool row, select->Step());
-  if (!row) return Status::Corruption("tag '" + value + "' vanished");
-  const int64_t id = select->ColumnInt(0);
-  select->Reset();
-  return id;
-}
-
-struct Box {
-  double min_x = std::numeric_limits<double>::infinity(), min_y = min_x;
-  double max_x = -std::numeric_limits<double>::infinity(), max_y = max_x;
-  void Add(const Point2& p) {
-    min_x = std::min(min_x, p.x), min_y = std::min(min_y, p.y);
-    max_x = std::max(max_x, p.x), max_y = std::max(max_y, p.y);
-  }
-  void Add(const Box& b) { Add(Point2{b.min_x, b.min_y}), Add(Point2{b.max_x, b.max_y}); }
-};
-
-Box BoxOf(const EditorFeature& f) {
-  Box box;
-  for (const Polygon& p : f.polygons)
-    for (const Point2& q : p.shell) box.Add(q);
-  for (const auto& line : f.lines)
-    for (const Point2& q : line) box.Add(q);
-  return box;
-}
-
-Status WriteFeature(Store& store, const SurfaceInfo& surface, int64_t tx, EditorFeature& f) {
+Result<SurfaceInfo> SurfaceOfFeature(Store& store, int64_t id) {
   TB_ASSIGN_OR_RETURN(Statement * stmt,
-                      store.db().Cached("INSERT INTO features(surface, name, mode, level, tag, "
-                                        "attributes, geometry, min_x, min_y, max_x, max_y, tx) "
-                                        "VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)"));
-  std::optional<int64_t> tag_id;
-  if (f.tag) {
-    TB_ASSIGN_OR_RETURN(tag_id, InternTag(store, *f.tag));
+                      store.db().Cached("SELECT surface FROM features WHERE id = ?"));
+  stmt->Bind(1, id);
+  TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
+  if (!row) {
+    stmt->Reset();
+    return Status::NotFound("no feature " + std::to_string(id));
   }
-  const std::vector<uint8_t> wkb =
-      IsBreakline(f.mode) ? LinesToWkb(f.lines) : PolygonsToWkb(f.polygons);
-  const Box box = BoxOf(f);
-  stmt->Bind(1, surface.id).Bind(2, f.tag.value_or(f.label)).Bind(3, f.mode);
-  if (f.level) stmt->Bind(4, *f.level); else stmt->BindNull(4);
-  if (tag_id) stmt->Bind(5, *tag_id); else stmt->BindNull(5);
-  stmt->Bind(6, f.attributes.dump()).BindBlob(7, wkb.data(), wkb.size());
-  stmt->Bind(8, box.min_x).Bind(9, box.min_y).Bind(10, box.max_x).Bind(11, box.max_y).Bind(12, tx);
-  TB_RETURN_IF_ERROR(stmt->Run());
-  f.id = store.db().LastInsertRowId();
-  return Status::Ok();
+  const int64_t surface = stmt->ColumnInt(0);
+  stmt->Reset();
+  return SurfaceStore(store).FindById(surface);
 }
 
 }  // namespace
 
 Result<PolygonAddReport> AddPolygons(Store& store, const PolygonAddOptions& options) {
   TB_RETURN_IF_ERROR(CheckModeOptions(options));
-  SurfaceStore surfaces(store);
-  TB_ASSIGN_OR_RETURN(SurfaceInfo surface, surfaces.Find(options.surface));
-  if (!surface.dem)
-    return Status::InvalidArgument("surface '" + surface.name + "' is not draped on a DEM");
-  TB_ASSIGN_OR_RETURN(auto crs, store.GetCrs());
-  if (!crs) return Status::InvalidArgument("the store has no CRS yet: import a DEM first");
-  DemStore dems(store);
-  TB_ASSIGN_OR_RETURN(DemInfo dem, dems.FindById(*surface.dem));
-  const ElevationFn elevation = [&](double x, double y) {
-    auto z = dems.Sample(dem, x, y);
-    return z.ok() ? *z : std::numeric_limits<double>::quiet_NaN();
-  };
+  TB_ASSIGN_OR_RETURN(SurfaceInfo surface, SurfaceStore(store).Find(options.surface));
+  TB_ASSIGN_OR_RETURN(auto session, OpenSession(store, surface));
+  TB_ASSIGN_OR_RETURN(std::vector<EditorFeature> features, ReadFeatures(options, *session->crs));
+  if (features.empty()) return Status::InvalidArgument(options.file + ": no features to add");
+  if (!options.each) {
+    std::vector<NewFeature> prepared;
+    for (EditorFeature& f : features) {
+      TB_ASSIGN_OR_RETURN(NewFeature n, Prepare(*session, std::move(f)));
+      prepared.push_back(std::move(n));
+    }
+    return ApplyEdit(*session, std::move(prepared), {}, "polygon add", options.fault_hook);
+  }
+  PolygonAddReport total;
+  for (EditorFeature& f : features) {
+    const std::string label = f.label;
+    auto one = [&]() -> Result<PolygonAddReport> {
+      TB_ASSIGN_OR_RETURN(NewFeature n, Prepare(*session, std::move(f)));
+      std::vector<NewFeature> single;
+      single.push_back(std::move(n));
+      return ApplyEdit(*session, std::move(single), {}, "polygon add", options.fault_hook);
+    }();
+    if (!one.ok()) {
+      total.failures.push_back(label + ": " + one.status().message());
+      continue;
+    }
+    if (total.first_feature_id == 0) total.first_feature_id = one->first_feature_id;
+    total.features += one->features;
+    total.ring_vertices += one->ring_vertices;
+    total.removed += one->removed;
+    total.added += one->added;
+    total.refinement_points += one->refinement_points;
+    total.visible += one->visible;
+    total.tx = one->tx;
+  }
+  return total;
+}
 
-  TB_ASSIGN_OR_RETURN(std::vector<EditorFeature> added, ReadFeatures(options, *crs));
-  DrapeOptions drape;
-  drape.tolerance = surface.tolerance.value_or(1.0);
-  drape.min_spacing = std::min(dem.geometry.cell_x, -dem.geometry.cell_y);
-  std::vector<ConstraintPolyline> lines;
-  for (const EditorFeature& f : added)
-    TB_RETURN_IF_ERROR(DrapeFeature(store, surface, f, elevation, drape, &lines));
+Result<PolygonAddReport> RemovePolygon(Store& store, int64_t id, const FaultHook& hook) {
+  TB_ASSIGN_OR_RETURN(SurfaceInfo surface, SurfaceOfFeature(store, id));
+  TB_ASSIGN_OR_RETURN(auto session, OpenSession(store, surface));
+  return ApplyEdit(*session, {}, {id}, "polygon remove", hook);
+}
 
-  TB_ASSIGN_OR_RETURN(auto tx, store.BeginWrite());
-  TB_ASSIGN_OR_RETURN(LoadedSurface base, surfaces.Load(surface));
-  TB_ASSIGN_OR_RETURN(std::vector<EditorFeature> features, LoadFeatures(store, surface));
-  TB_ASSIGN_OR_RETURN(Tin tin, InsertConstraints(base.tin, lines, elevation));
-
-  PolygonAddReport report;
-  Change change;
-  change.surface = surface.id;
-  change.action = "polygon add";
-  change.removed = static_cast<int64_t>(base.tin.triangles.size());
-  change.added = static_cast<int64_t>(tin.triangles.size());
-  Box box;
-  for (const EditorFeature& f : added) box.Add(BoxOf(f));
-  change.min_x = box.min_x, change.min_y = box.min_y, change.max_x = box.max_x, change.max_y = box.max_y;
-  TB_ASSIGN_OR_RETURN(report.tx, AppendChange(store, change));
-  for (EditorFeature& f : added) TB_RETURN_IF_ERROR(WriteFeature(store, surface, report.tx, f));
-  features.insert(features.end(), added.begin(), added.end());
-  RepaintSurface(features, elevation, tin);
-  TB_RETURN_IF_ERROR(surfaces.Replace(surface, tin).status());
-  TB_RETURN_IF_ERROR(tx->Commit());
-
-  report.features = static_cast<int64_t>(added.size());
-  for (const ConstraintPolyline& l : lines) report.ring_vertices += static_cast<int64_t>(l.points.size());
-  report.removed = change.removed;
-  report.added = change.added;
-  for (const TinTriangle& t : tin.triangles) report.visible += t.visible;
-  report.first_feature_id = added.empty() ? 0 : added.front().id;
-  return report;
+Result<PolygonAddReport> UpdatePolygon(Store& store, int64_t id, const PolygonAddOptions& options) {
+  TB_ASSIGN_OR_RETURN(SurfaceInfo surface, SurfaceOfFeature(store, id));
+  TB_ASSIGN_OR_RETURN(EditorFeature old, LoadFeature(store, surface, id));
+  PolygonAddOptions o = options;
+  if (o.mode.empty()) o.mode = old.mode;
+  if (!o.level) o.level = old.level;
+  TB_RETURN_IF_ERROR(CheckModeOptions(o));
+  TB_ASSIGN_OR_RETURN(auto session, OpenSession(store, surface));
+  TB_ASSIGN_OR_RETURN(std::vector<EditorFeature> read, ReadFeatures(o, *session->crs));
+  if (read.empty()) return Status::InvalidArgument(o.file + ": no features to update with");
+  EditorFeature merged = read.front();
+  for (size_t k = 1; k < read.size(); ++k) {
+    merged.polygons.insert(merged.polygons.end(), read[k].polygons.begin(), read[k].polygons.end());
+    merged.lines.insert(merged.lines.end(), read[k].lines.begin(), read[k].lines.end());
+  }
+  if (o.tag.empty() && o.tag_field.empty()) merged.tag = old.tag;
+  if (merged.attributes.empty()) merged.attributes = old.attributes;
+  TB_ASSIGN_OR_RETURN(NewFeature n, Prepare(*session, std::move(merged)));
+  std::vector<NewFeature> added;
+  added.push_back(std::move(n));
+  return ApplyEdit(*session, std::move(added), {id}, "polygon update", o.fault_hook);
 }
 
 }  // namespace tinbase

@@ -1,32 +1,38 @@
 // PolygonEditor: inserts polygon and line features into a surface in one transaction
 // (DESIGN.md, "Inserting a polygon").
 //
-// Walking-skeleton form: the features are read and validated (core/vector/polygon_source),
-// their rings draped on the surface's DEM and densified to the surface tolerance, and the whole
-// surface is re-triangulated with every constraint (core/tin/constrained_rebuild); visibility and
-// tags are then recomputed from all of the surface's features (core/tin/feature_paint) and the
-// DEM's data mask, and the surface rows replaced. Re-triangulating only the conflict region is
-// issue 5's update engine. Any error leaves the store as it was. Thread-safety: one Store.
+// The features are read and validated (core/vector/polygon_source), their rings draped on the
+// surface's DEM and densified to the surface tolerance (core/tin/drape), all before the write
+// transaction starts; then the update engine (db/update_engine) re-triangulates only the conflict
+// region, refines it to the tolerance and repaints around the features. Removing or updating a
+// feature is the same local edit with its constraints going. Each call is one transaction (or,
+// with `each`, one per feature) with one `changes` row; any error leaves the store as it was
+// (per feature with `each`). Thread-safety: one Store.
 #pragma once
 
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "core/base/status.h"
 #include "db/store.h"
+#include "db/update_engine.h"
 
 namespace tinbase {
 
 struct PolygonAddOptions {
   std::string surface;
   std::string file;
-  std::string layer;      // OGR layer; empty: the only one
-  std::string where;      // OGR attribute filter
-  std::string mode;       // clip, erase, fill, replace, breakline
-  std::string tag_field;  // the field whose value tags the triangles (fill, replace)
-  std::string tag;        // or one tag for every feature
+  std::string layer;            // OGR layer; empty: the only one
+  std::string where;            // OGR attribute filter
+  std::string mode;             // clip, erase, fill, replace, breakline
+  std::string tag_field;        // the field whose value tags the triangles (fill, replace)
+  std::string tag;              // or one tag for every feature
   std::optional<double> level;  // replace: the flat z
+  bool repair = false;          // GEOS MakeValid before validation (core/vector/polygon_source)
+  bool each = false;            // one transaction per feature; failures are reported, not fatal
+  FaultHook fault_hook;         // tests: called before each write step of the engine
 };
 
 struct PolygonAddReport {
@@ -34,13 +40,26 @@ struct PolygonAddReport {
   int64_t ring_vertices = 0;  // after draping and densifying
   int64_t removed = 0;        // triangles
   int64_t added = 0;
-  int64_t visible = 0;
+  int64_t visible = 0;  // of the added triangles (counting the whole surface would be O(n))
   int64_t first_feature_id = 0;
-  int64_t tx = 0;
+  int64_t tx = 0;  // the (last) transaction
+  int64_t refinement_points = 0;
+  std::vector<std::string> failures;  // with `each`: "label: message" of features not added
 };
 
 // InvalidArgument naming the file, feature, ring and vertex for bad input; NotFound for an
 // unknown surface; the store is unchanged on every error.
+// With options.each, a feature that fails is listed in the report's failures and the others go
+// on (the call fails only when none could be read).
 Result<PolygonAddReport> AddPolygons(Store& store, const PolygonAddOptions& options);
+
+// Removes feature `id` locally: its constraints go, the region is re-triangulated from the DEM to
+// the tolerance, visibility and tags around it are recomputed. NotFound "no feature 12".
+Result<PolygonAddReport> RemovePolygon(Store& store, int64_t id, const FaultHook& hook = nullptr);
+
+// Replaces feature `id` by the features of options.file (merged into one feature): mode, tag and
+// level default to the old feature's when options leave them empty. One transaction. Errors as
+// AddPolygons and RemovePolygon; options.surface is ignored (the feature's surface is used).
+Result<PolygonAddReport> UpdatePolygon(Store& store, int64_t id, const PolygonAddOptions& options);
 
 }  // namespace tinbase

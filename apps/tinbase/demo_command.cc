@@ -149,7 +149,7 @@ int RunDemo(const DemoArgs& args) {
         return out;
       }) &&
       steps.Run("check", [&]() -> Result<std::string> {
-        TB_ASSIGN_OR_RETURN(auto problems, CheckStore(*store));
+        TB_ASSIGN_OR_RETURN(auto problems, CheckStore(*store, {.surface = {}, .full = true}));
         if (!problems.empty()) return Status::Corruption(problems.front().message);
         return std::string("every invariant holds");
       });

@@ -1,9 +1,10 @@
-// Kernel: `export` (a surface to OBJ or GeoJSON).
+// Kernel: `export` (a surface, or the inside of one polygon feature, to OBJ or GeoJSON).
 #include <iostream>
 
 #include "apps/tinbase/command.h"
 #include "apps/tinbase/output.h"
 #include "core/export/tin_export.h"
+#include "db/feature_store.h"
 #include "db/surface_store.h"
 
 namespace tinbase::cli {
@@ -16,6 +17,7 @@ struct ExportArgs {
   std::string format = "obj";
   std::string output;
   bool visible_only = false;
+  int64_t feature = 0;
 };
 
 int RunExport(const ExportArgs& args) {
@@ -23,13 +25,17 @@ int RunExport(const ExportArgs& args) {
   if (!format.ok()) return ReportError(format.status());
   auto store = Store::Open(args.store, Store::Access::kReadOnly);
   if (!store.ok()) return ReportError(store.status());
+  if (args.surface.empty() == (args.feature == 0))
+    return ReportError(Status::InvalidArgument("give --surface or --feature (one of them)"));
   SurfaceStore surfaces(**store);
-  auto surface = surfaces.Find(args.surface);
-  if (!surface.ok()) return ReportError(surface.status());
   auto crs = (*store)->GetCrs();
   if (!crs.ok()) return ReportError(crs.status());
   Stopwatch watch;
-  auto loaded = surfaces.Load(*surface);
+  auto loaded = [&]() -> Result<LoadedSurface> {
+    if (args.feature != 0) return LoadFeatureSurface(**store, args.feature);
+    TB_ASSIGN_OR_RETURN(SurfaceInfo surface, surfaces.Find(args.surface));
+    return surfaces.Load(surface);
+  }();
   if (!loaded.ok()) return ReportError(loaded.status());
   ExportOptions options;
   options.format = *format;
@@ -48,7 +54,9 @@ void RegisterExportCommands(CLI::App& app, int* exit_code) {
   auto args = std::make_shared<ExportArgs>();
   CLI::App* cmd = app.add_subcommand("export", "Write a surface to a file (obj, geojson)");
   cmd->add_option("store", args->store, "Store file")->required();
-  cmd->add_option("--surface", args->surface, "Surface name")->required();
+  cmd->add_option("--surface", args->surface, "Surface name");
+  cmd->add_option("--feature", args->feature,
+                  "Only the inside of this polygon feature, clipped to it, holes left out");
   cmd->add_option("--format", args->format, "obj or geojson (default obj)");
   cmd->add_option("-o,--output", args->output, "Output file")->required();
   cmd->add_flag("--visible-only", args->visible_only, "Leave out invisible triangles");

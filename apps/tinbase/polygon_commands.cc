@@ -1,4 +1,5 @@
-// Kernel: `polygon add` (features from any OGR source into a surface, one transaction).
+// Kernels: `polygon add` (features from any OGR source into a surface, one transaction or one
+// per feature), `polygon remove` and `polygon update` (one feature, locally).
 #include <iostream>
 
 #include "apps/tinbase/command.h"
@@ -22,11 +23,48 @@ int RunAdd(AddArgs args, bool level_given) {
   Stopwatch watch;
   auto report = AddPolygons(**store, args.options);
   if (!report.ok()) return ReportError(report.status());
+  for (const std::string& failure : report->failures)
+    std::cerr << "tinbase: not added: " << failure << "\n";
   std::cout << "added " << report->features << " " << args.options.mode << " feature(s) to '"
             << args.options.surface << "' (" << report->ring_vertices
             << " draped ring vertices): " << report->removed << " triangles replaced by "
-            << report->added << ", " << report->visible << " visible; transaction " << report->tx
+            << report->added << ", " << report->visible << " of them visible; transaction " << report->tx
             << " in " << Num(watch.Seconds(), 3) << " s\n";
+  return report->failures.empty() ? kExitOk : kExitFailure;
+}
+
+struct EditArgs {
+  std::string store;
+  int64_t id = 0;
+  PolygonAddOptions options;
+  double level = 0;
+};
+
+void PrintEdit(const char* verb, int64_t id, const PolygonAddReport& r, double seconds) {
+  std::cout << verb << " feature " << id << ": " << r.removed << " triangles replaced by "
+            << r.added << " (" << r.refinement_points << " refinement points), " << r.visible
+            << " of them visible; transaction " << r.tx << " in " << Num(seconds, 3) << " s\n";
+}
+
+int RunRemove(const EditArgs& args) {
+  auto store = Store::Open(args.store);
+  if (!store.ok()) return ReportError(store.status());
+  Stopwatch watch;
+  auto report = RemovePolygon(**store, args.id);
+  if (!report.ok()) return ReportError(report.status());
+  PrintEdit("removed", args.id, *report, watch.Seconds());
+  return kExitOk;
+}
+
+int RunUpdate(EditArgs args, bool level_given) {
+  auto store = Store::Open(args.store);
+  if (!store.ok()) return ReportError(store.status());
+  if (level_given) args.options.level = args.level;
+  Stopwatch watch;
+  auto report = UpdatePolygon(**store, args.id, args.options);
+  if (!report.ok()) return ReportError(report.status());
+  PrintEdit("updated", args.id, *report, watch.Seconds());
+  std::cout << "the new geometry is feature " << report->first_feature_id << "\n";
   return kExitOk;
 }
 
@@ -48,7 +86,34 @@ void RegisterPolygonCommands(CLI::App& app, int* exit_code) {
   add->add_option("--tag-field", args->options.tag_field, "Field whose value tags the triangles");
   add->add_option("--tag", args->options.tag, "One tag for every feature");
   CLI::Option* level = add->add_option("--level", args->level, "replace: the flat z in metres");
+  add->add_flag("--repair", args->options.repair,
+                 "Repair invalid polygons with GEOS MakeValid before validating them");
+  add->add_flag("--each", args->options.each,
+                 "Commit feature by feature; report the features that failed and why");
   add->callback([=] { *exit_code = RunAdd(*args, level->count() > 0); });
+
+  auto remove_args = std::make_shared<EditArgs>();
+  CLI::App* remove = polygon->add_subcommand("remove", "Remove a feature, re-triangulating locally");
+  remove->add_option("store", remove_args->store, "Store file")->required();
+  remove->add_option("id", remove_args->id, "Feature id")->required();
+  remove->callback([=] { *exit_code = RunRemove(*remove_args); });
+
+  auto update_args = std::make_shared<EditArgs>();
+  CLI::App* update = polygon->add_subcommand(
+      "update", "Replace a feature's geometry by a file's features (merged), locally");
+  update->add_option("store", update_args->store, "Store file")->required();
+  update->add_option("id", update_args->id, "Feature id")->required();
+  update->add_option("file", update_args->options.file, "Vector file")->required();
+  update->add_option("--mode", update_args->options.mode, "New mode (default: the old one)");
+  update->add_option("--layer", update_args->options.layer, "Layer name");
+  update->add_option("--where", update_args->options.where, "OGR attribute filter");
+  update->add_option("--tag-field", update_args->options.tag_field, "Field giving the tag");
+  update->add_option("--tag", update_args->options.tag, "The tag (default: the old one)");
+  update->add_flag("--repair", update_args->options.repair,
+                   "Repair invalid polygons with GEOS MakeValid before validating them");
+  CLI::Option* update_level =
+      update->add_option("--level", update_args->level, "replace: the flat z in metres");
+  update->callback([=] { *exit_code = RunUpdate(*update_args, update_level->count() > 0); });
 }
 
 }  // namespace tinbase::cli

@@ -256,9 +256,8 @@ std::vector<VoronoiCell> Cdt::VoronoiCells() const {
   return cells;
 }
 
-Tin Cdt::ToTin(const ElevationFn& elevation) {
-  Triangulation& cdt = impl_->cdt;
-  for (VertexHandle v : cdt.finite_vertex_handles()) {
+void Cdt::IndexCrossings(const ElevationFn& elevation) {
+  for (VertexHandle v : impl_->cdt.finite_vertex_handles()) {
     if (v->info().index != kNoIndex) continue;
     assert(elevation);
     const double x = v->point().x();
@@ -267,7 +266,11 @@ Tin Cdt::ToTin(const ElevationFn& elevation) {
     vertices_.push_back(TinVertex{x, y, elevation(x, y), VertexKind::kSteiner});
     impl_->handles.push_back(v);
   }
+}
 
+Tin Cdt::ToTin(const ElevationFn& elevation) {
+  Triangulation& cdt = impl_->cdt;
+  IndexCrossings(elevation);
   Tin tin;
   tin.vertices = vertices_;
   int32_t next_id = 0;

@@ -92,6 +92,11 @@ class Cdt {
   // constraints; every vertex has an index (true without constraints).
   std::vector<VoronoiCell> VoronoiCells() const;
 
+  // Gives every vertex CGAL created at a constraint crossing its index (after the existing ones,
+  // kind kSteiner, z from `elevation`), so FaceVertices works on every face. ToTin does this
+  // first too. REQUIRES: `elevation` callable when constraints crossed.
+  void IndexCrossings(const ElevationFn& elevation);
+
   // The triangulation in our table layout: vertices in index order (vertices() first, then the
   // vertices CGAL created at constraint crossings, kind kSteiner, z from `elevation`), every
   // finite face as a counter-clockwise triangle with n[i] opposite v[i] (kNoNeighbour across the

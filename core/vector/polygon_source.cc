@@ -227,6 +227,24 @@ Result<const OGRGeometry*> LinearGeometry(const OGRFeature& feature, const std::
   return g;
 }
 
+// GEOS MakeValid of `g`, with only its polygonal parts: a collapsed piece of a ring comes back
+// as a line or point, which a polygon feature cannot use.
+Result<std::unique_ptr<OGRGeometry>> Repaired(const OGRGeometry& g, const std::string& label) {
+  std::unique_ptr<OGRGeometry> fixed(g.MakeValid());
+  if (fixed == nullptr)
+    return Status::InvalidArgument(label + ": cannot repair the geometry (GDAL without GEOS?)");
+  if (wkbFlatten(fixed->getGeometryType()) != wkbGeometryCollection) return fixed;
+  auto polygons = std::make_unique<OGRMultiPolygon>();
+  for (const OGRGeometry* part : *fixed->toGeometryCollection()) {
+    if (wkbFlatten(part->getGeometryType()) == wkbPolygon) polygons->addGeometry(part);
+    if (wkbFlatten(part->getGeometryType()) == wkbMultiPolygon)
+      for (const OGRPolygon* p : *part->toMultiPolygon()) polygons->addGeometry(p);
+  }
+  if (polygons->IsEmpty())
+    return Status::InvalidArgument(label + ": nothing of the polygon is left after repair");
+  return std::unique_ptr<OGRGeometry>(std::move(polygons));
+}
+
 template <typename Feature>
 void FillCommon(Feature& out, const OGRFeature& feature, int64_t fid, const std::string& label,
                 const OpenLayer& open) {
@@ -261,6 +279,10 @@ Result<std::vector<PolygonFeature>> ReadPolygonFeatures(const std::string& path,
       open, options, [&](OGRFeature& feature, int64_t fid, const std::string& label) -> Status {
         std::unique_ptr<OGRGeometry> owned;
         TB_ASSIGN_OR_RETURN(const OGRGeometry* g, LinearGeometry(feature, label, owned));
+        if (options.repair) {
+          TB_ASSIGN_OR_RETURN(owned, Repaired(*g, label));
+          g = owned.get();
+        }
         std::vector<const OGRPolygon*> parts;
         switch (wkbFlatten(g->getGeometryType())) {
           case wkbPolygon:

@@ -29,6 +29,10 @@ struct VectorSourceOptions {
   std::optional<Crs> target_crs;
   // The source's CRS when it declares none (a shapefile without .prj); ignored otherwise.
   std::optional<Crs> assumed_source_crs;
+  // Polygons only: run GEOS's MakeValid (through OGR) on each geometry first, keeping the
+  // polygonal parts of its result, so self-intersecting rings become valid polygons instead of
+  // errors.
+  bool repair = false;
 };
 
 struct PolygonFeature {

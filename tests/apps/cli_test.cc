@@ -23,11 +23,11 @@ using testing::TempDir;
 
 std::string Quote(const std::string& s) { return "'" + s + "'"; }
 
-// Runs a command that must succeed, then `check`, which must pass too.
+// Runs a command that must succeed, then `check --full`, which must pass too.
 CliResult RunWrite(const std::string& store, const std::string& args) {
   CliResult r = RunCli(args);
   EXPECT_EQ(r.exit_code, 0) << args << "\n" << r.err;
-  CliResult check = RunCli("check " + Quote(store));
+  CliResult check = RunCli("check --full " + Quote(store));
   EXPECT_EQ(check.exit_code, 0) << "check after: " << args << "\n" << check.err;
   return r;
 }
@@ -191,6 +191,39 @@ TEST_F(CliTest, ChangesLogHasTheBuild) {
   ASSERT_EQ(j.size(), 1u);
   EXPECT_EQ(j[0]["action"], "build");
   EXPECT_GT(j[0]["added"].get<int>(), 0);
+}
+
+TEST_F(CliTest, PolygonAddRemoveUpdateAndFeatureExport) {
+  const std::string geology = Quote(DataPath("geology/hamersley/geology.geojson"));
+  RunWrite(store_, "polygon add " + Quote(store_) + " " + geology +
+                       " --surface terrain --mode fill --tag-field unitname");
+  auto added = Json(RunCli("changes --json " + Quote(store_) + " --since 1"));
+  ASSERT_EQ(added.size(), 1u);
+  EXPECT_EQ(added[0]["action"], "polygon add");
+  EXPECT_GT(added[0]["removed"].get<int64_t>(), 0);
+  EXPECT_GT(added[0]["added"].get<int64_t>(), 0);
+  RunWrite(store_, "polygon remove " + Quote(store_) + " 3");
+  const std::string square = dir_.Path("square.geojson");
+  std::ofstream(square)
+      << R"({"type": "FeatureCollection", "crs": {"type": "name", "properties": {"name": )"
+      << R"("urn:ogc:def:crs:EPSG::28350"}}, "features": [{"type": "Feature", "properties": {}, )"
+      << R"("geometry": {"type": "Polygon", "coordinates": [[[538000, 7496000], [541000, )"
+      << R"(7496000], [541000, 7499000], [538000, 7499000], [538000, 7496000]]]}}]})";
+  RunWrite(store_, "polygon update " + Quote(store_) + " 4 " + Quote(square));
+  auto edits = Json(RunCli("changes --json " + Quote(store_) + " --since 2"));
+  ASSERT_EQ(edits.size(), 2u);
+  EXPECT_EQ(edits[0]["action"], "polygon remove");
+  EXPECT_EQ(edits[1]["action"], "polygon update");
+  const std::string obj = dir_.Path("f.obj");
+  RunWrite(store_, "export " + Quote(store_) + " --feature 62 -o " + Quote(obj));
+  std::ifstream in(obj);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_GT(std::count(text.begin(), text.end(), 'f'), 10);
+  ExpectRejected(store_, "polygon remove " + Quote(store_) + " 999", "no feature 999");
+  ExpectRejected(store_,
+                 "polygon add " + Quote(store_) + " " + Quote(square) +
+                     " --surface terrain --mode paint",
+                 "unknown paint mode 'paint'");
 }
 
 TEST_F(CliTest, BadInputIsRejectedAndChangesNothing) {

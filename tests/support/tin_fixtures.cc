@@ -121,8 +121,8 @@ Tin PerturbedGridTin(int nx, int ny, uint32_t seed, double cell, double displace
   return tin;
 }
 
-void ExpectStoreIntact(Store& store) {
-  auto problems = CheckStore(store);
+void ExpectStoreIntact(Store& store, bool full) {
+  auto problems = CheckStore(store, {.surface = {}, .full = full});
   ASSERT_TRUE(problems.ok()) << problems.status().ToString();
   std::string first;
   for (size_t k = 0; k < problems->size() && k < 5; ++k)

@@ -32,7 +32,8 @@ Tin RandomDelaunayTin(const RandomTinOptions& options);
 // moved by up to 0.2 cell; each cell is split by a random diagonal.
 Tin PerturbedGridTin(int nx, int ny, uint32_t seed, double cell = 30, double displaced = 0.1);
 
-// GoogleTest failure listing the first problems when CheckStore finds any.
-void ExpectStoreIntact(Store& store);
+// GoogleTest failure listing the first problems when CheckStore finds any; `full` adds
+// invariants 6 and 7 (paint and tolerance).
+void ExpectStoreIntact(Store& store, bool full = false);
 
 }  // namespace tinbase::testing

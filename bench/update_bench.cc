@@ -1,0 +1,166 @@
+// Update engine benchmarks (docs/BENCHMARKS.md):
+//   - the same 200-vertex polygon inserted into stores of ~1e5 and ~1e6 triangles (and ~1e7 with
+//     TINBASE_BENCH_1E7=1: building that store takes minutes and ~2 GB): the insert is local, so
+//     its time should not grow with the store;
+//   - rebuilding the ~1e6-triangle CDT from scratch (CGAL, spatially sorted), the global
+//     alternative each local insert replaces;
+//   - paper 000's Table 1 case: one polygon of 6000 segments over a 300 x 300 DEM with every DEM
+//     point kept, end to end (read, validate, drape, insert, commit).
+// Each insert is undone (polygon remove, untimed) so every iteration sees the same store.
+// Stores are synthetic smooth terrains built at full resolution in a temporary directory.
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <string>
+
+#include "core/geometry/cdt.h"
+#include "core/raster/gdal_raster.h"
+#include "db/dem_store.h"
+#include "db/polygon_editor.h"
+#include "db/surface_builder.h"
+#include "db/surface_store.h"
+
+namespace tinbase {
+namespace {
+
+constexpr double kCell = 10;
+constexpr double kX0 = 500000, kY0 = 5200000;  // north-west corner, EPSG:32632
+
+std::string BenchDir() {
+  static const std::string dir = [] {
+    const std::string d = (std::filesystem::temp_directory_path() / "tinbase_bench").string();
+    std::filesystem::create_directories(d);
+    return d;
+  }();
+  return dir;
+}
+
+// A smooth synthetic DEM of side x side cells.
+Grid Terrain(int64_t side) {
+  Grid g;
+  g.geometry = GridGeometry{kX0, kY0, kCell, -kCell, side, side};
+  auto crs = Crs::FromUserInput("EPSG:32632");
+  g.crs_wkt = crs.ok() ? crs->Wkt() : "";
+  g.cells.resize(static_cast<size_t>(side * side));
+  for (int64_t r = 0; r < side; ++r)
+    for (int64_t c = 0; c < side; ++c)
+      g.cells[static_cast<size_t>(r * side + c)] = static_cast<float>(
+          500 + 60 * std::sin(c * 0.031) * std::cos(r * 0.027) + 0.01 * ((c * 7 + r * 13) % 17));
+  return g;
+}
+
+// A store whose surface keeps every DEM point: 2 (side - 1)^2 triangles.
+std::string BuildStore(int64_t side) {
+  const std::string path = BenchDir() + "/store_" + std::to_string(side) + ".tinbase";
+  if (std::filesystem::exists(path)) return path;
+  const std::string tif = BenchDir() + "/dem_" + std::to_string(side) + ".tif";
+  if (!WriteGeoTiff(Terrain(side), tif).ok()) std::abort();
+  auto store = Store::Create(path, "");
+  if (!store.ok()) std::abort();
+  DemStore dems(**store);
+  if (!dems.Import({tif}, {}).ok()) std::abort();
+  SurfaceBuildOptions o;
+  o.surface = "terrain";
+  o.greedy.tolerance = 1e-3;
+  auto built = BuildSurfaceFromDem(**store, o);
+  if (!built.ok()) std::abort();
+  return path;
+}
+
+// An n-gon of radius r cells around the DEM's centre, as GeoJSON in EPSG:32632.
+std::string PolygonFile(int64_t side, int n, double r_cells) {
+  const std::string path =
+      BenchDir() + "/ngon_" + std::to_string(side) + "_" + std::to_string(n) + ".geojson";
+  const double cx = kX0 + side * kCell / 2 + 0.37, cy = kY0 - side * kCell / 2 + 0.21;
+  std::ofstream out(path);
+  out.precision(17);
+  out << R"({"type": "FeatureCollection", "crs": {"type": "name", "properties": {"name": )"
+      << R"("urn:ogc:def:crs:EPSG::32632"}}, "features": [{"type": "Feature", "properties": )"
+      << R"({"unit": "granite"}, "geometry": {"type": "Polygon", "coordinates": [[)";
+  for (int k = 0; k <= n; ++k) {
+    const double a = 2 * M_PI * (k % n) / n + 0.05;
+    out << (k ? "," : "") << "[" << cx + r_cells * kCell * std::cos(a) << ","
+        << cy + r_cells * kCell * std::sin(a) << "]";
+  }
+  out << "]]}}]}\n";
+  return path;
+}
+
+void InsertAndUndo(benchmark::State& state, int64_t side, int n, double r_cells) {
+  const std::string path = BuildStore(side);
+  const std::string file = PolygonFile(side, n, r_cells);
+  auto store = Store::Open(path);
+  if (!store.ok()) std::abort();
+  // A long-lived writer's page cache (TINBASE_BENCH_CACHE_KIB, default SQLite's 2 MiB).
+  if (const char* kib = std::getenv("TINBASE_BENCH_CACHE_KIB"))
+    if (!(*store)->db().Exec("PRAGMA cache_size = -" + std::string(kib)).ok()) std::abort();
+  // Memory-mapped reads instead of pread (TINBASE_BENCH_MMAP_MIB).
+  if (const char* mib = std::getenv("TINBASE_BENCH_MMAP_MIB"))
+    if (!(*store)->db().Exec("PRAGMA mmap_size = " + std::to_string(std::atoll(mib) << 20)).ok())
+      std::abort();
+  PolygonAddOptions o;
+  o.surface = "terrain";
+  o.file = file;
+  o.mode = "fill";
+  o.tag_field = "unit";
+  int64_t removed = 0, triangles = 0;
+  for (auto _ : state) {
+    auto report = AddPolygons(**store, o);
+    if (!report.ok()) {
+      state.SkipWithError(report.status().ToString().c_str());
+      break;
+    }
+    removed = report->removed;
+    state.PauseTiming();
+    if (!RemovePolygon(**store, report->first_feature_id).ok()) std::abort();
+    state.ResumeTiming();
+  }
+  auto count = (*store)->db().QueryInt("SELECT count(*) FROM triangles");
+  triangles = count.ok() ? *count : 0;
+  state.counters["store_triangles"] = static_cast<double>(triangles);
+  state.counters["region_triangles"] = static_cast<double>(removed);
+}
+
+// side 225 -> ~1e5 triangles, 708 -> ~1e6, 2237 -> ~1e7.
+void BM_Insert200(benchmark::State& state) { InsertAndUndo(state, state.range(0), 200, 30); }
+BENCHMARK(BM_Insert200)->Arg(225)->Arg(708)->Unit(benchmark::kMillisecond);
+
+void BM_Insert200_1e7(benchmark::State& state) {
+  if (!std::getenv("TINBASE_BENCH_1E7")) {
+    state.SkipWithError("set TINBASE_BENCH_1E7=1 to build the 1e7-triangle store");
+    return;
+  }
+  InsertAndUndo(state, 2237, 200, 30);
+}
+BENCHMARK(BM_Insert200_1e7)->Unit(benchmark::kMillisecond)->Iterations(5);
+
+// The global alternative: the CDT of every vertex and constraint of the ~1e6 store, from scratch.
+void BM_RebuildCdt1e6(benchmark::State& state) {
+  auto store = Store::Open(BuildStore(708), Store::Access::kReadOnly);
+  if (!store.ok()) std::abort();
+  SurfaceStore surfaces(**store);
+  auto loaded = surfaces.Load(*surfaces.Find("terrain"));
+  if (!loaded.ok()) std::abort();
+  for (auto _ : state) {
+    Cdt cdt;
+    const auto index = cdt.InsertVertices(loaded->tin.vertices);
+    for (const auto& [a, b] : loaded->tin.constraints) cdt.InsertConstraint(index[a], index[b]);
+    benchmark::DoNotOptimize(cdt.FaceCount());
+  }
+  state.counters["vertices"] = static_cast<double>(loaded->tin.vertices.size());
+}
+BENCHMARK(BM_RebuildCdt1e6)->Unit(benchmark::kMillisecond)->Iterations(3);
+
+// Paper 000, Table 1: one polygon of ~6000 segments over 300 x 300 DEM points, all kept.
+void BM_PaperTable1(benchmark::State& state) { InsertAndUndo(state, 300, 6000, 140); }
+BENCHMARK(BM_PaperTable1)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace tinbase
+
+BENCHMARK_MAIN();

@@ -1,0 +1,115 @@
+// CellCover: how a TIN's triangles meet a grid DEM's cells, defined once for the builders, the
+// tolerance refiner and the integrity checker (DESIGN.md invariants 6 and 7).
+//
+//   - A triangle covers the cells whose centres lie inside it or on its edges (in the grid's
+//     "centre space", core/raster/grid_geometry.h), so every cell under the surface is covered
+//     by at least one triangle; cells on a shared edge are covered by both.
+//   - The triangle's z at a cell centre is its plane through the three vertices' z.
+//   - A triangle lies on data when the cell containing its centroid is valid; a triangle whose
+//     centroid is on nodata (or off the grid) is not part of the visible surface.
+// Thread-safety: pure functions.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+#include "core/raster/grid.h"
+#include "core/tin/tin.h"
+
+namespace tinbase {
+
+// z = z0 + a (col - c0) + b (row - r0) in centre space.
+struct CellPlane {
+  double a = 0, b = 0, z0 = 0, c0 = 0, r0 = 0;
+  double At(double col, double row) const { return z0 + a * (col - c0) + b * (row - r0); }
+};
+
+// A triangle in the centre space of one grid.
+struct CellTriangle {
+  std::array<double, 3> col{}, row{}, z{};
+};
+
+inline CellTriangle ToCellSpace(const GridGeometry& g, const TinVertex& a, const TinVertex& b,
+                                const TinVertex& c) {
+  CellTriangle t;
+  const TinVertex* v[3] = {&a, &b, &c};
+  for (int i = 0; i < 3; ++i) {
+    t.col[i] = g.ColumnAt(v[i]->x);
+    t.row[i] = g.RowAt(v[i]->y);
+    t.z[i] = v[i]->z;
+  }
+  return t;
+}
+
+// False for a triangle of zero area (it covers no cell of its own).
+inline bool PlaneOf(const CellTriangle& t, CellPlane* plane) {
+  const double dc1 = t.col[1] - t.col[0], dr1 = t.row[1] - t.row[0];
+  const double dc2 = t.col[2] - t.col[0], dr2 = t.row[2] - t.row[0];
+  const double det = dc1 * dr2 - dc2 * dr1;
+  if (det == 0) return false;
+  const double dz1 = t.z[1] - t.z[0], dz2 = t.z[2] - t.z[0];
+  plane->a = (dz1 * dr2 - dz2 * dr1) / det;
+  plane->b = (dc1 * dz2 - dc2 * dz1) / det;
+  plane->z0 = t.z[0];
+  plane->c0 = t.col[0];
+  plane->r0 = t.row[0];
+  return true;
+}
+
+// Calls span(row, first_col, last_col) for every grid row of cell centres inside or on `t`,
+// clipped to width x height. The margin (1e-9 of a cell) absorbs the rounding of world ->
+// centre-space conversion, so a grid point that is a vertex is covered by its triangles.
+template <typename SpanFn>
+void ForEachCellSpan(const CellTriangle& t, int64_t width, int64_t height, SpanFn&& span) {
+  constexpr double kMargin = 1e-9;
+  const double lo = std::min({t.row[0], t.row[1], t.row[2]});
+  const double hi = std::max({t.row[0], t.row[1], t.row[2]});
+  const int64_t row_min = std::max<int64_t>(0, static_cast<int64_t>(std::ceil(lo - kMargin)));
+  const int64_t row_max =
+      std::min<int64_t>(height - 1, static_cast<int64_t>(std::floor(hi + kMargin)));
+  for (int64_t r = row_min; r <= row_max; ++r) {
+    double left = std::numeric_limits<double>::infinity();
+    double right = -left;
+    const double y = static_cast<double>(r);
+    for (int e = 0; e < 3; ++e) {
+      const double ac = t.col[e], ar = t.row[e];
+      const double bc = t.col[(e + 1) % 3], br = t.row[(e + 1) % 3];
+      if (y < std::min(ar, br) - kMargin || y > std::max(ar, br) + kMargin) continue;
+      if (std::abs(br - ar) <= kMargin) {
+        left = std::min({left, ac, bc});
+        right = std::max({right, ac, bc});
+        continue;
+      }
+      const double s = std::clamp((y - ar) / (br - ar), 0.0, 1.0);
+      const double x = ac + s * (bc - ac);
+      left = std::min(left, x);
+      right = std::max(right, x);
+    }
+    if (!(left <= right)) continue;
+    const int64_t first = std::max<int64_t>(0, static_cast<int64_t>(std::ceil(left - kMargin)));
+    const int64_t last =
+        std::min<int64_t>(width - 1, static_cast<int64_t>(std::floor(right + kMargin)));
+    if (first <= last) span(r, first, last);
+  }
+}
+
+// True when the cell containing the centroid of (a, b, c) holds data.
+inline bool TriangleOnData(const Grid& dem, const TinVertex& a, const TinVertex& b,
+                           const TinVertex& c) {
+  const GridGeometry& g = dem.geometry;
+  const double col = std::floor((((a.x + b.x + c.x) / 3) - g.origin_x) / g.cell_x);
+  const double row = std::floor((((a.y + b.y + c.y) / 3) - g.origin_y) / g.cell_y);
+  if (!(col >= 0 && row >= 0 && col < static_cast<double>(g.width) &&
+        row < static_cast<double>(g.height)))
+    return false;
+  return dem.IsValid(static_cast<int64_t>(col), static_cast<int64_t>(row));
+}
+
+inline bool TriangleOnData(const Grid& dem, const Tin& tin, const TinTriangle& t) {
+  return TriangleOnData(dem, tin.vertices[t.v[0]], tin.vertices[t.v[1]], tin.vertices[t.v[2]]);
+}
+
+}  // namespace tinbase

@@ -1,0 +1,131 @@
+#include "core/tin/tolerance_refiner.h"
+
+#include <cmath>
+#include <queue>
+#include <set>
+#include <utility>
+
+#include "core/geometry/predicates.h"
+#include "core/tin/cell_cover.h"
+
+namespace tinbase {
+
+namespace {
+
+class Refiner {
+ public:
+  Refiner(Cdt& cdt, const Grid& dem, const RefineOptions& options)
+      : cdt_(cdt), dem_(dem), options_(options) {}
+
+  std::vector<uint32_t> Run(const std::vector<Cdt::FaceRef>& region, RefineReport* report) {
+    for (Cdt::FaceRef f : region) Scan(f);
+    std::vector<uint32_t> added;
+    std::vector<Cdt::FaceRef> incident;
+    bool reached = true;
+    while (!queue_.empty()) {
+      const Candidate worst = queue_.top();
+      queue_.pop();
+      if (cdt_.FaceStamp(worst.face) != worst.stamp) continue;  // face changed since its scan
+      if (options_.max_points > 0 && static_cast<int64_t>(added.size()) >= options_.max_points) {
+        reached = false;
+        break;
+      }
+      const size_t before = cdt_.vertices().size();
+      const TinVertex v{dem_.geometry.CellCenterX(worst.col), dem_.geometry.CellCenterY(worst.row),
+                        dem_.At(worst.col, worst.row), VertexKind::kDem};
+      const uint32_t index = cdt_.InsertVertex(v, worst.face, &incident);
+      if (cdt_.vertices().size() == before) {
+        // The cell centre is already a vertex whose z is not the cell's (a ring vertex draped
+        // bilinearly, a replace level): the DEM cannot do better there, so stop asking.
+        blocked_.insert({worst.col, worst.row});
+        Scan(worst.face);
+        continue;
+      }
+      added.push_back(index);
+      for (Cdt::FaceRef f : incident) Scan(f);
+    }
+    if (report != nullptr) {
+      report->points_added = static_cast<int64_t>(added.size());
+      report->reached = reached;
+    }
+    return added;
+  }
+
+ private:
+  struct Candidate {
+    double error;
+    Cdt::FaceRef face;
+    uint64_t stamp;
+    int64_t col, row;
+    bool operator<(const Candidate& o) const { return error < o.error; }
+  };
+
+  // Gives the face a fresh stamp (invalidating its older queue entries) and queues its worst
+  // sample if that is beyond the tolerance. Exclusions and blocked cells are tested only on a
+  // new maximum, so they cost nothing on the common path.
+  void Scan(Cdt::FaceRef face) {
+    const uint64_t stamp = next_stamp_++;
+    cdt_.SetFaceStamp(face, stamp);
+    const std::array<uint32_t, 3> v = cdt_.FaceVertices(face);
+    const std::vector<TinVertex>& vertices = cdt_.vertices();
+    if (options_.in_region && !options_.in_region(v)) return;
+    const CellTriangle t =
+        ToCellSpace(dem_.geometry, vertices[v[0]], vertices[v[1]], vertices[v[2]]);
+    CellPlane plane;
+    if (!PlaneOf(t, &plane)) return;
+    double worst = options_.tolerance;
+    int64_t worst_col = -1, worst_row = -1;
+    const int64_t width = dem_.geometry.width;
+    const float* cells = dem_.cells.data();
+    ForEachCellSpan(t, width, dem_.geometry.height, [&](int64_t r, int64_t first, int64_t last) {
+      const float* row = cells + r * width;
+      for (int64_t c = first; c <= last; ++c) {
+        const float value = row[c];
+        if (std::isnan(value)) continue;
+        const double error =
+            std::fabs(plane.At(static_cast<double>(c), static_cast<double>(r)) - value);
+        if (error <= worst || Skipped(c, r) || !Covers(v, c, r)) continue;
+        worst = error;
+        worst_col = c;
+        worst_row = r;
+      }
+    });
+    if (worst_col >= 0) queue_.push(Candidate{worst, face, stamp, worst_col, worst_row});
+  }
+
+  // The rasteriser's margin admits cell centres a rounding away from the face; the exact test
+  // keeps only those inside or on it, so an insertion never lands outside the region.
+  bool Covers(const std::array<uint32_t, 3>& v, int64_t col, int64_t row) const {
+    const Point2 p{dem_.geometry.CellCenterX(col), dem_.geometry.CellCenterY(row)};
+    const std::vector<TinVertex>& vs = cdt_.vertices();
+    for (int i = 0; i < 3; ++i) {
+      const TinVertex& a = vs[v[i]];
+      const TinVertex& b = vs[v[(i + 1) % 3]];
+      if (Orientation({a.x, a.y}, {b.x, b.y}, p) < 0) return false;
+    }
+    return true;
+  }
+
+  bool Skipped(int64_t col, int64_t row) const {
+    if (!blocked_.empty() && blocked_.count({col, row})) return true;
+    return options_.excluded &&
+           options_.excluded(dem_.geometry.CellCenterX(col), dem_.geometry.CellCenterY(row));
+  }
+
+  Cdt& cdt_;
+  const Grid& dem_;
+  const RefineOptions& options_;
+  std::priority_queue<Candidate> queue_;
+  std::set<std::pair<int64_t, int64_t>> blocked_;
+  uint64_t next_stamp_ = 1;  // 0 is a fresh face's stamp, never queued
+};
+
+}  // namespace
+
+std::vector<uint32_t> RefineToTolerance(Cdt& cdt, const Grid& dem, const RefineOptions& options,
+                                        RefineReport* report) {
+  Refiner refiner(cdt, dem, options);
+  return refiner.Run(cdt.FiniteFaces(), report);
+}
+
+}  // namespace tinbase

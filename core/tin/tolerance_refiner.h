@@ -1,0 +1,50 @@
+// Tolerance refinement: greedy insertion of DEM samples into a constrained Delaunay
+// triangulation until the TIN is within a vertical tolerance of the DEM (papers 000/001;
+// Garland and Heckbert 1995), over the whole triangulation or a region of it.
+//
+// Every face of the region keeps its worst-approximated valid DEM sample (core/tin/tin_raster.h
+// defines which cells a face covers and its z there) in a priority queue; the worst sample of
+// all is inserted as a vertex (kind kDem, z the cell's value) and only the faces that insertion
+// created are rescanned. Constraints already in the Cdt are respected: a face's conflict zone
+// never crosses a constrained edge, so a region bounded by constrained edges stays the region.
+// The greedy builder is this refinement started from the grid's corners; the update engine runs
+// it inside a conflict region whose outline it has constrained.
+// Thread-safety: works on the caller's Cdt; one thread.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "core/geometry/cdt.h"
+#include "core/raster/grid.h"
+
+namespace tinbase {
+
+struct RefineOptions {
+  double tolerance = 1.0;  // metres; > 0
+  int64_t max_points = 0;  // at most this many new vertices; 0: no limit
+  // Cells whose centre (world x, y) it returns true for are not approximated (replace
+  // polygons: their inside is flat by design). Null: every valid cell counts.
+  std::function<bool(double x, double y)> excluded;
+  // The faces to refine, by their vertex indices: only faces it accepts are scanned, initial ones
+  // and those insertions create (a point inserted on a boundary edge of the region also creates
+  // faces beyond it). Null: every face.
+  std::function<bool(const std::array<uint32_t, 3>& face)> in_region;
+};
+
+struct RefineReport {
+  int64_t points_added = 0;
+  bool reached = true;  // false when max_points stopped it first
+};
+
+// Inserts DEM cell centres into `cdt` until every valid, non-excluded cell covered by a face of
+// the region (options.in_region, or every finite face) is within options.tolerance of the face's
+// plane. Returns the indices of the new vertices in
+// insertion order. REQUIRES: every vertex of `cdt` has an index (Cdt::IndexCrossings after
+// constraints crossed), dem's cells match its geometry, options.tolerance > 0.
+std::vector<uint32_t> RefineToTolerance(Cdt& cdt, const Grid& dem, const RefineOptions& options,
+                                        RefineReport* report = nullptr);
+
+}  // namespace tinbase

@@ -1,0 +1,279 @@
+#include "db/feature_store.h"
+
+#include <array>
+#include <map>
+#include <unordered_map>
+
+#include "core/geometry/polygon_locator.h"
+#include "core/tin/cell_cover.h"
+#include "core/vector/feature_wkb.h"
+
+namespace tinbase {
+
+namespace {
+
+Result<std::vector<EditorFeature>> SelectFeatures(Store& store, const SurfaceInfo& surface,
+                                                  std::optional<int64_t> only) {
+  TB_ASSIGN_OR_RETURN(Statement * stmt,
+                      store.db().Cached("SELECT f.id, f.name, f.mode, f.level, t.value, "
+                                        "f.geometry, f.attributes FROM features f LEFT JOIN tags t "
+                                        "ON t.id = f.tag WHERE f.surface = ?1 "
+                                        "AND (?2 IS NULL OR f.id = ?2) ORDER BY f.id"));
+  stmt->Bind(1, surface.id);
+  if (only)
+    stmt->Bind(2, *only);
+  else
+    stmt->BindNull(2);
+  std::vector<EditorFeature> out;
+  Status status = Status::Ok();
+  while (true) {
+    auto row = stmt->Step();
+    if (!row.ok()) {
+      status = row.status();
+      break;
+    }
+    if (!*row) break;
+    EditorFeature f;
+    f.id = stmt->ColumnInt(0);
+    f.label = "feature " + std::to_string(f.id);
+    f.mode = stmt->ColumnText(2);
+    if (!stmt->ColumnIsNull(3)) f.level = stmt->ColumnDouble(3);
+    if (!stmt->ColumnIsNull(4)) f.tag = stmt->ColumnText(4);
+    f.attributes = nlohmann::json::parse(stmt->ColumnText(6), nullptr, /*allow_exceptions=*/false);
+    if (f.attributes.is_discarded()) f.attributes = nlohmann::json::object();
+    size_t size = 0;
+    const uint8_t* blob = stmt->ColumnBlob(5, &size);
+    std::vector<uint8_t> wkb(blob, blob + size);
+    if (IsBreakline(f.mode)) {
+      auto lines = LinesFromWkb(wkb);
+      if (!lines.ok()) {
+        status = lines.status().WithContext(f.label);
+        break;
+      }
+      f.lines = std::move(*lines);
+    } else {
+      auto polygons = PolygonsFromWkb(wkb);
+      if (!polygons.ok()) {
+        status = polygons.status().WithContext(f.label);
+        break;
+      }
+      f.polygons = std::move(*polygons);
+    }
+    out.push_back(std::move(f));
+  }
+  stmt->Reset();
+  TB_RETURN_IF_ERROR(status);
+  return out;
+}
+
+}  // namespace
+
+Result<int64_t> InternTag(Store& store, const std::string& value) {
+  TB_ASSIGN_OR_RETURN(Statement * insert,
+                      store.db().Cached("INSERT OR IGNORE INTO tags(value) VALUES (?)"));
+  insert->Bind(1, value);
+  TB_RETURN_IF_ERROR(insert->Run());
+  TB_ASSIGN_OR_RETURN(Statement * select, store.db().Cached("SELECT id FROM tags WHERE value = ?"));
+  select->Bind(1, value);
+  TB_ASSIGN_OR_RETURN(bool row, select->Step());
+  if (!row) return Status::Corruption("tag '" + value + "' vanished");
+  const int64_t id = select->ColumnInt(0);
+  select->Reset();
+  return id;
+}
+
+Box BoxOf(const EditorFeature& f) {
+  Box box;
+  for (const Polygon& p : f.polygons)
+    for (const Point2& q : p.shell) box.Add(q);
+  for (const auto& line : f.lines)
+    for (const Point2& q : line) box.Add(q);
+  return box;
+}
+
+Result<std::vector<EditorFeature>> LoadFeatures(Store& store, const SurfaceInfo& surface) {
+  return SelectFeatures(store, surface, std::nullopt);
+}
+
+Result<EditorFeature> LoadFeature(Store& store, const SurfaceInfo& surface, int64_t id) {
+  TB_ASSIGN_OR_RETURN(std::vector<EditorFeature> one, SelectFeatures(store, surface, id));
+  if (one.empty())
+    return Status::NotFound("surface '" + surface.name + "' has no feature " + std::to_string(id));
+  return std::move(one.front());
+}
+
+Status WriteFeature(Store& store, const SurfaceInfo& surface, int64_t tx, EditorFeature& f) {
+  TB_ASSIGN_OR_RETURN(Statement * stmt,
+                      store.db().Cached("INSERT INTO features(surface, name, mode, level, tag, "
+                                        "attributes, geometry, min_x, min_y, max_x, max_y, tx) "
+                                        "VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)"));
+  std::optional<int64_t> tag_id;
+  if (f.tag) {
+    TB_ASSIGN_OR_RETURN(tag_id, InternTag(store, *f.tag));
+  }
+  const std::vector<uint8_t> wkb =
+      IsBreakline(f.mode) ? LinesToWkb(f.lines) : PolygonsToWkb(f.polygons);
+  const Box box = BoxOf(f);
+  stmt->Bind(1, surface.id).Bind(2, f.tag.value_or(f.label)).Bind(3, f.mode);
+  if (f.level)
+    stmt->Bind(4, *f.level);
+  else
+    stmt->BindNull(4);
+  if (tag_id)
+    stmt->Bind(5, *tag_id);
+  else
+    stmt->BindNull(5);
+  stmt->Bind(6, f.attributes.dump()).BindBlob(7, wkb.data(), wkb.size());
+  stmt->Bind(8, box.min_x).Bind(9, box.min_y).Bind(10, box.max_x).Bind(11, box.max_y).Bind(12, tx);
+  TB_RETURN_IF_ERROR(stmt->Run());
+  f.id = store.db().LastInsertRowId();
+  return Status::Ok();
+}
+
+Status DeleteFeature(Store& store, int64_t id) {
+  TB_ASSIGN_OR_RETURN(Statement * constraints,
+                      store.db().Cached("DELETE FROM constraints WHERE feature = ?"));
+  constraints->Bind(1, id);
+  TB_RETURN_IF_ERROR(constraints->Run());
+  TB_ASSIGN_OR_RETURN(Statement * feature, store.db().Cached("DELETE FROM features WHERE id = ?"));
+  feature->Bind(1, id);
+  return feature->Run();
+}
+
+Paint PaintFromFeatures(const std::vector<EditorFeature>& features, const Grid* dem, Tin& tin) {
+  tin.tags.clear();
+  std::map<std::string, int32_t> tag_index;
+  std::vector<PaintedFeature> painted;
+  for (const EditorFeature& f : features) {
+    if (IsBreakline(f.mode)) continue;
+    auto mode = ParsePaintMode(f.mode);
+    if (!mode.ok()) continue;  // the schema's CHECK allows only the known modes
+    PaintedFeature p;
+    p.polygons = f.polygons;
+    p.mode = *mode;
+    p.level = f.level.value_or(0);
+    if (f.tag) {
+      auto [it, added] = tag_index.emplace(*f.tag, static_cast<int32_t>(tin.tags.size()));
+      if (added) tin.tags.push_back(*f.tag);
+      p.tag = it->second;
+    }
+    painted.push_back(std::move(p));
+  }
+  Paint paint = ComputePaint(tin, painted);
+  if (dem != nullptr) {
+    for (size_t t = 0; t < tin.triangles.size(); ++t)
+      if (!TriangleOnData(*dem, tin, tin.triangles[t])) paint.visible[t] = 0;
+  }
+  return paint;
+}
+
+Result<LoadedSurface> LoadFeatureSurface(Store& store, int64_t feature) {
+  TB_ASSIGN_OR_RETURN(auto snapshot, SnapshotUnlessInTransaction(store));
+  TB_ASSIGN_OR_RETURN(Statement * owner,
+                      store.db().Cached("SELECT surface FROM features WHERE id = ?"));
+  owner->Bind(1, feature);
+  TB_ASSIGN_OR_RETURN(bool found, owner->Step());
+  const int64_t surface_id = found ? owner->ColumnInt(0) : 0;
+  owner->Reset();
+  if (!found) return Status::NotFound("no feature " + std::to_string(feature));
+  SurfaceStore surfaces(store);
+  TB_ASSIGN_OR_RETURN(SurfaceInfo surface, surfaces.FindById(surface_id));
+  TB_ASSIGN_OR_RETURN(EditorFeature f, LoadFeature(store, surface, feature));
+  if (IsBreakline(f.mode))
+    return Status::InvalidArgument("feature " + std::to_string(feature) +
+                                   " is a breakline: it has no inside to export");
+  const PolygonLocator inside(f.polygons);
+  const Box box = BoxOf(f);
+  TB_ASSIGN_OR_RETURN(Statement * triangles,
+                      store.db().Cached("SELECT t.id, t.v0, t.v1, t.v2, g.value FROM triangles t "
+                                        "LEFT JOIN tags g ON g.id = t.tag WHERE t.surface = ? "
+                                        "AND t.block BETWEEN ? AND ?"));
+  TB_ASSIGN_OR_RETURN(Statement * vertex,
+                      store.db().Cached("SELECT x, y, z, kind FROM vertices WHERE id = ?"));
+  LoadedSurface out;
+  std::unordered_map<int64_t, uint32_t> index;
+  std::map<std::string, int32_t> tags;
+  const auto vertex_index = [&](int64_t id) -> Result<uint32_t> {
+    if (auto it = index.find(id); it != index.end()) return it->second;
+    vertex->Bind(1, id);
+    TB_ASSIGN_OR_RETURN(bool row, vertex->Step());
+    if (!row) {
+      vertex->Reset();
+      return Status::Corruption("vertex " + std::to_string(id) + " is used but missing");
+    }
+    TinVertex v{vertex->ColumnDouble(0), vertex->ColumnDouble(1), vertex->ColumnDouble(2)};
+    ParseVertexKind(vertex->ColumnText(3), &v.kind);
+    vertex->Reset();
+    index.emplace(id, static_cast<uint32_t>(out.tin.vertices.size()));
+    out.tin.vertices.push_back(v);
+    out.vertex_ids.push_back(id);
+    return index.at(id);
+  };
+  const BlockGrid& g = surface.blocks;
+  const int64_t bx0 = g.ColumnOf(box.min_x), bx1 = g.ColumnOf(box.max_x);
+  for (int64_t by = g.RowOf(box.min_y); by <= g.RowOf(box.max_y); ++by) {
+    triangles->Bind(1, surface.id)
+        .Bind(2, BlockGrid::Pack(bx0, by))
+        .Bind(3, BlockGrid::Pack(bx1, by));
+    std::vector<std::pair<int64_t, std::array<int64_t, 4>>> rows;  // id, v0..v2, tag?
+    std::vector<std::optional<std::string>> row_tags;
+    for (;;) {
+      TB_ASSIGN_OR_RETURN(bool row, triangles->Step());
+      if (!row) break;
+      rows.push_back(
+          {triangles->ColumnInt(0),
+           {triangles->ColumnInt(1), triangles->ColumnInt(2), triangles->ColumnInt(3), 0}});
+      row_tags.push_back(triangles->ColumnIsNull(4)
+                             ? std::nullopt
+                             : std::optional<std::string>(triangles->ColumnText(4)));
+    }
+    triangles->Reset();
+    for (size_t k = 0; k < rows.size(); ++k) {
+      TinTriangle t;
+      for (int i = 0; i < 3; ++i) {
+        TB_ASSIGN_OR_RETURN(t.v[i], vertex_index(rows[k].second[i]));
+      }
+      const TinVertex &a = out.tin.vertices[t.v[0]], &b = out.tin.vertices[t.v[1]],
+                      &c = out.tin.vertices[t.v[2]];
+      if (inside.Locate({(a.x + b.x + c.x) / 3, (a.y + b.y + c.y) / 3}) == PointInPolygon::kOutside)
+        continue;
+      if (row_tags[k]) {
+        auto [it, added] = tags.emplace(*row_tags[k], static_cast<int32_t>(out.tin.tags.size()));
+        if (added) out.tin.tags.push_back(*row_tags[k]);
+        t.tag = it->second;
+      }
+      out.tin.triangles.push_back(t);
+      out.triangle_ids.push_back(rows[k].first);
+    }
+  }
+  // Vertices of triangles left outside were read too; keep only the used ones.
+  std::vector<int64_t> remap(out.tin.vertices.size(), -1);
+  Tin compact;
+  compact.tags = out.tin.tags;
+  std::vector<int64_t> ids;
+  for (TinTriangle t : out.tin.triangles) {
+    for (uint32_t& v : t.v) {
+      if (remap[v] < 0) {
+        remap[v] = static_cast<int64_t>(compact.vertices.size());
+        compact.vertices.push_back(out.tin.vertices[v]);
+        ids.push_back(out.vertex_ids[v]);
+      }
+      v = static_cast<uint32_t>(remap[v]);
+    }
+    compact.triangles.push_back(t);
+  }
+  if (!LinkNeighbours(compact))
+    return Status::Corruption("feature " + std::to_string(feature) + ": its triangles overlap");
+  out.tin = std::move(compact);
+  out.vertex_ids = std::move(ids);
+  return out;
+}
+
+std::vector<Polygon> ReplacePolygons(const std::vector<EditorFeature>& features) {
+  std::vector<Polygon> out;
+  for (const EditorFeature& f : features)
+    if (f.mode == "replace") out.insert(out.end(), f.polygons.begin(), f.polygons.end());
+  return out;
+}
+
+}  // namespace tinbase

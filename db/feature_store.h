@@ -1,0 +1,88 @@
+// FeatureStore: the `features` rows of a surface (polygons and breaklines with their mode, tag,
+// level and WKB geometry), and the one definition of a surface's paint from them (DESIGN.md
+// invariant 6): the features' modes in id order (core/tin/feature_paint), and no triangle visible
+// whose centroid lies on DEM nodata (core/tin/tin_raster). The polygon editor writes with it,
+// the update engine repaints with it and the integrity checker verifies with it.
+// Thread-safety: through one Store.
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/base/status.h"
+#include "core/geometry/polygon.h"
+#include "core/raster/grid.h"
+#include "core/tin/feature_paint.h"
+#include "core/tin/tin.h"
+#include "db/store.h"
+#include "db/surface_store.h"
+
+namespace tinbase {
+
+// A feature as the editor handles it, read from a file or from the store.
+struct EditorFeature {
+  int64_t id = 0;     // store id; 0 until written
+  std::string label;  // "feature 12", or the source's "file.geojson, feature 3"
+  std::string mode;   // clip, erase, fill, replace, breakline
+  std::optional<std::string> tag;
+  std::optional<double> level;
+  nlohmann::json attributes = nlohmann::json::object();
+  std::vector<Polygon> polygons;
+  std::vector<std::vector<Point2>> lines;
+};
+
+inline bool IsBreakline(const std::string& mode) { return mode == "breakline"; }
+
+struct Box {
+  double min_x = std::numeric_limits<double>::infinity(), min_y = min_x;
+  double max_x = -std::numeric_limits<double>::infinity(), max_y = max_x;
+  void Add(const Point2& p) {
+    min_x = std::min(min_x, p.x), min_y = std::min(min_y, p.y);
+    max_x = std::max(max_x, p.x), max_y = std::max(max_y, p.y);
+  }
+  void Add(const Box& b) {
+    if (b.empty()) return;
+    Add(Point2{b.min_x, b.min_y}), Add(Point2{b.max_x, b.max_y});
+  }
+  bool empty() const { return !(min_x <= max_x); }
+  bool Contains(const Point2& p) const {
+    return p.x >= min_x && p.x <= max_x && p.y >= min_y && p.y <= max_y;
+  }
+};
+
+// The plan-view box of the feature's rings and lines.
+Box BoxOf(const EditorFeature& f);
+
+// Every feature of `surface`, in id order (the order their paint applies in).
+Result<std::vector<EditorFeature>> LoadFeatures(Store& store, const SurfaceInfo& surface);
+// NotFound "surface 's' has no feature 12" when absent.
+Result<EditorFeature> LoadFeature(Store& store, const SurfaceInfo& surface, int64_t id);
+
+// Writes `f` as a new feature row of transaction `tx` and sets f.id.
+// REQUIRES: inside a WriteTransaction.
+Status WriteFeature(Store& store, const SurfaceInfo& surface, int64_t tx, EditorFeature& f);
+// The id of tag `value`, adding it to the dictionary when new. REQUIRES: a WriteTransaction.
+Result<int64_t> InternTag(Store& store, const std::string& value);
+// Deletes the feature row and its constraint rows. REQUIRES: inside a WriteTransaction.
+Status DeleteFeature(Store& store, int64_t id);
+
+// The paint the features give `tin` (visible and tag per triangle, replaced vertex levels),
+// with every triangle whose centroid lies on nodata of `dem` hidden. Replaces tin.tags by the
+// features' tag values (paint.tag indexes them). `dem` may be a window of the DEM, as long as it
+// covers the triangles' centroids (a centroid off the window counts as nodata).
+Paint PaintFromFeatures(const std::vector<EditorFeature>& features, const Grid* dem, Tin& tin);
+
+// The surface of one polygon feature as paper 000 cuts it out: the triangles inside its
+// polygons (its rings are constrained edges, so they tile the inside exactly; holes are left
+// out), all visible, with their tags, neighbours re-linked among themselves. Reads the blocks of
+// the feature's box only. NotFound "no feature 12"; InvalidArgument for a breakline.
+Result<LoadedSurface> LoadFeatureSurface(Store& store, int64_t feature);
+
+// The polygons of the replace features: where invariant 7 does not apply.
+std::vector<Polygon> ReplacePolygons(const std::vector<EditorFeature>& features);
+
+}  // namespace tinbase

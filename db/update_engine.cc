@@ -1,0 +1,1197 @@
+#include "db/update_engine.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <optional>
+#include <set>
+#include <unordered_map>
+#include <unordered_set>
+#include <utility>
+
+#include "core/geometry/cdt.h"
+#include "core/geometry/polygon_locator.h"
+#include "core/geometry/predicates.h"
+#include "core/tin/cell_cover.h"
+#include "core/tin/tolerance_refiner.h"
+#include "db/point_locator.h"
+
+namespace tinbase {
+
+namespace {
+
+using Edge = std::pair<int64_t, int64_t>;  // (min, max) store vertex ids, or a directed pair
+
+Edge Key(int64_t a, int64_t b) { return {std::min(a, b), std::max(a, b)}; }
+
+struct EdgeHash {
+  size_t operator()(const Edge& e) const {
+    return std::hash<int64_t>()(e.first) * 1000003u ^ std::hash<int64_t>()(e.second);
+  }
+};
+
+using Corners3 = std::array<Point2, 3>;
+
+struct MeshTriangle {
+  std::array<int64_t, 3> v{};
+  std::array<std::optional<int64_t>, 3> n;
+  bool visible = true;
+  std::optional<int64_t> tag;
+};
+
+// The stored rows an edit reads, loaded on demand by id and kept for the edit's life (all reads
+// happen before the first write, inside the caller's transaction).
+class StoredMesh {
+ public:
+  StoredMesh(Store& store, const SurfaceInfo& surface) : store_(store), surface_(surface) {}
+
+  Result<const MeshTriangle*> Triangle(int64_t id) {
+    if (auto it = triangles_.find(id); it != triangles_.end()) return &it->second;
+    TB_ASSIGN_OR_RETURN(Statement * stmt,
+                        store_.db().Cached("SELECT v0, v1, v2, n0, n1, n2, visible, tag FROM "
+                                           "triangles WHERE id = ? AND surface = ?"));
+    stmt->Bind(1, id).Bind(2, surface_.id);
+    TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
+    if (!row) {
+      stmt->Reset();
+      return Status::Corruption("surface '" + surface_.name + "': triangle " + std::to_string(id) +
+                                " is linked but missing");
+    }
+    const MeshTriangle* t = Remember(id, *stmt, 0);
+    stmt->Reset();
+    return t;
+  }
+
+  Result<const TinVertex*> Vertex(int64_t id) {
+    if (auto it = vertices_.find(id); it != vertices_.end()) return &it->second;
+    TB_ASSIGN_OR_RETURN(Statement * stmt, store_.db().Cached("SELECT x, y, z, kind FROM vertices "
+                                                             "WHERE id = ? AND surface = ?"));
+    stmt->Bind(1, id).Bind(2, surface_.id);
+    TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
+    if (!row) {
+      stmt->Reset();
+      return Status::Corruption("surface '" + surface_.name + "': vertex " + std::to_string(id) +
+                                " is used but missing");
+    }
+    TinVertex v{stmt->ColumnDouble(0), stmt->ColumnDouble(1), stmt->ColumnDouble(2)};
+    if (!ParseVertexKind(stmt->ColumnText(3), &v.kind)) v.kind = VertexKind::kUser;
+    stmt->Reset();
+    return &vertices_.emplace(id, v).first->second;
+  }
+
+  // Reads every vertex inside `box` with one range scan of the (surface, x, y) index: the scan
+  // reads the whole x-slab, so it pays only when the box spans a good part of the surface's
+  // height (the caller decides).
+  Status PreloadVertices(const Box& box) {
+    TB_ASSIGN_OR_RETURN(Statement * stmt,
+                        store_.db().Cached("SELECT id, x, y, z, kind FROM vertices WHERE "
+                                           "surface = ? AND x BETWEEN ? AND ? AND y BETWEEN ? "
+                                           "AND ?"));
+    stmt->Bind(1, surface_.id).Bind(2, box.min_x).Bind(3, box.max_x).Bind(4, box.min_y);
+    stmt->Bind(5, box.max_y);
+    for (;;) {
+      TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
+      if (!row) break;
+      TinVertex v{stmt->ColumnDouble(1), stmt->ColumnDouble(2), stmt->ColumnDouble(3)};
+      if (!ParseVertexKind(stmt->ColumnText(4), &v.kind)) v.kind = VertexKind::kUser;
+      vertices_.emplace(stmt->ColumnInt(0), v);
+    }
+    stmt->Reset();
+    return Status::Ok();
+  }
+
+  Result<Point2> At(int64_t vertex) {
+    TB_ASSIGN_OR_RETURN(const TinVertex* v, Vertex(vertex));
+    return Point2{v->x, v->y};
+  }
+
+  // The features owning constrained edge (a, b), 0 for a row without feature; empty when the
+  // edge is not constrained.
+  Result<const std::vector<int64_t>*> Owners(int64_t a, int64_t b) {
+    const Edge e = Key(a, b);
+    if (auto it = owners_.find(e); it != owners_.end()) return &it->second;
+    TB_ASSIGN_OR_RETURN(Statement * stmt,
+                        store_.db().Cached("SELECT coalesce(feature, 0) FROM constraints WHERE "
+                                           "surface = ? AND va = ? AND vb = ?"));
+    stmt->Bind(1, surface_.id).Bind(2, e.first).Bind(3, e.second);
+    std::vector<int64_t> owners;
+    for (;;) {
+      TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
+      if (!row) break;
+      owners.push_back(stmt->ColumnInt(0));
+    }
+    stmt->Reset();
+    return &owners_.emplace(e, std::move(owners)).first->second;
+  }
+
+  // Every constrained edge of `feature`.
+  Result<std::vector<Edge>> EdgesOf(int64_t feature) {
+    TB_ASSIGN_OR_RETURN(Statement * stmt,
+                        store_.db().Cached("SELECT va, vb FROM constraints WHERE surface = ? AND "
+                                           "feature = ?"));
+    stmt->Bind(1, surface_.id).Bind(2, feature);
+    std::vector<Edge> edges;
+    for (;;) {
+      TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
+      if (!row) break;
+      edges.push_back(Key(stmt->ColumnInt(0), stmt->ColumnInt(1)));
+    }
+    stmt->Reset();
+    return edges;
+  }
+
+  // The triangles whose centroid block meets `box` (through the block index).
+  Result<std::vector<int64_t>> TrianglesInBox(const Box& box) {
+    TB_ASSIGN_OR_RETURN(
+        Statement * stmt,
+        store_.db().Cached("SELECT v0, v1, v2, n0, n1, n2, visible, tag, id FROM "
+                           "triangles WHERE surface = ? AND block BETWEEN ? AND ?"));
+    const BlockGrid& g = surface_.blocks;
+    const int64_t bx0 = g.ColumnOf(box.min_x), bx1 = g.ColumnOf(box.max_x);
+    std::vector<int64_t> ids;
+    for (int64_t by = g.RowOf(box.min_y); by <= g.RowOf(box.max_y); ++by) {
+      stmt->Bind(1, surface_.id)
+          .Bind(2, BlockGrid::Pack(bx0, by))
+          .Bind(3, BlockGrid::Pack(bx1, by));
+      for (;;) {
+        TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
+        if (!row) break;
+        const int64_t id = stmt->ColumnInt(8);
+        if (!triangles_.count(id)) Remember(id, *stmt, 0);
+        ids.push_back(id);
+      }
+      stmt->Reset();
+    }
+    return ids;
+  }
+
+  // The triangles around `vertex`, starting from `start` (one of them), counter-clockwise;
+  // `closed` is false when the vertex lies on the domain boundary.
+  Result<std::vector<int64_t>> Star(int64_t vertex, int64_t start, bool* closed) {
+    std::vector<int64_t> star;
+    *closed = true;
+    for (int direction : {1, 2}) {  // across edge (v, next) ccw, then (v, previous) cw
+      int64_t t = start;
+      for (size_t guard = 0; guard < 100000; ++guard) {
+        TB_ASSIGN_OR_RETURN(const MeshTriangle* tri, Triangle(t));
+        int i = 0;
+        while (i < 3 && tri->v[i] != vertex) ++i;
+        if (i == 3)
+          return Status::Corruption("surface '" + surface_.name + "': triangle " +
+                                    std::to_string(t) + " is linked around vertex " +
+                                    std::to_string(vertex) + " but does not use it");
+        if (direction == 1 || t != start) star.push_back(t);
+        const std::optional<int64_t> next = tri->n[(i + direction) % 3];
+        if (!next) {
+          *closed = false;
+          break;
+        }
+        if (*next == start) return star;  // went all the way round
+        t = *next;
+      }
+    }
+    std::sort(star.begin(), star.end());
+    star.erase(std::unique(star.begin(), star.end()), star.end());
+    return star;
+  }
+
+ private:
+  const MeshTriangle* Remember(int64_t id, const Statement& row, int first) {
+    MeshTriangle t;
+    for (int i = 0; i < 3; ++i) {
+      t.v[i] = row.ColumnInt(first + i);
+      if (!row.ColumnIsNull(first + 3 + i)) t.n[i] = row.ColumnInt(first + 3 + i);
+    }
+    t.visible = row.ColumnInt(first + 6) != 0;
+    if (!row.ColumnIsNull(first + 7)) t.tag = row.ColumnInt(first + 7);
+    return &triangles_.emplace(id, t).first->second;
+  }
+
+  Store& store_;
+  const SurfaceInfo& surface_;
+  std::unordered_map<int64_t, MeshTriangle> triangles_;
+  std::unordered_map<int64_t, TinVertex> vertices_;
+  std::unordered_map<Edge, std::vector<int64_t>, EdgeHash> owners_;
+};
+
+// True when the closed segment pq and the closed counter-clockwise triangle abc share a point:
+// no separating line among pq's and the triangle's edges (exact).
+bool SegmentMeetsTriangle(const Point2& p, const Point2& q, const Point2& a, const Point2& b,
+                          const Point2& c) {
+  const int oa = Orientation(p, q, a), ob = Orientation(p, q, b), oc = Orientation(p, q, c);
+  if ((oa > 0 && ob > 0 && oc > 0) || (oa < 0 && ob < 0 && oc < 0)) return false;
+  const Point2* v[3] = {&a, &b, &c};
+  for (int i = 0; i < 3; ++i) {
+    const Point2& x = *v[i];
+    const Point2& y = *v[(i + 1) % 3];
+    if (Orientation(x, y, p) < 0 && Orientation(x, y, q) < 0) return false;
+  }
+  return true;
+}
+
+// Answers "does this point lie exactly on one of these segments" (R's outline), through a coarse
+// bucket grid; exact orientation tests.
+class SegmentIndex {
+ public:
+  void Build(std::vector<std::pair<Point2, Point2>> segments) {
+    segments_ = std::move(segments);
+    box_ = Box();
+    for (const auto& [a, b] : segments_) box_.Add(a), box_.Add(b);
+    side_ = std::max<int64_t>(1, static_cast<int64_t>(std::sqrt(segments_.size())));
+    cells_.assign(static_cast<size_t>(side_ * side_), {});
+    for (uint32_t k = 0; k < segments_.size(); ++k) {
+      Box b;
+      b.Add(segments_[k].first), b.Add(segments_[k].second);
+      for (int64_t r = Row(b.min_y); r <= Row(b.max_y); ++r)
+        for (int64_t c = Col(b.min_x); c <= Col(b.max_x); ++c) cells_[r * side_ + c].push_back(k);
+    }
+  }
+
+  bool OnAny(const Point2& p) const {
+    if (!box_.Contains(p)) return false;
+    for (uint32_t k : cells_[Row(p.y) * side_ + Col(p.x)]) {
+      const auto& [a, b] = segments_[k];
+      Box s;
+      s.Add(a), s.Add(b);
+      if (s.Contains(p) && Orientation(a, b, p) == 0) return true;
+    }
+    return false;
+  }
+
+ private:
+  int64_t Col(double x) const { return Index(x, box_.min_x, box_.max_x); }
+  int64_t Row(double y) const { return Index(y, box_.min_y, box_.max_y); }
+  int64_t Index(double v, double lo, double hi) const {
+    if (!(hi > lo)) return 0;
+    return std::clamp<int64_t>(static_cast<int64_t>((v - lo) / (hi - lo) * side_), 0, side_ - 1);
+  }
+
+  std::vector<std::pair<Point2, Point2>> segments_;
+  Box box_;
+  int64_t side_ = 1;
+  std::vector<std::vector<uint32_t>> cells_;
+};
+
+// Which triangles of a local triangulation lie in R, from R's outline alone: a triangle with an
+// outline edge in R's direction is inside, with it reversed outside, and the rest take the class
+// of their neighbours across edges that are not on the outline. Purely topological, so a sliver
+// outside R along a nearly straight outline is never taken for part of it.
+std::vector<uint8_t> ClassifyInside(const Tin& tin, const std::set<Edge>& outline) {
+  constexpr uint8_t kUnknown = 2;
+  std::vector<uint8_t> inside(tin.triangles.size(), kUnknown);
+  std::vector<uint32_t> queue;
+  for (uint32_t t = 0; t < tin.triangles.size(); ++t) {
+    const auto& v = tin.triangles[t].v;
+    for (int i = 0; i < 3 && inside[t] == kUnknown; ++i) {
+      const uint32_t a = v[i], b = v[(i + 1) % 3];
+      if (outline.count({a, b}))
+        inside[t] = 1;
+      else if (outline.count({b, a}))
+        inside[t] = 0;
+    }
+    if (inside[t] != kUnknown) queue.push_back(t);
+  }
+  while (!queue.empty()) {
+    const uint32_t t = queue.back();
+    queue.pop_back();
+    const TinTriangle& tri = tin.triangles[t];
+    for (int i = 0; i < 3; ++i) {
+      const int32_t n = tri.n[i];
+      if (n == kNoNeighbour || inside[n] != kUnknown) continue;
+      const uint32_t a = tri.v[(i + 1) % 3], b = tri.v[(i + 2) % 3];
+      if (outline.count({a, b}) || outline.count({b, a})) continue;
+      inside[n] = inside[t];
+      queue.push_back(static_cast<uint32_t>(n));
+    }
+  }
+  for (uint8_t& c : inside)
+    if (c == kUnknown) c = 0;
+  return inside;
+}
+
+// z where a replace feature covers a point: the last one in id order wins (as in painting).
+class ReplaceLevels {
+ public:
+  explicit ReplaceLevels(const std::vector<EditorFeature>& features) {
+    for (const EditorFeature& f : features) {
+      if (f.mode != "replace") continue;
+      locators_.emplace_back(f.polygons);
+      levels_.push_back(f.level.value_or(0));
+    }
+  }
+  std::optional<double> At(const Point2& p) const {
+    for (size_t k = locators_.size(); k-- > 0;)
+      if (locators_[k].Locate(p) != PointInPolygon::kOutside) return levels_[k];
+    return std::nullopt;
+  }
+  bool empty() const { return locators_.empty(); }
+
+ private:
+  std::vector<PolygonLocator> locators_;
+  std::vector<double> levels_;
+};
+
+// An outline edge of R: the directed edge a->b of a triangle of R, and the stored triangle across
+// it (none on the domain boundary).
+struct OutlineEdge {
+  int64_t a = 0, b = 0;
+  std::optional<int64_t> outer;
+};
+
+// One re-triangulation of R: the local Tin and how its vertices map to the store.
+struct LocalPatch {
+  Tin tin;                                   // local CDT, constraints include R's outline
+  std::vector<uint8_t> inside;               // per local triangle: part of R
+  std::vector<int64_t> store_ids;            // per local vertex: store id, 0 for a new vertex
+  std::vector<std::vector<uint32_t>> lines;  // local index of each polyline point
+  std::vector<std::pair<Edge, std::vector<int64_t>>> old_constraints;  // kept, in R, owners
+  int64_t refinement_points = 0;
+};
+
+class Edit {
+ public:
+  Edit(Store& store, const SurfaceInfo& surface, DemStore& dems, const DemInfo& dem,
+       const LocalEdit& edit, const FaultHook& hook)
+      : store_(store),
+        surface_(surface),
+        dems_(dems),
+        dem_(dem),
+        edit_(edit),
+        hook_(hook),
+        mesh_(store, surface),
+        levels_(edit.features),
+        lines_(edit.add) {
+    for (const EditorFeature& f : edit.features)
+      if (f.mode == "replace")
+        replace_polygons_.insert(replace_polygons_.end(), f.polygons.begin(), f.polygons.end());
+    replaced_ = std::make_unique<PolygonLocator>(replace_polygons_);
+  }
+
+  Result<EditResult> Run() {
+    TB_RETURN_IF_ERROR(SeedRemovals());
+    TB_RETURN_IF_ERROR(FindPaintArea());
+    TB_RETURN_IF_ERROR(SnapPoints());
+    TB_RETURN_IF_ERROR(SeedPolylines());
+    TB_RETURN_IF_ERROR(GrowByCircumcircles());
+    LocalPatch patch;
+    for (result_.rounds = 1;; ++result_.rounds) {
+      if (result_.rounds > 200)
+        return Status::Corruption("surface '" + surface_.name +
+                                  "': the conflict region did not settle after 200 rounds");
+      TB_ASSIGN_OR_RETURN(patch, Retriangulate());
+      TB_ASSIGN_OR_RETURN(std::vector<int64_t> grow, CheckOutline(patch));
+      if (grow.empty()) break;
+      for (int64_t t : grow) AddToRegion(t);
+    }
+    result_.refinement_points = patch.refinement_points;
+    TB_RETURN_IF_ERROR(Write(patch));
+    return result_;
+  }
+
+ private:
+  // --- finding R ---------------------------------------------------------------------------
+
+  void AddToRegion(int64_t t) {
+    if (region_.insert(t).second) order_.push_back(t);
+  }
+
+  Result<int64_t> Locate(const Point2& p, const std::string& what) {
+    auto located = LocatePoint(store_, surface_, p.x, p.y);
+    if (located.ok()) return located->triangle;
+    if (located.status().code() == StatusCode::kNotFound)
+      return Status::InvalidArgument(what + ": " + FormatPoint(p) + " lies outside surface '" +
+                                     surface_.name + "'");
+    return located.status();
+  }
+
+  // The constraints of removed features go; the stars of their vertices join R, and ring or
+  // Steiner vertices left on no constraint are dropped. A removed replace feature's inside joins
+  // R too: its vertices get their DEM z back and its cells must meet the tolerance again.
+  Status SeedRemovals() {
+    const std::set<int64_t> removing(edit_.remove.begin(), edit_.remove.end());
+    std::set<int64_t> touched;
+    for (int64_t feature : edit_.remove) {
+      TB_ASSIGN_OR_RETURN(std::vector<Edge> edges, mesh_.EdgesOf(feature));
+      for (const Edge& e : edges) {
+        TB_ASSIGN_OR_RETURN(const std::vector<int64_t>* owners, mesh_.Owners(e.first, e.second));
+        const bool gone = std::all_of(owners->begin(), owners->end(),
+                                      [&](int64_t f) { return removing.count(f) > 0; });
+        if (gone) removed_edges_.insert(e);
+        touched.insert(e.first);
+        touched.insert(e.second);
+      }
+    }
+    for (int64_t v : touched) {
+      TB_ASSIGN_OR_RETURN(const TinVertex* vertex, mesh_.Vertex(v));
+      TB_ASSIGN_OR_RETURN(int64_t start,
+                          Locate({vertex->x, vertex->y}, "vertex " + std::to_string(v)));
+      bool closed = true;
+      TB_ASSIGN_OR_RETURN(std::vector<int64_t> star, mesh_.Star(v, start, &closed));
+      for (int64_t t : star) AddToRegion(t);
+      if (!closed || (vertex->kind != VertexKind::kRing && vertex->kind != VertexKind::kSteiner))
+        continue;
+      bool still_constrained = false;
+      for (int64_t t : star) {
+        TB_ASSIGN_OR_RETURN(const MeshTriangle* tri, mesh_.Triangle(t));
+        for (int64_t w : tri->v) {
+          if (w == v || removed_edges_.count(Key(v, w))) continue;
+          TB_ASSIGN_OR_RETURN(const std::vector<int64_t>* owners, mesh_.Owners(v, w));
+          if (!owners->empty()) still_constrained = true;
+        }
+      }
+      if (!still_constrained) dropped_.insert(v);
+    }
+    return SeedRemovedReplaceInsides();
+  }
+
+  Status SeedRemovedReplaceInsides() {
+    std::vector<Polygon> polygons;
+    Box box;
+    for (int64_t id : edit_.remove) {
+      auto f = LoadFeature(store_, surface_, id);  // REQUIRES of Apply: the row still exists
+      if (!f.ok()) return f.status();
+      if (f->mode != "replace") continue;
+      polygons.insert(polygons.end(), f->polygons.begin(), f->polygons.end());
+      box.Add(BoxOf(*f));
+    }
+    if (polygons.empty()) return Status::Ok();
+    restore_ = std::make_unique<PolygonLocator>(polygons);
+    TB_ASSIGN_OR_RETURN(std::vector<int64_t> candidates, mesh_.TrianglesInBox(box));
+    for (int64_t t : candidates) {
+      TB_ASSIGN_OR_RETURN(const MeshTriangle* tri, mesh_.Triangle(t));
+      Point2 centroid{0, 0};
+      for (int64_t v : tri->v) {
+        TB_ASSIGN_OR_RETURN(Point2 p, mesh_.At(v));
+        centroid.x += p.x / 3, centroid.y += p.y / 3;
+      }
+      if (restore_->Locate(centroid) != PointInPolygon::kOutside) AddToRegion(t);
+    }
+    return Status::Ok();
+  }
+
+  // Moves each new point within the snap distance of an existing vertex (of the triangle holding
+  // it) or of an earlier new point onto it, so near-duplicates (rings of neighbouring features
+  // digitised or reprojected apart by round-off) become one vertex instead of a sliver.
+  Status SnapPoints() {
+    const double snap =
+        kSnapCells * std::max(dem_.geometry.cell_x, std::fabs(dem_.geometry.cell_y));
+    std::map<std::pair<int64_t, int64_t>, std::vector<Point2>> buckets;
+    const auto bucket = [snap](double v) { return static_cast<int64_t>(std::floor(v / snap)); };
+    for (EditPolyline& line : lines_) {
+      located_.emplace_back();
+      for (size_t i = 0; i < line.points.size(); ++i) {
+        TinVertex& p = line.points[i];
+        const std::string what =
+            "feature " + std::to_string(line.feature) + ", point " + std::to_string(i);
+        TB_ASSIGN_OR_RETURN(int64_t t, Locate({p.x, p.y}, what));
+        TB_ASSIGN_OR_RETURN(const MeshTriangle* tri, mesh_.Triangle(t));
+        bool snapped = false;
+        for (int64_t v : tri->v) {
+          TB_ASSIGN_OR_RETURN(Point2 q, mesh_.At(v));
+          if (std::hypot(q.x - p.x, q.y - p.y) > snap) continue;
+          p.x = q.x, p.y = q.y;
+          snapped = true;
+          break;
+        }
+        const int64_t bx = bucket(p.x), by = bucket(p.y);
+        for (int64_t j = by - 1; j <= by + 1 && !snapped; ++j) {
+          for (int64_t k = bx - 1; k <= bx + 1 && !snapped; ++k) {
+            auto it = buckets.find({k, j});
+            if (it == buckets.end()) continue;
+            for (const Point2& q : it->second) {
+              if (std::hypot(q.x - p.x, q.y - p.y) > snap) continue;
+              p.x = q.x, p.y = q.y;
+              snapped = true;
+              // q may lie in another triangle than p did.
+              TB_ASSIGN_OR_RETURN(t, Locate(q, what));
+              break;
+            }
+          }
+        }
+        buckets[{bx, by}].push_back({p.x, p.y});
+        located_.back().push_back(t);
+      }
+    }
+    return Status::Ok();
+  }
+
+  // Every triangle a new segment touches (closed: a segment through a vertex takes its fan),
+  // found by a walk over neighbours from the triangle holding the segment's first point.
+  // Existing vertices closer than the snap distance to a new segment (but not its ends) become
+  // points of it: a crossing vertex an earlier edit constructed lies only nearly on the line, and
+  // CGAL would otherwise reroute the constraint through another vertex (CGAL#6602).
+  Status SeedPolylines() {
+    const double snap =
+        kSnapCells * std::max(dem_.geometry.cell_x, std::fabs(dem_.geometry.cell_y));
+    for (size_t l = 0; l < lines_.size(); ++l) {
+      EditPolyline& line = lines_[l];
+      const size_t n = line.points.size();
+      const size_t segments = line.closed ? n : n - 1;
+      std::vector<TinVertex> points;
+      for (size_t i = 0; i < n; ++i) {
+        const Point2 p{line.points[i].x, line.points[i].y};
+        points.push_back(line.points[i]);
+        new_points_.push_back(p);
+        if (i >= segments) continue;
+        const Point2 q{line.points[(i + 1) % n].x, line.points[(i + 1) % n].y};
+        const int64_t start = located_[l][i];  // SnapPoints located every point
+        std::vector<int64_t> queue{start};
+        std::unordered_set<int64_t> seen{start};
+        std::map<double, TinVertex> on_segment;  // by position along pq
+        const double dx = q.x - p.x, dy = q.y - p.y, len2 = dx * dx + dy * dy;
+        while (!queue.empty()) {
+          const int64_t t = queue.back();
+          queue.pop_back();
+          AddToRegion(t);
+          TB_ASSIGN_OR_RETURN(const MeshTriangle* tri, mesh_.Triangle(t));
+          for (int64_t v : tri->v) {
+            TB_ASSIGN_OR_RETURN(const TinVertex* w, mesh_.Vertex(v));
+            if (len2 == 0) break;
+            const double along = ((w->x - p.x) * dx + (w->y - p.y) * dy) / len2;
+            const double off = std::fabs((w->x - p.x) * dy - (w->y - p.y) * dx) / std::sqrt(len2);
+            const double ends = snap / std::sqrt(len2);
+            if (along > ends && along < 1 - ends && off <= snap) on_segment.emplace(along, *w);
+          }
+          for (const std::optional<int64_t>& next : tri->n) {
+            if (!next || !seen.insert(*next).second) continue;
+            TB_ASSIGN_OR_RETURN(bool meets, Meets(*next, p, q));
+            if (meets) queue.push_back(*next);
+          }
+        }
+        for (const auto& [along, w] : on_segment) {
+          points.push_back(w);
+          new_points_.push_back({w.x, w.y});
+        }
+      }
+      line.points = std::move(points);
+    }
+    return Status::Ok();
+  }
+
+  Result<bool> Meets(int64_t t, const Point2& p, const Point2& q) {
+    TB_ASSIGN_OR_RETURN(Corners3 c, Corners(t));
+    return SegmentMeetsTriangle(p, q, c[0], c[1], c[2]);
+  }
+
+  Result<Corners3> Corners(int64_t t) {
+    TB_ASSIGN_OR_RETURN(const MeshTriangle* tri, mesh_.Triangle(t));
+    Corners3 c;
+    for (int i = 0; i < 3; ++i) {
+      TB_ASSIGN_OR_RETURN(c[i], mesh_.At(tri->v[i]));
+    }
+    return c;
+  }
+
+  // Grows R across unconstrained outline edges by the triangles whose circumcircle strictly
+  // holds a new point (the Bowyer-Watson cavity): they cannot survive the insertion. Later
+  // rounds catch anything this misses (refinement points), so this only saves rounds.
+  Status GrowByCircumcircles() {
+    if (new_points_.empty()) return Status::Ok();
+    std::vector<Point2> points = new_points_;
+    std::sort(points.begin(), points.end(),
+              [](const Point2& a, const Point2& b) { return a.x < b.x; });
+    for (size_t k = 0; k < order_.size(); ++k) {
+      const int64_t t = order_[k];
+      TB_ASSIGN_OR_RETURN(const MeshTriangle* tri, mesh_.Triangle(t));
+      const MeshTriangle here = *tri;
+      for (int i = 0; i < 3; ++i) {
+        if (!here.n[i] || region_.count(*here.n[i])) continue;
+        const int64_t a = here.v[(i + 1) % 3], b = here.v[(i + 2) % 3];
+        TB_ASSIGN_OR_RETURN(const std::vector<int64_t>* owners, mesh_.Owners(a, b));
+        if (!owners->empty() && !removed_edges_.count(Key(a, b))) continue;
+        TB_ASSIGN_OR_RETURN(auto c, Corners(*here.n[i]));
+        if (CircleHoldsAny(c, points)) AddToRegion(*here.n[i]);
+      }
+    }
+    return Status::Ok();
+  }
+
+  static bool CircleHoldsAny(const Corners3& c, const std::vector<Point2>& sorted) {
+    // Circumcentre and radius in doubles only bound the candidates; InCircle decides exactly.
+    const double ax = c[0].x, ay = c[0].y;
+    const double bx = c[1].x - ax, by = c[1].y - ay, cx = c[2].x - ax, cy = c[2].y - ay;
+    const double d = 2 * (bx * cy - by * cx);
+    double lo = -std::numeric_limits<double>::infinity(), hi = -lo;
+    if (d != 0) {
+      const double ux = (cy * (bx * bx + by * by) - by * (cx * cx + cy * cy)) / d;
+      const double uy = (bx * (cx * cx + cy * cy) - cx * (bx * bx + by * by)) / d;
+      const double r = std::hypot(ux, uy) * (1 + 1e-9) + 1e-9;
+      lo = ax + ux - r, hi = ax + ux + r;
+    }
+    auto it = std::lower_bound(sorted.begin(), sorted.end(), lo,
+                               [](const Point2& p, double x) { return p.x < x; });
+    for (; it != sorted.end() && it->x <= hi; ++it)
+      if (InCircle(c[0], c[1], c[2], *it) > 0) return true;
+    return false;
+  }
+
+  // The stored triangles whose paint may change (centroid blocks meeting the changed features),
+  // and the box the DEM window must cover for their data test.
+  Status FindPaintArea() {
+    if (edit_.changed.empty()) return Status::Ok();
+    // A point lookup costs a few rows of a scan: with the box over more than half of the DEM's
+    // height (measured: a quarter is too little), one slab scan beats a lookup per vertex.
+    const GridGeometry& g = dem_.geometry;
+    if (edit_.changed.max_y - edit_.changed.min_y > 0.5 * (g.MaxY() - g.MinY())) {
+      const double margin = 2 * surface_.blocks.size;  // triangles reach about a block beyond
+      TB_RETURN_IF_ERROR(
+          mesh_.PreloadVertices({edit_.changed.min_x - margin, edit_.changed.min_y - margin,
+                                 edit_.changed.max_x + margin, edit_.changed.max_y + margin}));
+    }
+    TB_ASSIGN_OR_RETURN(around_, mesh_.TrianglesInBox(edit_.changed));
+    paint_box_ = edit_.changed;
+    for (int64_t t : around_) {
+      TB_ASSIGN_OR_RETURN(Corners3 c, Corners(t));
+      for (const Point2& p : c) paint_box_.Add(p);
+    }
+    return Status::Ok();
+  }
+
+  // --- re-triangulating R -------------------------------------------------------------------
+
+  // z of an existing vertex after the edit: a replace level, the DEM again where a removed
+  // replace feature had flattened it, else as stored.
+  double TargetZ(const TinVertex& v) {
+    if (auto level = levels_.At({v.x, v.y})) return *level;
+    if (restore_ && restore_->Locate({v.x, v.y}) != PointInPolygon::kOutside) {
+      const double z = DemZ(v.x, v.y);
+      if (std::isfinite(z)) return z;
+    }
+    return v.z;
+  }
+
+  double DemZ(double x, double y) {
+    auto z = dems_.Sample(dem_, x, y);
+    return z.ok() ? *z : std::numeric_limits<double>::quiet_NaN();
+  }
+
+  // z of a point the edit creates (ring points, crossings): the replace level or the DEM.
+  double NewZ(double x, double y) {
+    if (auto level = levels_.At({x, y})) return *level;
+    return DemZ(x, y);
+  }
+
+  Result<LocalPatch> Retriangulate() {
+    LocalPatch patch;
+    outline_.clear();
+    std::vector<TinVertex> points;
+    std::unordered_map<int64_t, uint32_t> local;  // store id -> local index
+    std::vector<Corners3> region_triangles;
+    std::vector<std::pair<Point2, Point2>> outline_segments;
+    Box box = paint_box_;
+    for (int64_t t : order_) {
+      TB_ASSIGN_OR_RETURN(const MeshTriangle* tri, mesh_.Triangle(t));
+      Corners3 corners;
+      for (int i = 0; i < 3; ++i) {
+        const int64_t id = tri->v[i];
+        TB_ASSIGN_OR_RETURN(const TinVertex* v, mesh_.Vertex(id));
+        corners[i] = {v->x, v->y};
+        box.Add(corners[i]);
+        if (dropped_.count(id) || local.count(id)) continue;
+        local.emplace(id, static_cast<uint32_t>(points.size()));
+        TinVertex copy = *v;
+        copy.z = TargetZ(*v);
+        points.push_back(copy);
+        patch.store_ids.push_back(id);
+      }
+      region_triangles.push_back(corners);
+      for (int i = 0; i < 3; ++i) {
+        const std::optional<int64_t>& n = tri->n[i];
+        if (!n || !region_.count(*n)) {
+          outline_.push_back({tri->v[(i + 1) % 3], tri->v[(i + 2) % 3], n});
+          outline_segments.push_back({corners[(i + 1) % 3], corners[(i + 2) % 3]});
+        }
+      }
+    }
+    outline_index_.Build(std::move(outline_segments));
+    for (const Corners3& c : region_triangles)
+      for (const Point2& p : c) result_.region.Add(p);
+    const double cell = std::max(dem_.geometry.cell_x, std::fabs(dem_.geometry.cell_y));
+    TB_ASSIGN_OR_RETURN(grid_,
+                        dems_.ReadWindow(dem_, {box.min_x - 2 * cell, box.min_y - 2 * cell,
+                                                box.max_x + 2 * cell, box.max_y + 2 * cell}));
+    if (order_.empty()) return patch;  // nothing to re-triangulate: a paint-only edit
+
+    Cdt cdt;
+    cdt.InsertVertices(points);  // distinct store vertices: local index i is points[i]
+    for (const EditPolyline& line : lines_) {
+      std::vector<TinVertex> draped = line.points;
+      for (TinVertex& p : draped) {
+        p.kind = VertexKind::kRing;
+        if (auto level = levels_.At({p.x, p.y})) p.z = *level;
+      }
+      patch.lines.push_back(cdt.InsertVertices(draped));
+    }
+    if (!carried_.empty()) cdt.InsertVertices(carried_);
+    for (const OutlineEdge& e : outline_) cdt.InsertConstraint(local.at(e.a), local.at(e.b));
+    std::set<Edge> done;
+    for (int64_t t : order_) {
+      TB_ASSIGN_OR_RETURN(const MeshTriangle* tri, mesh_.Triangle(t));
+      for (int i = 0; i < 3; ++i) {
+        const Edge e = Key(tri->v[i], tri->v[(i + 1) % 3]);
+        if (!done.insert(e).second || removed_edges_.count(e)) continue;
+        TB_ASSIGN_OR_RETURN(const std::vector<int64_t>* owners, mesh_.Owners(e.first, e.second));
+        if (owners->empty()) continue;
+        std::vector<int64_t> kept;
+        const std::set<int64_t> removing(edit_.remove.begin(), edit_.remove.end());
+        for (int64_t f : *owners)
+          if (!removing.count(f)) kept.push_back(f);
+        cdt.InsertConstraint(local.at(e.first), local.at(e.second));
+        patch.old_constraints.push_back({e, kept});
+      }
+    }
+    for (size_t l = 0; l < lines_.size(); ++l) {
+      const std::vector<uint32_t>& idx = patch.lines[l];
+      const size_t n = idx.size();
+      const size_t segments = lines_[l].closed ? n : n - 1;
+      for (size_t i = 0; i < segments; ++i)
+        if (idx[i] != idx[(i + 1) % n]) cdt.InsertConstraint(idx[i], idx[(i + 1) % n]);
+    }
+    const ElevationFn elevation = [this](double x, double y) { return NewZ(x, y); };
+    cdt.IndexCrossings(elevation);
+
+    std::set<Edge> outline_local;  // directed as R's triangles have them
+    for (const OutlineEdge& e : outline_) outline_local.insert({local.at(e.a), local.at(e.b)});
+
+    // Refinement inside R only: the faces ClassifyInside finds now, and the faces refinement
+    // creates (each has a new vertex). A cell centre exactly on the outline is left alone: it
+    // would split an outline edge, and the triangle across already meets the tolerance there
+    // (both interpolate the same edge).
+    const size_t before = cdt.vertices().size();
+    std::set<std::array<uint32_t, 3>> inside_faces;
+    {
+      const Tin now = cdt.ToTin(elevation);
+      const std::vector<uint8_t> inside = ClassifyInside(now, outline_local);
+      for (size_t t = 0; t < now.triangles.size(); ++t) {
+        if (!inside[t]) continue;
+        std::array<uint32_t, 3> key = now.triangles[t].v;
+        std::sort(key.begin(), key.end());
+        inside_faces.insert(key);
+      }
+    }
+    RefineOptions refine;
+    refine.tolerance = surface_.tolerance.value_or(1.0);
+    refine.excluded = [this](double x, double y) {
+      if (outline_index_.OnAny({x, y})) return true;
+      return !replace_polygons_.empty() && replaced_->Locate({x, y}) != PointInPolygon::kOutside;
+    };
+    refine.in_region = [&](const std::array<uint32_t, 3>& v) {
+      if (v[0] >= before || v[1] >= before || v[2] >= before) return true;
+      std::array<uint32_t, 3> key = v;
+      std::sort(key.begin(), key.end());
+      return inside_faces.count(key) > 0;
+    };
+    RefineToTolerance(cdt, grid_, refine);
+    for (size_t i = before; i < cdt.vertices().size(); ++i) carried_.push_back(cdt.vertices()[i]);
+    patch.refinement_points = static_cast<int64_t>(carried_.size());
+
+    patch.tin = cdt.ToTin(elevation);
+    patch.store_ids.resize(patch.tin.vertices.size(), 0);
+    patch.inside = ClassifyInside(patch.tin, outline_local);
+    local_ = std::move(local);
+    return patch;
+  }
+
+  // The outer triangles that must join R: across an outline edge that the patch no longer has
+  // (a point split it) or that is not locally Delaunay (and not a kept constraint).
+  Result<std::vector<int64_t>> CheckOutline(const LocalPatch& patch) {
+    std::unordered_map<Edge, uint32_t, EdgeHash> directed;  // local (a, b) -> inside triangle
+    for (size_t t = 0; t < patch.tin.triangles.size(); ++t) {
+      if (!patch.inside[t]) continue;
+      const auto& v = patch.tin.triangles[t].v;
+      for (int i = 0; i < 3; ++i) directed.emplace(Edge{v[i], v[(i + 1) % 3]}, t);
+    }
+    std::vector<int64_t> grow;
+    for (const OutlineEdge& e : outline_) {
+      if (!e.outer) continue;
+      const uint32_t a = local_.at(e.a), b = local_.at(e.b);
+      auto it = directed.find(Edge{a, b});
+      if (it == directed.end()) {
+        grow.push_back(*e.outer);
+        continue;
+      }
+      TB_ASSIGN_OR_RETURN(const std::vector<int64_t>* owners, mesh_.Owners(e.a, e.b));
+      if (!owners->empty() && !removed_edges_.count(Key(e.a, e.b))) continue;
+      TB_ASSIGN_OR_RETURN(const MeshTriangle* outer, mesh_.Triangle(*e.outer));
+      int64_t far = outer->v[0];
+      for (int64_t w : outer->v)
+        if (w != e.a && w != e.b) far = w;
+      TB_ASSIGN_OR_RETURN(Point2 fp, mesh_.At(far));
+      const TinTriangle& inner = patch.tin.triangles[it->second];
+      const auto& p = patch.tin.vertices;
+      if (InCircle({p[inner.v[0]].x, p[inner.v[0]].y}, {p[inner.v[1]].x, p[inner.v[1]].y},
+                   {p[inner.v[2]].x, p[inner.v[2]].y}, fp) > 0)
+        grow.push_back(*e.outer);
+    }
+    return grow;
+  }
+
+  // --- writing ------------------------------------------------------------------------------
+
+  Status Step() {
+    ++step_;
+    return hook_ ? hook_(step_) : Status::Ok();
+  }
+
+  // The constrained sub-edges of the patch from local vertex a to b: a walk along constrained
+  // edges that advances along ab and stays on it (a crossing or a point on the segment splits
+  // it). Crossing points are constructed inexactly, so "on it" allows 1e-7 of its length; among
+  // the candidates the one nearest the line wins, so a crossing constraint is never followed.
+  static Result<std::vector<std::pair<uint32_t, uint32_t>>> Pieces(
+      const std::unordered_map<uint32_t, std::vector<uint32_t>>& graph, const Tin& tin, uint32_t a,
+      uint32_t b) {
+    const TinVertex& pa = tin.vertices[a];
+    const TinVertex& pb = tin.vertices[b];
+    const double dx = pb.x - pa.x, dy = pb.y - pa.y, len2 = dx * dx + dy * dy;
+    const double slack = 1e-7 * std::sqrt(len2);
+    const auto along = [&](uint32_t w) {
+      return ((tin.vertices[w].x - pa.x) * dx + (tin.vertices[w].y - pa.y) * dy) / len2;
+    };
+    const auto off = [&](uint32_t w) {
+      return std::fabs((tin.vertices[w].x - pa.x) * dy - (tin.vertices[w].y - pa.y) * dx) /
+             std::sqrt(len2);
+    };
+    std::vector<std::pair<uint32_t, uint32_t>> pieces;
+    uint32_t at = a;
+    for (size_t guard = 0; at != b; ++guard) {
+      auto it = graph.find(at);
+      if (guard > tin.vertices.size() || it == graph.end()) break;
+      uint32_t best = at;
+      double best_off = slack;
+      for (uint32_t w : it->second) {
+        if (w == b) {
+          best = b;
+          break;
+        }
+        if (along(w) <= along(at) || along(w) >= 1) continue;
+        if (const double d = off(w); d <= best_off) best_off = d, best = w;
+      }
+      if (best == at) break;
+      pieces.emplace_back(at, best);
+      at = best;
+    }
+    if (at != b)
+      return Status::Corruption("the constraint " + FormatPoint({pa.x, pa.y}) + " - " +
+                                FormatPoint({pb.x, pb.y}) +
+                                " was lost while re-triangulating the conflict region");
+    return pieces;
+  }
+
+  Status Write(const LocalPatch& patch) {
+    SqliteDb& db = store_.db();
+    const Tin& tin = patch.tin;
+    std::vector<int64_t> ids = patch.store_ids;
+    std::unordered_set<int64_t> new_ids;
+    {
+      std::vector<uint8_t> used(tin.vertices.size(), 0);
+      for (size_t t = 0; t < tin.triangles.size(); ++t)
+        if (patch.inside[t])
+          for (uint32_t v : tin.triangles[t].v) used[v] = 1;
+      for (size_t i = 0; i < tin.vertices.size(); ++i)
+        if (ids[i] == 0 && !used[i])
+          return Status::Corruption("surface '" + surface_.name + "': the new vertex at " +
+                                    FormatPoint({tin.vertices[i].x, tin.vertices[i].y}) +
+                                    " fell outside the conflict region (kind " +
+                                    VertexKindName(tin.vertices[i].kind) + ", round " +
+                                    std::to_string(result_.rounds) + ")");
+    }
+
+    // New vertices (ring points, crossings, refinement points) and z of replaced vertices.
+    TB_RETURN_IF_ERROR(Step());
+    TB_ASSIGN_OR_RETURN(Statement * insert_vertex,
+                        db.Cached("INSERT INTO vertices(surface, x, y, z, kind) VALUES (?, ?, ?, "
+                                  "?, ?)"));
+    for (size_t i = 0; i < tin.vertices.size(); ++i) {
+      if (ids[i] != 0) continue;
+      const TinVertex& v = tin.vertices[i];
+      if (!std::isfinite(v.z))
+        return Status::InvalidArgument("no elevation for the new vertex at " +
+                                       FormatPoint({v.x, v.y}));
+      insert_vertex->Bind(1, surface_.id).Bind(2, v.x).Bind(3, v.y).Bind(4, v.z);
+      insert_vertex->Bind(5, std::string_view(VertexKindName(v.kind)));
+      TB_RETURN_IF_ERROR(insert_vertex->Run());
+      ids[i] = db.LastInsertRowId();
+      new_ids.insert(ids[i]);
+    }
+    TB_RETURN_IF_ERROR(Step());
+    TB_ASSIGN_OR_RETURN(Statement * set_z, db.Cached("UPDATE vertices SET z = ? WHERE id = ?"));
+    for (size_t i = 0; i < tin.vertices.size(); ++i) {
+      if (patch.store_ids[i] == 0) continue;
+      TB_ASSIGN_OR_RETURN(const TinVertex* stored, mesh_.Vertex(patch.store_ids[i]));
+      if (stored->z == tin.vertices[i].z) continue;
+      TB_RETURN_IF_ERROR(set_z->Bind(1, tin.vertices[i].z).Bind(2, patch.store_ids[i]).Run());
+    }
+
+    // R's triangles go, the patch's inside triangles come with fresh ids: above every id in the
+    // table before the delete, so an id never comes back with another triangle.
+    TB_ASSIGN_OR_RETURN(int64_t base,
+                        db.QueryInt("SELECT coalesce(max(id), 0) + 1 FROM triangles"));
+    TB_RETURN_IF_ERROR(Step());
+    TB_ASSIGN_OR_RETURN(Statement * del, db.Cached("DELETE FROM triangles WHERE id = ?"));
+    for (int64_t t : order_) TB_RETURN_IF_ERROR(del->Bind(1, t).Run());
+    TB_ASSIGN_OR_RETURN(Statement * del_vertex, db.Cached("DELETE FROM vertices WHERE id = ?"));
+    for (int64_t v : dropped_) TB_RETURN_IF_ERROR(del_vertex->Bind(1, v).Run());
+    result_.removed = static_cast<int64_t>(order_.size());
+
+    std::vector<int64_t> new_id(tin.triangles.size(), 0);
+    int64_t next = base;
+    for (size_t t = 0; t < tin.triangles.size(); ++t)
+      if (patch.inside[t]) new_id[t] = next++;
+    result_.added = next - base;
+    std::unordered_map<Edge, int64_t, EdgeHash> outer_across;  // store (a, b) of R's side
+    for (const OutlineEdge& e : outline_)
+      if (e.outer) outer_across.emplace(Edge{e.a, e.b}, *e.outer);
+
+    // Paint of the new triangles and of the stored ones around the changed features.
+    Tin painted;
+    std::unordered_map<int64_t, uint32_t> painted_vertex;
+    const auto add_vertex = [&](int64_t id, const TinVertex& v) {
+      auto [it, added] = painted_vertex.emplace(id, static_cast<uint32_t>(painted.vertices.size()));
+      if (added) painted.vertices.push_back(v);
+      return it->second;
+    };
+    for (size_t t = 0; t < tin.triangles.size(); ++t) {
+      if (!patch.inside[t]) continue;
+      TinTriangle tri;
+      for (int i = 0; i < 3; ++i)
+        tri.v[i] = add_vertex(ids[tin.triangles[t].v[i]], tin.vertices[tin.triangles[t].v[i]]);
+      painted.triangles.push_back(tri);
+    }
+    std::vector<int64_t> kept_around;
+    for (int64_t t : around_) {
+      if (region_.count(t)) continue;
+      TB_ASSIGN_OR_RETURN(const MeshTriangle* stored, mesh_.Triangle(t));
+      TinTriangle tri;
+      for (int i = 0; i < 3; ++i) {
+        TB_ASSIGN_OR_RETURN(const TinVertex* v, mesh_.Vertex(stored->v[i]));
+        tri.v[i] = add_vertex(stored->v[i], *v);
+      }
+      painted.triangles.push_back(tri);
+      kept_around.push_back(t);
+    }
+    const Paint paint = PaintFromFeatures(edit_.features, &grid_, painted);
+    std::vector<std::optional<int64_t>> tag_ids;
+    for (const std::string& value : painted.tags) {
+      TB_ASSIGN_OR_RETURN(int64_t id, InternTag(store_, value));
+      tag_ids.push_back(id);
+    }
+    const auto tag_of = [&](size_t k) {
+      return paint.tag[k] == kNoTag ? std::optional<int64_t>() : tag_ids[paint.tag[k]];
+    };
+
+    TB_RETURN_IF_ERROR(Step());
+    TB_ASSIGN_OR_RETURN(
+        Statement * insert,
+        db.Cached("INSERT INTO triangles(id, surface, v0, v1, v2, n0, n1, n2, visible, tag, block) "
+                  "VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)"));
+    TB_ASSIGN_OR_RETURN(Statement * relink,
+                        db.Cached("UPDATE triangles SET n0 = ?, n1 = ?, n2 = ? WHERE id = ?"));
+    size_t k = 0;
+    for (size_t t = 0; t < tin.triangles.size(); ++t) {
+      if (!patch.inside[t]) continue;
+      const TinTriangle& tri = tin.triangles[t];
+      insert->Bind(1, new_id[t]).Bind(2, surface_.id);
+      for (int i = 0; i < 3; ++i) {
+        insert->Bind(3 + i, ids[tri.v[i]]);
+        std::optional<int64_t> n;
+        if (tri.n[i] != kNoNeighbour && patch.inside[tri.n[i]]) {
+          n = new_id[tri.n[i]];
+        } else {
+          auto it = outer_across.find(Edge{ids[tri.v[(i + 1) % 3]], ids[tri.v[(i + 2) % 3]]});
+          if (it != outer_across.end()) n = it->second;
+        }
+        if (n)
+          insert->Bind(6 + i, *n);
+        else
+          insert->BindNull(6 + i);
+      }
+      insert->Bind(9, int64_t{paint.visible[k] ? 1 : 0});
+      result_.visible_added += paint.visible[k] != 0;
+      if (auto tag = tag_of(k))
+        insert->Bind(10, *tag);
+      else
+        insert->BindNull(10);
+      const TinVertex &a = tin.vertices[tri.v[0]], &b = tin.vertices[tri.v[1]],
+                      &c = tin.vertices[tri.v[2]];
+      insert->Bind(11, CentroidBlock(surface_.blocks, a.x, a.y, b.x, b.y, c.x, c.y));
+      TB_RETURN_IF_ERROR(insert->Run());
+      ++k;
+    }
+
+    // Outer triangles point across the outline at the new triangles.
+    TB_RETURN_IF_ERROR(Step());
+    std::unordered_map<Edge, int64_t, EdgeHash> inner_by_edge;  // store (a, b) -> new triangle
+    for (size_t t = 0; t < tin.triangles.size(); ++t) {
+      if (!patch.inside[t]) continue;
+      const auto& v = tin.triangles[t].v;
+      for (int i = 0; i < 3; ++i)
+        inner_by_edge.emplace(Edge{ids[v[i]], ids[v[(i + 1) % 3]]}, new_id[t]);
+    }
+    std::map<int64_t, MeshTriangle> relinked;
+    for (const OutlineEdge& e : outline_) {
+      if (!e.outer) continue;
+      auto it = inner_by_edge.find(Edge{e.a, e.b});
+      if (it == inner_by_edge.end())
+        return Status::Corruption("outline edge (" + std::to_string(e.a) + ", " +
+                                  std::to_string(e.b) + ") vanished from the patch");
+      auto [entry, fresh] = relinked.emplace(*e.outer, MeshTriangle{});
+      if (fresh) {
+        TB_ASSIGN_OR_RETURN(const MeshTriangle* outer, mesh_.Triangle(*e.outer));
+        entry->second = *outer;
+      }
+      MeshTriangle& outer = entry->second;
+      for (int j = 0; j < 3; ++j)
+        if (outer.v[(j + 1) % 3] == e.b && outer.v[(j + 2) % 3] == e.a) outer.n[j] = it->second;
+    }
+    for (const auto& [id, t] : relinked) {
+      for (int i = 0; i < 3; ++i) {
+        if (t.n[i])
+          relink->Bind(1 + i, *t.n[i]);
+        else
+          relink->BindNull(1 + i);
+      }
+      TB_RETURN_IF_ERROR(relink->Bind(4, id).Run());
+    }
+
+    // Constraints: the removed features' rows go; kept constraints split by new points or
+    // crossings are re-written piece by piece; the new polylines' pieces get their feature.
+    TB_RETURN_IF_ERROR(Step());
+    TB_ASSIGN_OR_RETURN(Statement * del_feature,
+                        db.Cached("DELETE FROM constraints WHERE surface = ? AND feature = ?"));
+    for (int64_t f : edit_.remove)
+      TB_RETURN_IF_ERROR(del_feature->Bind(1, surface_.id).Bind(2, f).Run());
+    std::unordered_map<uint32_t, std::vector<uint32_t>> graph;
+    for (const auto& [a, b] : tin.constraints) graph[a].push_back(b), graph[b].push_back(a);
+    TB_ASSIGN_OR_RETURN(
+        Statement * del_edge,
+        db.Cached("DELETE FROM constraints WHERE surface = ? AND va = ? AND vb = ?"));
+    TB_ASSIGN_OR_RETURN(Statement * add_edge,
+                        db.Cached("INSERT INTO constraints(surface, va, vb, feature) VALUES (?, ?, "
+                                  "?, ?)"));
+    std::set<std::pair<Edge, int64_t>> written;
+    std::set<Edge> accounted;  // store edges that are constraints after the edit, or R's outline
+    const auto write_pieces = [&](uint32_t a, uint32_t b, int64_t feature) -> Status {
+      TB_ASSIGN_OR_RETURN(auto pieces, Pieces(graph, tin, a, b));
+      for (const auto& [u, w] : pieces) {
+        const Edge e = Key(ids[u], ids[w]);
+        accounted.insert(e);
+        if (!written.insert({e, feature}).second) continue;
+        add_edge->Bind(1, surface_.id).Bind(2, e.first).Bind(3, e.second);
+        if (feature != 0)
+          add_edge->Bind(4, feature);
+        else
+          add_edge->BindNull(4);
+        TB_RETURN_IF_ERROR(add_edge->Run());
+      }
+      return Status::Ok();
+    };
+    for (const auto& [edge, owners] : patch.old_constraints) {
+      const uint32_t a = local_.at(edge.first), b = local_.at(edge.second);
+      bool whole = false;
+      for (uint32_t w : graph[a]) whole |= w == b;
+      if (whole) {
+        accounted.insert(edge);
+        continue;
+      }
+      TB_RETURN_IF_ERROR(
+          del_edge->Bind(1, surface_.id).Bind(2, edge.first).Bind(3, edge.second).Run());
+      for (int64_t f : owners) TB_RETURN_IF_ERROR(write_pieces(a, b, f));
+    }
+    for (size_t l = 0; l < lines_.size(); ++l) {
+      const std::vector<uint32_t>& idx = patch.lines[l];
+      const size_t n = idx.size();
+      const size_t segments = lines_[l].closed ? n : n - 1;
+      for (size_t i = 0; i < segments; ++i)
+        if (idx[i] != idx[(i + 1) % n])
+          TB_RETURN_IF_ERROR(write_pieces(idx[i], idx[(i + 1) % n], lines_[l].feature));
+    }
+    // R's outline is constrained only in the patch; on the domain boundary new points may split
+    // it (it has no triangle across), so its pieces count too.
+    for (const OutlineEdge& e : outline_) {
+      TB_ASSIGN_OR_RETURN(auto pieces, Pieces(graph, tin, local_.at(e.a), local_.at(e.b)));
+      for (const auto& [u, w] : pieces) accounted.insert(Key(ids[u], ids[w]));
+    }
+    // Every edge CGAL constrained must be one we own; one that is not means CGAL rerouted a
+    // constraint through another vertex (CGAL#6602) and the edge would be stored unconstrained.
+    for (const auto& [a, b] : tin.constraints) {
+      if (accounted.count(Key(ids[a], ids[b]))) continue;
+      return Status::Corruption("surface '" + surface_.name +
+                                "': a constraint was rerouted through " +
+                                FormatPoint({tin.vertices[a].x, tin.vertices[a].y}) + " - " +
+                                FormatPoint({tin.vertices[b].x, tin.vertices[b].y}) +
+                                " while re-triangulating; nothing was written");
+    }
+
+    // Paint of the stored triangles around the changed features, and their vertices' z.
+    TB_RETURN_IF_ERROR(Step());
+    TB_ASSIGN_OR_RETURN(Statement * repaint,
+                        db.Cached("UPDATE triangles SET visible = ?, tag = ? WHERE id = ?"));
+    for (size_t j = 0; j < kept_around.size(); ++j, ++k) {
+      TB_ASSIGN_OR_RETURN(const MeshTriangle* stored, mesh_.Triangle(kept_around[j]));
+      const bool visible = paint.visible[k] != 0;
+      const std::optional<int64_t> tag = tag_of(k);
+      if (stored->visible == visible && stored->tag == tag) continue;
+      repaint->Bind(1, int64_t{visible ? 1 : 0});
+      if (tag)
+        repaint->Bind(2, *tag);
+      else
+        repaint->BindNull(2);
+      TB_RETURN_IF_ERROR(repaint->Bind(3, kept_around[j]).Run());
+      ++result_.repainted;
+    }
+    for (const auto& [id, index] : painted_vertex) {
+      (void)index;
+      // R's vertices (existing or new) already have their z.
+      if (local_.count(id) || dropped_.count(id) || new_ids.count(id)) continue;
+      TB_ASSIGN_OR_RETURN(const TinVertex* stored, mesh_.Vertex(id));
+      const double z = TargetZ(*stored);
+      if (z == stored->z) continue;
+      TB_RETURN_IF_ERROR(set_z->Bind(1, z).Bind(2, id).Run());
+    }
+    return Status::Ok();
+  }
+
+  Store& store_;
+  const SurfaceInfo& surface_;
+  DemStore& dems_;
+  const DemInfo& dem_;
+  const LocalEdit& edit_;
+  const FaultHook& hook_;
+  StoredMesh mesh_;
+  ReplaceLevels levels_;
+  std::vector<Polygon> replace_polygons_;
+  std::unique_ptr<PolygonLocator> replaced_;   // cells where tolerance does not apply
+  std::unique_ptr<PolygonLocator> restore_;    // removed replace features: z back from the DEM
+  std::vector<EditPolyline> lines_;            // edit.add, snapped
+  std::vector<std::vector<int64_t>> located_;  // a triangle holding each point of lines_
+  std::vector<int64_t> around_;                // stored triangles whose paint may change
+  Box paint_box_;
+
+  std::unordered_set<int64_t> region_;  // R
+  std::vector<int64_t> order_;          // R in the order found
+  std::set<Edge> removed_edges_;
+  std::set<int64_t> dropped_;
+  std::vector<Point2> new_points_;
+  std::vector<TinVertex> carried_;  // refinement points of earlier rounds
+  std::vector<OutlineEdge> outline_;
+  std::unordered_map<int64_t, uint32_t> local_;
+  SegmentIndex outline_index_;
+  Grid grid_;
+  EditResult result_;
+  int step_ = 0;
+};
+
+}  // namespace
+
+UpdateEngine::UpdateEngine(Store& store, const SurfaceInfo& surface, DemStore& dems,
+                           const DemInfo& dem)
+    : store_(store), surface_(surface), dems_(dems), dem_(dem) {}
+
+UpdateEngine::~UpdateEngine() = default;
+
+Result<EditResult> UpdateEngine::Apply(const LocalEdit& edit) {
+  Edit run(store_, surface_, dems_, dem_, edit, fault_hook_);
+  return run.Run();
+}
+
+}  // namespace tinbase

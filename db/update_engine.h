@@ -1,0 +1,98 @@
+// UpdateEngine: applies one local edit of a surface's constraints (new draped polylines of new
+// features, the constraints of removed features) by re-triangulating only the conflict region
+// (DESIGN.md, "Inserting a polygon", steps 3-5).
+//
+// The conflict region R is found by walking the stored neighbour links: the triangles each new
+// segment touches (from its located first vertex), the stars of the vertices whose constraints
+// go, grown by every triangle across an unconstrained edge whose circumcircle holds a new point.
+// R alone is re-triangulated in CGAL (core/geometry/cdt) with its outline constrained (only to
+// keep the patch's boundary; never persisted), the old constraints inside it and the new ones,
+// then refined from the DEM to the surface tolerance (core/tin/tolerance_refiner). When an
+// outline edge is then not locally Delaunay (or a refinement point split it), the triangle across
+// joins R and R is re-triangulated again, so the result is the constrained Delaunay
+// triangulation of the stored vertices and constraints. Triangles outside R keep their ids and
+// rows except the neighbour links that cross R's outline; visibility and tags of the triangles
+// around the changed features are recomputed (db/feature_store PaintFromFeatures) and updated
+// where they differ; replace features set the z of the vertices they cover.
+//
+// Ownership: borrows the Store; all writes happen inside the caller's WriteTransaction, so an
+// error (or the fault hook) leaves the rollback to it. Not thread-safe; one edit at a time.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "core/base/status.h"
+#include "core/tin/tin.h"
+#include "db/dem_store.h"
+#include "db/feature_store.h"
+#include "db/store.h"
+#include "db/surface_store.h"
+
+namespace tinbase {
+
+// A draped polyline of a feature: its vertices become constraint vertices (kind kRing unless
+// they land on an existing vertex), its segments constraints owned by `feature`.
+struct EditPolyline {
+  std::vector<TinVertex> points;
+  bool closed = false;
+  int64_t feature = 0;
+};
+
+// A new point closer than kSnapCells DEM cells to an existing vertex (of the triangle holding it)
+// or to an earlier point of the same edit is moved onto it, and an existing vertex that close to
+// a new segment (not its ends) becomes a point of the segment. A new point near an existing
+// constraint but not on it is not moved: CGAL inserts it as it is (a short edge, not an error).
+inline constexpr double kSnapCells = 1e-3;
+
+struct LocalEdit {
+  std::vector<EditPolyline> add;
+  // Features whose constraints go: the engine deletes their constraint rows; their feature rows
+  // must still exist during Apply (a removed replace feature's polygons say which vertices get
+  // their DEM z back) and are the caller's to delete afterwards.
+  std::vector<int64_t> remove;
+  // The surface's features as they are after the edit, in id order: what paint, replace levels
+  // and the tolerance exceptions are computed from.
+  std::vector<EditorFeature> features;
+  // Geometry of the added and removed features: where paint or replace levels may change.
+  Box changed;
+};
+
+struct EditResult {
+  int64_t removed = 0;        // triangles deleted (the conflict region)
+  int64_t added = 0;          // triangles inserted
+  int64_t visible_added = 0;  // of those, visible
+  int64_t repainted = 0;      // existing triangles outside R whose visibility or tag changed
+  int64_t refinement_points = 0;
+  int rounds = 0;  // re-triangulations of R until its outline was Delaunay
+  Box region;      // bbox of R
+};
+
+// Called before each write step (numbered 1, 2, ... within one Apply); a non-OK Status aborts
+// the edit with that Status. The atomicity tests inject failures with it.
+using FaultHook = std::function<Status(int step)>;
+
+class UpdateEngine {
+ public:
+  // REQUIRES: `surface` has a DEM (`dem`); both outlive the engine.
+  UpdateEngine(Store& store, const SurfaceInfo& surface, DemStore& dems, const DemInfo& dem);
+  ~UpdateEngine();
+
+  void set_fault_hook(FaultHook hook) { fault_hook_ = std::move(hook); }
+
+  // Applies `edit`. InvalidArgument naming the feature and point when a new point lies outside
+  // the surface; Corruption when stored rows are inconsistent; the hook's Status when it fails.
+  // REQUIRES: inside a WriteTransaction; the features of edit.add already have their rows.
+  Result<EditResult> Apply(const LocalEdit& edit);
+
+ private:
+  Store& store_;
+  const SurfaceInfo& surface_;
+  DemStore& dems_;
+  const DemInfo& dem_;
+  FaultHook fault_hook_;
+};
+
+}  // namespace tinbase

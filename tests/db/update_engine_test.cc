@@ -1,0 +1,419 @@
+// The local update engine through PolygonEditor (add, remove, update) on the Hamersley DEM:
+// after every write the store passes the full check (all eight invariants), triangles outside
+// the conflict region keep their ids and rows (except links across its outline), the changes
+// log records the region, and a failure injected at any write step leaves the store unchanged.
+#include "db/update_engine.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "db/change_log.h"
+#include "db/dem_store.h"
+#include "db/integrity_check.h"
+#include "db/polygon_editor.h"
+#include "db/surface_builder.h"
+#include "tests/support/polygon_files.h"
+#include "tests/support/test_support.h"
+#include "tests/support/tin_fixtures.h"
+
+namespace tinbase {
+namespace {
+
+using testing::DataPath;
+using testing::TempDir;
+
+// Centre of the Hamersley DEM (EPSG:28350), and its cell size.
+constexpr double kCx = 539300, kCy = 7497340, kCell = 344.404386931320971;
+
+using testing::Ngon;
+using testing::PointList;
+using testing::WritePolygons;
+
+struct Row {
+  std::vector<int64_t> columns;  // v0, v1, v2, visible, tag, block (n0..n2 apart)
+  std::vector<int64_t> links;
+  bool operator==(const Row& o) const { return columns == o.columns; }
+};
+
+class UpdateEngineTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    auto store = Store::Create(dir_.Path("s.tinbase"), "");
+    ASSERT_TRUE(store.ok()) << store.status().ToString();
+    store_ = std::move(*store);
+    DemStore dems(*store_);
+    ASSERT_TRUE(dems.Import({DataPath("geology/hamersley/dtm_rp.tif")}, {}).ok());
+    SurfaceBuildOptions o;
+    o.surface = "terrain";
+    o.greedy.tolerance = 5;
+    auto built = BuildSurfaceFromDem(*store_, o);
+    ASSERT_TRUE(built.ok()) << built.status().ToString();
+  }
+
+  std::map<int64_t, Row> Rows() {
+    std::map<int64_t, Row> rows;
+    auto prepared = store_->db().Prepare(
+        "SELECT id, v0, v1, v2, visible, coalesce(tag, -1), block, coalesce(n0, -1), "
+        "coalesce(n1, -1), coalesce(n2, -1) FROM triangles");
+    EXPECT_TRUE(prepared.ok());
+    Statement* stmt = prepared->get();
+    while (*stmt->Step()) {
+      Row r;
+      for (int c = 1; c <= 6; ++c) r.columns.push_back(stmt->ColumnInt(c));
+      for (int c = 7; c <= 9; ++c) r.links.push_back(stmt->ColumnInt(c));
+      rows[stmt->ColumnInt(0)] = r;
+    }
+    return rows;
+  }
+
+  int64_t Int(const std::string& sql) {
+    auto v = store_->db().QueryInt(sql);
+    EXPECT_TRUE(v.ok()) << sql;
+    return v.ok() ? *v : -1;
+  }
+
+  Result<PolygonAddReport> Add(const std::string& file, const std::string& mode,
+                               std::optional<double> level = std::nullopt) {
+    PolygonAddOptions o;
+    o.surface = "terrain";
+    o.file = file;
+    o.mode = mode;
+    o.tag_field = mode == "fill" || mode == "replace" ? "unit" : "";
+    o.level = level;
+    return AddPolygons(*store_, o);
+  }
+
+  // Adds and asserts: the full check passes, the triangles not removed keep their rows, and the
+  // removed ones are exactly `removed` of the changes row.
+  PolygonAddReport AddChecked(const std::string& file, const std::string& mode,
+                              std::optional<double> level = std::nullopt) {
+    const auto before = Rows();
+    auto report = Add(file, mode, level);
+    EXPECT_TRUE(report.ok()) << report.status().ToString();
+    if (!report.ok()) return {};
+    ExpectKept(before, *report);
+    testing::ExpectStoreIntact(*store_, /*full=*/true);
+    return *report;
+  }
+
+  void ExpectKept(const std::map<int64_t, Row>& before, const PolygonAddReport& report) {
+    const auto after = Rows();
+    int64_t gone = 0, repainted = 0, created = 0;
+    for (const auto& [id, row] : before) {
+      auto it = after.find(id);
+      if (it == after.end()) {
+        ++gone;
+        continue;
+      }
+      // Only visibility and tag may change (repaint), never the vertices or block.
+      const bool same_shape =
+          std::equal(row.columns.begin(), row.columns.begin() + 3, it->second.columns.begin()) &&
+          row.columns[5] == it->second.columns[5];
+      EXPECT_TRUE(same_shape) << "triangle " << id << " kept its id but changed its vertices";
+      repainted += !(row == it->second);
+    }
+    for (const auto& [id, row] : after) created += !before.count(id);
+    EXPECT_EQ(gone, report.removed);
+    EXPECT_EQ(created, report.added);
+    EXPECT_LT(gone, static_cast<int64_t>(before.size()) / 2) << "the region is not local";
+    (void)repainted;
+    auto changes = ChangesSince(*store_, report.tx - 1);
+    ASSERT_TRUE(changes.ok());
+    ASSERT_EQ(changes->size(), 1u);
+    EXPECT_EQ((*changes)[0].removed, report.removed);
+    EXPECT_EQ((*changes)[0].added, report.added);
+  }
+
+  void Reopen() {
+    auto store = Store::Open(dir_.Path("s.tinbase"));
+    ASSERT_TRUE(store.ok()) << store.status().ToString();
+    store_ = std::move(*store);
+  }
+
+  TempDir dir_;
+  std::unique_ptr<Store> store_;
+};
+
+TEST_F(UpdateEngineTest, AddIsLocalAndKeepsEveryInvariant) {
+  const std::string file = WritePolygons(
+      dir_, "a.geojson", {{Ngon(kCx, kCy, 12 * kCell, 40), Ngon(kCx, kCy, 4 * kCell, 12, 0.3)}});
+  const PolygonAddReport r = AddChecked(file, "fill");
+  EXPECT_EQ(r.features, 1);
+  EXPECT_GT(r.removed, 0);
+  // Constraints carry their feature; the hole's inside is untagged, the ring's inside tagged.
+  EXPECT_EQ(Int("SELECT count(*) FROM constraints WHERE feature IS NULL"), 0);
+  EXPECT_GE(
+      Int("SELECT count(*) FROM constraints WHERE feature = " + std::to_string(r.first_feature_id)),
+      52);
+  EXPECT_GT(Int("SELECT count(*) FROM triangles WHERE tag IS NOT NULL"), 0);
+}
+
+TEST_F(UpdateEngineTest, OverlappingCrossingTouchingFeatures) {
+  const PointList a = Ngon(kCx, kCy, 10 * kCell, 30);
+  // b crosses a's ring many times; c shares a's vertices exactly on one side (touching);
+  // d is a clip polygon around both.
+  AddChecked(WritePolygons(dir_, "a.geojson", {{a}}), "fill");
+  AddChecked(WritePolygons(dir_, "b.geojson", {{Ngon(kCx + 7 * kCell, kCy, 9 * kCell, 23, 0.7)}}),
+             "fill");
+  PointList c = {a[0], a[1], a[2], a[3]};
+  c.push_back({a[3].first + 8 * kCell, a[3].second + 8 * kCell});
+  c.push_back(a[0]);
+  std::reverse(c.begin(), c.end());  // a's edges traversed the other way
+  AddChecked(WritePolygons(dir_, "c.geojson", {{c}}), "erase");
+  AddChecked(WritePolygons(dir_, "d.geojson", {{Ngon(kCx, kCy, 30 * kCell, 16)}}), "clip");
+  // Shared edges have one row per feature.
+  EXPECT_GT(Int("SELECT count(*) FROM (SELECT va, vb FROM constraints GROUP BY va, vb "
+                "HAVING count(*) > 1)"),
+            0);
+}
+
+TEST_F(UpdateEngineTest, RemoveAndUpdateAreLocalAndRestoreTheSurface) {
+  const PolygonAddReport a =
+      AddChecked(WritePolygons(dir_, "a.geojson", {{Ngon(kCx, kCy, 10 * kCell, 30)}}), "fill");
+  const PolygonAddReport b = AddChecked(
+      WritePolygons(dir_, "b.geojson", {{Ngon(kCx + 6 * kCell, kCy, 8 * kCell, 21, 0.4)}}),
+      "erase");
+  ASSERT_GT(a.first_feature_id, 0);
+  ASSERT_GT(b.first_feature_id, 0);
+
+  auto before = Rows();
+  auto removed = RemovePolygon(*store_, a.first_feature_id);
+  ASSERT_TRUE(removed.ok()) << removed.status().ToString();
+  ExpectKept(before, *removed);
+  testing::ExpectStoreIntact(*store_, /*full=*/true);
+  EXPECT_EQ(
+      Int("SELECT count(*) FROM constraints WHERE feature = " + std::to_string(a.first_feature_id)),
+      0);
+  EXPECT_EQ(Int("SELECT count(*) FROM features WHERE id = " + std::to_string(a.first_feature_id)),
+            0);
+
+  PolygonAddOptions update;
+  update.file = WritePolygons(dir_, "b2.geojson", {{Ngon(kCx - 5 * kCell, kCy, 6 * kCell, 17)}});
+  before = Rows();
+  auto updated = UpdatePolygon(*store_, b.first_feature_id, update);
+  ASSERT_TRUE(updated.ok()) << updated.status().ToString();
+  ExpectKept(before, *updated);
+  testing::ExpectStoreIntact(*store_, /*full=*/true);
+  EXPECT_EQ(Int("SELECT count(*) FROM features WHERE mode = 'erase' AND id = " +
+                std::to_string(updated->first_feature_id)),
+            1);
+
+  auto last = RemovePolygon(*store_, updated->first_feature_id);
+  ASSERT_TRUE(last.ok()) << last.status().ToString();
+  testing::ExpectStoreIntact(*store_, /*full=*/true);
+  // Nothing of the features is left: no constraint, no ring or crossing vertex.
+  EXPECT_EQ(Int("SELECT count(*) FROM constraints"), 0);
+  EXPECT_EQ(Int("SELECT count(*) FROM vertices WHERE kind IN ('ring', 'steiner')"), 0);
+  EXPECT_EQ(Int("SELECT count(*) FROM triangles WHERE tag IS NOT NULL"), 0);
+
+  auto missing = RemovePolygon(*store_, 999);
+  EXPECT_EQ(missing.status().code(), StatusCode::kNotFound);
+}
+
+TEST_F(UpdateEngineTest, ReplaceFlattensAndRemovingItRestoresTheTolerance) {
+  const PolygonAddReport r = AddChecked(
+      WritePolygons(dir_, "lake.geojson", {{Ngon(kCx, kCy, 9 * kCell, 25)}}), "replace", 400.0);
+  EXPECT_GT(Int("SELECT count(*) FROM vertices WHERE z = 400"), 25);
+  auto removed = RemovePolygon(*store_, r.first_feature_id);
+  ASSERT_TRUE(removed.ok()) << removed.status().ToString();
+  testing::ExpectStoreIntact(*store_, /*full=*/true);
+}
+
+TEST_F(UpdateEngineTest, BreaklinesCrossRingsAndGoAgain) {
+  AddChecked(WritePolygons(dir_, "a.geojson", {{Ngon(kCx, kCy, 8 * kCell, 24)}}), "fill");
+  const std::string line = dir_.Path("line.geojson");
+  std::ofstream(line) << std::setprecision(17)
+                      << R"({"type": "FeatureCollection", "crs": {"type": "name", "properties": )"
+                      << R"({"name": "urn:ogc:def:crs:EPSG::28350"}}, "features": [{"type": )"
+                      << R"("Feature", "properties": {}, "geometry": {"type": "LineString", )"
+                      << R"("coordinates": [[)" << kCx - 12 * kCell << "," << kCy - 3 * kCell
+                      << "],[" << kCx + 0.5 * kCell << "," << kCy + 0.3 * kCell << "],["
+                      << kCx + 12 * kCell << "," << kCy + 5 * kCell << "]]}}]}";
+  const PolygonAddReport r = AddChecked(line, "breakline");
+  // The line crosses the ring twice: two crossing vertices, shared by both features' rows.
+  EXPECT_GE(Int("SELECT count(*) FROM vertices WHERE kind = 'steiner'"), 2);
+  auto removed = RemovePolygon(*store_, r.first_feature_id);
+  ASSERT_TRUE(removed.ok()) << removed.status().ToString();
+  testing::ExpectStoreIntact(*store_, /*full=*/true);
+}
+
+TEST_F(UpdateEngineTest, RingsOnTheDomainBoundary) {
+  // The surface spans the DEM's cell centres; this square shares its north-west corner and runs
+  // along its west and north edges, so R reaches the domain boundary and new points split it.
+  const double x0 = 505374.706305430852808 + kCell / 2, y0 = 7532468.693823986686766 - kCell / 2;
+  const PointList corner = {{x0, y0},
+                            {x0, y0 - 6.3 * kCell},
+                            {x0 + 5.7 * kCell, y0 - 6.3 * kCell},
+                            {x0 + 5.7 * kCell, y0},
+                            {x0, y0}};
+  const PolygonAddReport r = AddChecked(WritePolygons(dir_, "corner.geojson", {{corner}}), "erase");
+  auto removed = RemovePolygon(*store_, r.first_feature_id);
+  ASSERT_TRUE(removed.ok()) << removed.status().ToString();
+  testing::ExpectStoreIntact(*store_, /*full=*/true);
+}
+
+// Luxembourg: a warped geographic DEM with nodata all around the country; R meets nodata
+// triangles, which must stay hidden.
+TEST(UpdateEngineNodataTest, PolygonsNearNodataKeepEveryInvariant) {
+  TempDir dir;
+  auto store = Store::Create(dir.Path("lux.tinbase"), "");
+  ASSERT_TRUE(store.ok());
+  DemStore dems(**store);
+  auto imported = dems.Import({DataPath("dem/elev.tif")}, {});
+  ASSERT_TRUE(imported.ok()) << imported.status().ToString();
+  SurfaceBuildOptions o;
+  o.surface = "terrain";
+  o.greedy.tolerance = 5;
+  ASSERT_TRUE(BuildSurfaceFromDem(**store, o).ok());
+  const GridGeometry& g = imported->dem.geometry;
+  const double cx = (g.MinX() + g.MaxX()) / 2, cy = (g.MinY() + g.MaxY()) / 2;
+  auto crs = (*store)->GetCrs();
+  ASSERT_TRUE(crs.ok() && crs->has_value());
+  auto epsg = (*crs)->Epsg();
+  ASSERT_TRUE(epsg.has_value());
+  for (int k = 0; k < 3; ++k) {
+    PolygonAddOptions add;
+    add.surface = "terrain";
+    add.mode = k == 1 ? "erase" : "fill";
+    add.tag = "unit" + std::to_string(k);
+    add.file = WritePolygons(
+        dir, "p" + std::to_string(k) + ".geojson",
+        {{Ngon(cx + (k - 1) * 5 * g.cell_x, cy, 10 * g.cell_x, 18 + k, 0.2 * k)}}, *epsg);
+    auto added = AddPolygons(**store, add);
+    ASSERT_TRUE(added.ok()) << added.status().ToString();
+    testing::ExpectStoreIntact(**store, /*full=*/true);
+  }
+}
+
+// Regression (found by the kill -9 test): re-adding a ring whose segment an earlier ring crossed
+// made CGAL reroute the new constraint through another vertex (CGAL#6602), leaving an edge
+// stored unconstrained and not locally Delaunay.
+TEST_F(UpdateEngineTest, RegressionReaddRingAlongEarlierCrossing) {
+  std::vector<std::string> files;
+  for (int k = 0; k < 6; ++k)
+    files.push_back(WritePolygons(dir_, "p" + std::to_string(k) + ".geojson",
+                                  {{Ngon(kCx + (k - 3) * 3 * kCell, kCy + (k % 2) * 4 * kCell,
+                                         6 * kCell, 20 + k, 0.1 * k)}}));
+  for (const std::string& file : files) AddChecked(file, "fill");
+  AddChecked(files[0], "fill");
+  AddChecked(files[1], "fill");
+  AddChecked(files[2], "fill");  // failed the full check before the fix
+}
+
+TEST_F(UpdateEngineTest, BadInputLeavesTheStoreUnchanged) {
+  store_.reset();
+  const auto before = testing::TableChecksums(dir_.Path("s.tinbase"));
+  auto store = Store::Open(dir_.Path("s.tinbase"));
+  ASSERT_TRUE(store.ok());
+  store_ = std::move(*store);
+  // Partly outside the DEM.
+  auto outside =
+      Add(WritePolygons(dir_, "out.geojson", {{Ngon(505374, kCy, 10 * kCell, 12)}}), "fill");
+  EXPECT_EQ(outside.status().code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(outside.status().message().find("ring 0"), std::string::npos)
+      << outside.status().message();
+  // Inside the DEM but outside the surface (which spans the cell centres): the outer half cell.
+  const double west = 505374.706305430852808 + 0.2 * kCell;
+  auto off_surface =
+      Add(WritePolygons(dir_, "o.geojson",
+                        {{{{west, kCy}, {kCx, kCy - 3 * kCell}, {kCx, kCy}, {west, kCy}}}}),
+          "fill");
+  EXPECT_EQ(off_surface.status().code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(off_surface.status().message().find("ring 0, vertex 0"), std::string::npos)
+      << off_surface.status().message();
+  EXPECT_NE(off_surface.status().message().find("lies outside surface 'terrain'"),
+            std::string::npos)
+      << off_surface.status().message();
+  auto mode = Add(WritePolygons(dir_, "m.geojson", {{Ngon(kCx, kCy, 3 * kCell, 5)}}), "paint");
+  EXPECT_EQ(mode.status().code(), StatusCode::kInvalidArgument);
+  std::ofstream(dir_.Path("empty.geojson")) << R"({"type": "FeatureCollection", "features": []})";
+  auto empty = Add(dir_.Path("empty.geojson"), "fill");
+  EXPECT_FALSE(empty.ok());
+  store_.reset();
+  EXPECT_EQ(testing::TableChecksums(dir_.Path("s.tinbase")), before);
+}
+
+TEST_F(UpdateEngineTest, RepairTurnsABowTieIntoTwoPolygons) {
+  const double d = 5 * kCell;
+  const PointList bow_tie = {{kCx - d, kCy - d},
+                             {kCx + d, kCy + d},
+                             {kCx + d, kCy - d},
+                             {kCx - d, kCy + d},
+                             {kCx - d, kCy - d}};
+  PolygonAddOptions o;
+  o.surface = "terrain";
+  o.mode = "fill";
+  o.tag = "bow";
+  o.file = WritePolygons(dir_, "bow.geojson", {{bow_tie}});
+  auto rejected = AddPolygons(*store_, o);
+  ASSERT_EQ(rejected.status().code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(rejected.status().message().find("ring 0"), std::string::npos)
+      << rejected.status().message();
+  o.repair = true;
+  auto repaired = AddPolygons(*store_, o);
+  ASSERT_TRUE(repaired.ok()) << repaired.status().ToString();
+  testing::ExpectStoreIntact(*store_, /*full=*/true);
+  EXPECT_GT(Int("SELECT count(*) FROM triangles t JOIN tags g ON g.id = t.tag "
+                "WHERE g.value = 'bow'"),
+            0);
+}
+
+TEST_F(UpdateEngineTest, EachCommitsFeatureByFeature) {
+  PolygonAddOptions o;
+  o.surface = "terrain";
+  o.mode = "fill";
+  o.each = true;
+  o.file = WritePolygons(dir_, "two.geojson",
+                         {{Ngon(kCx, kCy, 5 * kCell, 12)}, {Ngon(505374, kCy, 10 * kCell, 12)}});
+  auto report = AddPolygons(*store_, o);
+  ASSERT_TRUE(report.ok()) << report.status().ToString();
+  EXPECT_EQ(report->features, 1);
+  ASSERT_EQ(report->failures.size(), 1u);
+  EXPECT_NE(report->failures[0].find("feature 1"), std::string::npos) << report->failures[0];
+  testing::ExpectStoreIntact(*store_, /*full=*/true);
+}
+
+// Fault injection: fail the Nth write step, N = 1, 2, ... until the insert succeeds; every failed
+// attempt leaves the store byte-for-byte as it was and intact.
+TEST_F(UpdateEngineTest, FailureAtEveryWriteStepRollsBack) {
+  AddChecked(WritePolygons(dir_, "a.geojson", {{Ngon(kCx, kCy, 8 * kCell, 20)}}), "fill");
+  const std::string file =
+      WritePolygons(dir_, "b.geojson", {{Ngon(kCx + 5 * kCell, kCy, 7 * kCell, 19, 0.5)}});
+  const std::string path = dir_.Path("s.tinbase");
+  for (int fail_at = 1;; ++fail_at) {
+    ASSERT_LT(fail_at, 50);
+    store_.reset();
+    const auto before = testing::TableChecksums(path);
+    Reopen();
+    PolygonAddOptions o;
+    o.surface = "terrain";
+    o.file = file;
+    o.mode = "erase";
+    o.fault_hook = [fail_at](int step) {
+      return step == fail_at
+                 ? Status::IOError("injected failure at write step " + std::to_string(step))
+                 : Status::Ok();
+    };
+    auto report = AddPolygons(*store_, o);
+    if (report.ok()) {
+      EXPECT_GT(fail_at, 3);
+      testing::ExpectStoreIntact(*store_, /*full=*/true);
+      break;
+    }
+    EXPECT_EQ(report.status().code(), StatusCode::kIOError);
+    testing::ExpectStoreIntact(*store_, /*full=*/true);
+    store_.reset();
+    EXPECT_EQ(testing::TableChecksums(path), before) << "fail at step " << fail_at;
+    Reopen();
+  }
+}
+
+}  // namespace
+}  // namespace tinbase
