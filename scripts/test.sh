@@ -5,7 +5,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
 cmake -S . -B build/test -G Ninja -DCMAKE_BUILD_TYPE=Release -DTINBASE_BUILD_TESTS=ON \
-  -DTINBASE_WERROR=ON >/dev/null
+  -DTINBASE_WERROR=ON -DTINBASE_BUILD_BENCH=ON >/dev/null
 cmake --build build/test -j "$(nproc)"
 cd build/test
 ctest --output-on-failure -j "$(nproc)" --timeout 900
