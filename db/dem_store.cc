@@ -132,9 +132,9 @@ std::vector<float> Downsample(const std::vector<float>* const children[4], int64
 
 constexpr const char* kDemColumns =
     "SELECT id, name, crs_wkt, origin_x, origin_y, cell_x, cell_y, width, height, block_size, "
-    "nodata, levels, sources FROM dems ";
+    "nodata, levels, block_col0, block_row0 FROM dems ";
 
-Result<DemInfo> InfoFromRow(const Statement& row) {
+DemInfo InfoFromRow(const Statement& row) {
   DemInfo info;
   info.id = row.ColumnInt(0);
   info.name = row.ColumnText(1);
@@ -144,18 +144,8 @@ Result<DemInfo> InfoFromRow(const Statement& row) {
   info.block_size = static_cast<int>(row.ColumnInt(9));
   if (!row.ColumnIsNull(10)) info.nodata = row.ColumnDouble(10);
   info.levels = static_cast<int>(row.ColumnInt(11));
-  const auto sources = nlohmann::json::parse(row.ColumnText(12), nullptr, false);
-  if (sources.is_discarded() || !sources.is_array())
-    return Status::Corruption("DEM " + Quoted(info.name) + ": sources is not a JSON list");
-  if (!sources.empty()) {
-    const auto& first = sources.front();
-    if (!first.contains("origin_x") || !first.contains("origin_y"))
-      return Status::Corruption("DEM " + Quoted(info.name) + ": first source has no origin");
-    info.block_col0 = std::llround((first["origin_x"].get<double>() - info.geometry.origin_x) /
-                                   info.geometry.cell_x);
-    info.block_row0 = std::llround((first["origin_y"].get<double>() - info.geometry.origin_y) /
-                                   info.geometry.cell_y);
-  }
+  info.block_col0 = row.ColumnInt(12);
+  info.block_row0 = row.ColumnInt(13);
   return info;
 }
 
@@ -223,14 +213,7 @@ Result<std::optional<DemInfo>> DemStore::Impl::FindWhere(
   bind(*stmt);
   TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
   std::optional<DemInfo> info;
-  if (row) {
-    auto parsed = InfoFromRow(*stmt);
-    if (!parsed.ok()) {
-      stmt->Reset();
-      return parsed.status();
-    }
-    info = std::move(parsed).value();
-  }
+  if (row) info = InfoFromRow(*stmt);
   stmt->Reset();
   return info;
 }
@@ -458,31 +441,34 @@ Result<DemImportReport> DemStore::Impl::ImportInTransaction(const std::vector<st
                        {"height", g.height}});
   }
 
-  // The geometry, sources and levels change with every import; the rest is set at creation.
+  // The geometry, anchor, sources and levels change with every import; the rest is set at
+  // creation.
   Statement* upsert = nullptr;
   if (existing) {
     TB_ASSIGN_OR_RETURN(upsert, store.db().Cached("UPDATE dems SET origin_x = ?1, origin_y = ?2, "
                                                   "width = ?3, height = ?4, sources = ?5, "
-                                                  "levels = ?6 WHERE id = ?7"));
-    upsert->Bind(7, existing->id);
+                                                  "levels = ?6, block_col0 = ?7, block_row0 = ?8 "
+                                                  "WHERE id = ?9"));
+    upsert->Bind(9, existing->id);
   } else {
     TB_ASSIGN_OR_RETURN(upsert,
                         store.db().Cached("INSERT INTO dems(origin_x, origin_y, width, height, "
-                                          "sources, levels, name, crs_wkt, cell_x, cell_y, "
-                                          "block_size, nodata) "
+                                          "sources, levels, block_col0, block_row0, name, "
+                                          "crs_wkt, cell_x, cell_y, block_size, nodata) "
                                           "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, "
-                                          "?12)"));
-    upsert->Bind(7, dem.name).Bind(8, dem.crs_wkt).Bind(9, dem.geometry.cell_x);
-    upsert->Bind(10, dem.geometry.cell_y).Bind(11, static_cast<int64_t>(dem.block_size));
+                                          "?12, ?13, ?14)"));
+    upsert->Bind(9, dem.name).Bind(10, dem.crs_wkt).Bind(11, dem.geometry.cell_x);
+    upsert->Bind(12, dem.geometry.cell_y).Bind(13, static_cast<int64_t>(dem.block_size));
     if (dem.nodata) {
-      upsert->Bind(12, *dem.nodata);
+      upsert->Bind(14, *dem.nodata);
     } else {
-      upsert->BindNull(12);
+      upsert->BindNull(14);
     }
   }
   upsert->Bind(1, dem.geometry.origin_x).Bind(2, dem.geometry.origin_y);
   upsert->Bind(3, dem.geometry.width).Bind(4, dem.geometry.height).Bind(5, sources.dump());
   upsert->Bind(6, static_cast<int64_t>(dem.levels));
+  upsert->Bind(7, dem.block_col0).Bind(8, dem.block_row0);
   TB_RETURN_IF_ERROR(upsert->Run());
   if (!existing) dem.id = store.db().LastInsertRowId();
 
@@ -553,12 +539,7 @@ Result<std::vector<DemInfo>> DemStore::List() {
       if (!row.ok()) return row.status();
       break;
     }
-    auto info = InfoFromRow(*stmt);
-    if (!info.ok()) {
-      stmt->Reset();
-      return info.status();
-    }
-    out.push_back(std::move(info).value());
+    out.push_back(InfoFromRow(*stmt));
   }
   return out;
 }

@@ -5,6 +5,8 @@ CREATE TABLE meta(
   value TEXT NOT NULL
 ) WITHOUT ROWID;
 
+-- block_col0 and block_row0 were added by 0003 (ALTER TABLE appends to SQLite's text of the
+-- table, hence their layout).
 CREATE TABLE dems(
   id         INTEGER PRIMARY KEY,
   name       TEXT NOT NULL UNIQUE,
@@ -19,7 +21,8 @@ CREATE TABLE dems(
   nodata     REAL,
   levels     INTEGER NOT NULL DEFAULT 1,
   sources    TEXT NOT NULL DEFAULT '[]'
-);
+  , block_col0 INTEGER NOT NULL DEFAULT 0,
+  block_row0 INTEGER NOT NULL DEFAULT 0);
 
 CREATE TABLE dem_blocks(
   dem   INTEGER NOT NULL REFERENCES dems(id) ON DELETE CASCADE,

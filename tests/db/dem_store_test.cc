@@ -16,6 +16,8 @@
 #include <set>
 
 #include "core/raster/gdal_raster.h"
+#include "db/migrations.h"
+#include "db/sqlite/sqlite_db.h"
 #include "db/store.h"
 #include "tests/support/test_support.h"
 
@@ -463,6 +465,39 @@ TEST(DemStore, FailureAfterWritingRollsEverythingBack) {
   EXPECT_EQ(TableChecksums(store->path()), before);
   EXPECT_FALSE(store->GetCrs()->has_value());
   EXPECT_EQ(dems.Find("v").status().code(), StatusCode::kNotFound);
+}
+
+// A store of schema version 2 kept the block anchor only in sources[0]; migration 0003 moves it
+// into block_col0 / block_row0 (rounded to whole cells), and a DEM without sources gets 0, 0.
+TEST(DemStore, Migration0003FillsTheBlockAnchorFromTheFirstSource) {
+  TempDir dir;
+  const std::string path = dir.Path("v2.tinbase");
+  {
+    auto db = SqliteDb::Open(path, SqliteDb::Mode::kCreate);
+    ASSERT_TRUE(db.ok());
+    ASSERT_TRUE((*db)->Exec("PRAGMA application_id = " + std::to_string(kTinbaseApplicationId)).ok());
+    ASSERT_TRUE(MigrateSqlite(**db, 2).ok());
+    // Grid corner (1000, 9000), 10 m cells: the first sheet's origin (1500.0000001, 8200) is
+    // 50 columns east and 80 rows south of it.
+    ASSERT_TRUE((*db)->Exec("INSERT INTO dems(id, name, crs_wkt, origin_x, origin_y, cell_x, "
+                            "cell_y, width, height, block_size, levels, sources) VALUES "
+                            "(1, 'a', '', 1000, 9000, 10, -10, 100, 100, 32, 3, "
+                            "'[{\"origin_x\": 1500.0000001, \"origin_y\": 8200}, "
+                            "{\"origin_x\": 1000, \"origin_y\": 9000}]'), "
+                            "(2, 'b', '', 0, 0, 1, -1, 5, 5, 32, 1, '[]')")
+                    .ok());
+  }
+  auto store = Store::Open(path);
+  ASSERT_TRUE(store.ok()) << store.status().ToString();
+  DemStore dems(**store);
+  auto a = dems.Find("a");
+  ASSERT_TRUE(a.ok()) << a.status().ToString();
+  EXPECT_EQ(a->block_col0, 50);
+  EXPECT_EQ(a->block_row0, 80);
+  auto b = dems.Find("b");
+  ASSERT_TRUE(b.ok()) << b.status().ToString();
+  EXPECT_EQ(b->block_col0, 0);
+  EXPECT_EQ(b->block_row0, 0);
 }
 
 // ---- Mosaics: several sheets of one grid in one DEM.
