@@ -1,21 +1,22 @@
 #include "db/dem_store.h"
 
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <limits>
-#include <list>
-#include <map>
 #include <nlohmann/json.hpp>
+#include <random>
 #include <set>
 #include <span>
-#include <tuple>
 
 #include "core/raster/bilinear.h"
 #include "core/raster/block_codec.h"
 #include "core/raster/gdal_raster.h"
 #include "core/raster/grid.h"
+#include "db/dem_block_cache.h"
 
 namespace tinbase {
 
@@ -23,8 +24,7 @@ namespace {
 
 constexpr int kMinBlockSize = 8;
 constexpr int kMaxBlockSize = 4096;
-// Decoded blocks kept for Sample: 64 blocks of 256 x 256 float32 are 16 MiB.
-constexpr size_t kBlockCacheCapacity = 64;
+constexpr const char* kCacheTokenKey = "dem_cache_token";
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 
 // Floor division for block indices left of or above the anchor (negative numerators).
@@ -175,18 +175,17 @@ struct DemStore::Impl {
   explicit Impl(Store& s) : store(s) {}
 
   // A decoded block, or null when none is stored there (all nodata).
-  using Block = std::shared_ptr<const std::vector<float>>;
-  using Key = std::tuple<int64_t, int, int64_t, int64_t>;  // dem, level, bx, by
+  using Block = DemBlockCache::Block;
+  class CellReader;
 
   // The DEM of the row `where` selects after `bind` has bound its parameters, if any.
   Result<std::optional<DemInfo>> FindWhere(const std::string& where,
                                            const std::function<void(Statement&)>& bind);
   Result<Block> LoadBlock(const DemInfo& dem, int level, int64_t bx, int64_t by);
+  // Through the thread's front cache and the process-wide cache; loads and caches on a miss.
   Result<Block> CachedBlock(const DemInfo& dem, int level, int64_t bx, int64_t by);
-  void ClearCache() {
-    lru.clear();
-    index.clear();
-  }
+  // Reads the store's cache token (a process-local one when the store has none yet).
+  Status RefreshToken();
 
   Result<DemImportReport> ImportInTransaction(const std::vector<std::string>& files,
                                               const DemImportOptions& options);
@@ -202,9 +201,107 @@ struct DemStore::Impl {
   Status VisitBlocks(const DemInfo& dem, int level, const CellRange& range,
                      const std::function<Status(const DemBlock&)>& fn);
 
+  // Runs the import's failure-injection hook, if any, after a block write.
+  Status AfterBlockWrite() {
+    ++blocks_done;
+    return after_block_write ? after_block_write(blocks_done) : Status::Ok();
+  }
+
   Store& store;
-  std::list<std::pair<Key, Block>> lru;  // most recently used first
-  std::map<Key, std::list<std::pair<Key, Block>>::iterator> index;
+  uint64_t token = 0;  // the store's dem_cache_token as last read; 0: not read yet
+  std::function<Status(int64_t)> after_block_write;  // of the import running
+  int64_t blocks_done = 0;
+};
+
+namespace {
+
+// A fresh random cache token, never 0 (0 means "not read yet").
+uint64_t NewToken() {
+  thread_local std::mt19937_64 rng{std::random_device{}() ^
+                                   (static_cast<uint64_t>(std::random_device{}()) << 32)};
+  uint64_t t = 0;
+  while (t == 0) t = rng();
+  return t;
+}
+
+// The last blocks this thread sampled, so a warm sample takes neither the cache's lock nor SQL.
+// It holds at most kFrontSize blocks per thread beyond the process-wide cache's limit.
+struct FrontEntry {
+  DemBlockKey key;
+  DemBlockCache::Block block;
+  bool used = false;
+};
+constexpr size_t kFrontSize = 8;
+thread_local std::array<FrontEntry, kFrontSize> t_front;
+thread_local size_t t_front_next = 0;
+
+}  // namespace
+
+Status DemStore::Impl::RefreshToken() {
+  TB_ASSIGN_OR_RETURN(std::optional<std::string> value, store.GetMeta(kCacheTokenKey));
+  uint64_t t = 0;
+  if (value) t = std::strtoull(value->c_str(), nullptr, 10);
+  // A store no import of this version has touched: a token of this DemStore alone, never shared.
+  if (t == 0) t = token != 0 ? token : NewToken();
+  token = t;
+  return Status::Ok();
+}
+
+// Cells of one level by (col, row), through the blocks: the block of the last cell is kept, so
+// the four cells of a bilinear sample, and nearby points, cost one block lookup.
+class DemStore::Impl::CellReader {
+ public:
+  CellReader(Impl& impl, const DemInfo& dem, int level)
+      : impl_(impl), dem_(dem), level_(level), shift_(std::countr_zero(
+                                                   static_cast<unsigned>(dem.block_size))),
+        mask_(dem.block_size - 1) {
+    const DemLevel lv = LevelOf(dem, level);
+    col0_ = lv.block_col0;
+    row0_ = lv.block_row0;
+  }
+
+  float operator()(int64_t col, int64_t row) {
+    const int64_t c = col - col0_;
+    const int64_t r = row - row0_;
+    // Block sizes are powers of two: an arithmetic shift is floor division, also west of the
+    // anchor.
+    const int64_t bx = c >> shift_;
+    const int64_t by = r >> shift_;
+    if (bx != bx_ || by != by_) Switch(bx, by);
+    if (cells_ == nullptr) return kNaN;
+    return cells_[static_cast<size_t>(((r & mask_) << shift_) + (c & mask_))];
+  }
+
+  const Status& status() const { return status_; }
+
+ private:
+  void Switch(int64_t bx, int64_t by) {
+    auto block = impl_.CachedBlock(dem_, level_, bx, by);
+    if (!block.ok()) {
+      if (status_.ok()) status_ = block.status();
+      bx_ = by_ = std::numeric_limits<int64_t>::min();
+      held_.reset();
+      cells_ = nullptr;
+      return;
+    }
+    bx_ = bx;
+    by_ = by;
+    held_ = std::move(block).value();
+    cells_ = held_ ? held_->data() : nullptr;
+  }
+
+  Impl& impl_;
+  const DemInfo& dem_;
+  int level_;
+  int shift_;
+  int64_t mask_;
+  int64_t col0_ = 0;
+  int64_t row0_ = 0;
+  int64_t bx_ = std::numeric_limits<int64_t>::min();
+  int64_t by_ = std::numeric_limits<int64_t>::min();
+  Block held_;
+  const float* cells_ = nullptr;
+  Status status_;
 };
 
 Result<std::optional<DemInfo>> DemStore::Impl::FindWhere(
@@ -243,18 +340,17 @@ Result<DemStore::Impl::Block> DemStore::Impl::LoadBlock(const DemInfo& dem, int 
 
 Result<DemStore::Impl::Block> DemStore::Impl::CachedBlock(const DemInfo& dem, int level, int64_t bx,
                                                           int64_t by) {
-  const Key key{dem.id, level, bx, by};
-  if (auto it = index.find(key); it != index.end()) {
-    lru.splice(lru.begin(), lru, it->second);
-    return it->second->second;
+  if (token == 0) TB_RETURN_IF_ERROR(RefreshToken());
+  const DemBlockKey key{token, dem.id, level, bx, by};
+  for (const FrontEntry& e : t_front)
+    if (e.used && e.key == key) return e.block;
+  Block block;
+  DemBlockCache& cache = DemBlockCache::Instance();
+  if (!cache.Lookup(key, &block)) {
+    TB_ASSIGN_OR_RETURN(block, LoadBlock(dem, level, bx, by));
+    cache.Insert(key, block);
   }
-  TB_ASSIGN_OR_RETURN(Block block, LoadBlock(dem, level, bx, by));
-  lru.emplace_front(key, block);
-  index[key] = lru.begin();
-  if (lru.size() > kBlockCacheCapacity) {
-    index.erase(lru.back().first);
-    lru.pop_back();
-  }
+  t_front[t_front_next++ % kFrontSize] = FrontEntry{key, block, true};
   return block;
 }
 
@@ -286,7 +382,8 @@ Status DemStore::Impl::WriteBlock(const DemInfo& dem, int level, int64_t bx, int
                         store.db().Cached("DELETE FROM dem_blocks "
                                           "WHERE dem = ? AND level = ? AND bx = ? AND by = ?"));
     del->Bind(1, dem.id).Bind(2, static_cast<int64_t>(level)).Bind(3, bx).Bind(4, by);
-    return del->Run();
+    TB_RETURN_IF_ERROR(del->Run());
+    return AfterBlockWrite();
   }
   const std::vector<uint8_t> bytes = EncodeBlock(cells);
   TB_ASSIGN_OR_RETURN(Statement * stmt,
@@ -304,7 +401,7 @@ Status DemStore::Impl::WriteBlock(const DemInfo& dem, int level, int64_t bx, int
   } else {
     ++report->overview_blocks_written;
   }
-  return Status::Ok();
+  return AfterBlockWrite();
 }
 
 Status DemStore::Impl::UpdateOverviews(const DemInfo& dem, int old_levels,
@@ -521,14 +618,23 @@ Result<DemImportReport> DemStore::Import(const std::vector<std::string>& files,
     return Status::InvalidArgument("block size " + std::to_string(b) +
                                    " is not a power of two from " + std::to_string(kMinBlockSize) +
                                    " to " + std::to_string(kMaxBlockSize));
-  impl_->ClearCache();
+  impl_->after_block_write = options.after_block_write;
+  impl_->blocks_done = 0;
   TB_ASSIGN_OR_RETURN(auto tx, impl_->store.BeginWrite());
+  // Read inside the transaction: the token this import replaces is the one last committed.
+  TB_RETURN_IF_ERROR(impl_->RefreshToken());
+  const uint64_t old_token = impl_->token;
   TB_ASSIGN_OR_RETURN(DemImportReport report, impl_->ImportInTransaction(files, options));
+  const uint64_t new_token = NewToken();
+  TB_RETURN_IF_ERROR(impl_->store.SetMeta(kCacheTokenKey, std::to_string(new_token)));
   TB_RETURN_IF_ERROR(tx->Commit());
+  impl_->token = new_token;
+  DemBlockCache::Instance().EraseStore(old_token);
   return report;
 }
 
 Result<std::vector<DemInfo>> DemStore::List() {
+  TB_RETURN_IF_ERROR(impl_->RefreshToken());
   TB_ASSIGN_OR_RETURN(Statement * stmt,
                       impl_->store.db().Cached(std::string(kDemColumns) + "ORDER BY id"));
   std::vector<DemInfo> out;
@@ -545,6 +651,7 @@ Result<std::vector<DemInfo>> DemStore::List() {
 }
 
 Result<DemInfo> DemStore::Find(const std::string& name) {
+  TB_RETURN_IF_ERROR(impl_->RefreshToken());
   TB_ASSIGN_OR_RETURN(auto info,
                       impl_->FindWhere("WHERE name = ?", [&](Statement& st) { st.Bind(1, name); }));
   if (!info) return Status::NotFound("no DEM named " + Quoted(name));
@@ -552,38 +659,66 @@ Result<DemInfo> DemStore::Find(const std::string& name) {
 }
 
 Result<DemInfo> DemStore::FindById(int64_t id) {
+  TB_RETURN_IF_ERROR(impl_->RefreshToken());
   TB_ASSIGN_OR_RETURN(auto info,
                       impl_->FindWhere("WHERE id = ?", [&](Statement& st) { st.Bind(1, id); }));
   if (!info) return Status::NotFound("no DEM with id " + std::to_string(id));
   return std::move(*info);
 }
 
-Result<double> DemStore::Sample(const DemInfo& dem, double x, double y) {
+namespace {
+
+// The value of the cell holding (x, y); a point on the east or south edge of the grid takes the
+// last column or row. NaN outside the grid.
+template <typename CellFn>
+double SampleNearest(const GridGeometry& g, double x, double y, CellFn&& cell) {
+  if (!g.Contains(x, y)) return std::numeric_limits<double>::quiet_NaN();
+  const int64_t col = std::min(static_cast<int64_t>(std::floor((x - g.origin_x) / g.cell_x)),
+                               g.width - 1);
+  const int64_t row = std::min(static_cast<int64_t>(std::floor((y - g.origin_y) / g.cell_y)),
+                               g.height - 1);
+  return cell(std::max<int64_t>(col, 0), std::max<int64_t>(row, 0));
+}
+
+template <typename CellFn>
+double SampleWith(DemSampling method, const GridGeometry& g, double x, double y, CellFn&& cell) {
+  return method == DemSampling::kNearest ? SampleNearest(g, x, y, cell)
+                                         : SampleBilinear(g, x, y, cell);
+}
+
+}  // namespace
+
+Result<double> DemStore::Sample(const DemInfo& dem, double x, double y, DemSampling method) {
   if (!dem.geometry.Contains(x, y))
     return Status::InvalidArgument("point " + Point(x, y) + " is outside DEM " + Quoted(dem.name));
-  const int64_t b = dem.block_size;
-  Status failure;
-  const double z = SampleBilinear(dem.geometry, x, y, [&](int64_t col, int64_t row) -> float {
-    const int64_t bx = FloorDiv(col - dem.block_col0, b);
-    const int64_t by = FloorDiv(row - dem.block_row0, b);
-    auto block = impl_->CachedBlock(dem, 0, bx, by);
-    if (!block.ok()) {
-      if (failure.ok()) failure = block.status();
-      return kNaN;
-    }
-    if (!*block) return kNaN;
-    const int64_t c = col - dem.block_col0 - bx * b;
-    const int64_t r = row - dem.block_row0 - by * b;
-    return (**block)[static_cast<size_t>(r * b + c)];
-  });
-  TB_RETURN_IF_ERROR(failure);
+  Impl::CellReader reader(*impl_, dem, 0);
+  const double z = SampleWith(method, dem.geometry, x, y, reader);
+  TB_RETURN_IF_ERROR(reader.status());
   if (std::isnan(z))
     return Status::NotFound("no data at " + Point(x, y) + " in DEM " + Quoted(dem.name));
   return z;
 }
 
+Status DemStore::SampleMany(const DemInfo& dem, std::span<const double> xs,
+                            std::span<const double> ys, std::span<double> out,
+                            DemSampling method) {
+  if (xs.size() != ys.size() || xs.size() != out.size())
+    return Status::InvalidArgument("SampleMany on DEM " + Quoted(dem.name) + ": " +
+                                   std::to_string(xs.size()) + " x, " + std::to_string(ys.size()) +
+                                   " y and " + std::to_string(out.size()) +
+                                   " outputs differ in number");
+  Impl::CellReader reader(*impl_, dem, 0);
+  for (size_t i = 0; i < xs.size(); ++i) {
+    out[i] = SampleWith(method, dem.geometry, xs[i], ys[i], reader);
+    if (!reader.status().ok()) return reader.status();
+  }
+  return Status::Ok();
+}
+
 Status DemStore::Impl::VisitBlocks(const DemInfo& dem, int level, const CellRange& range,
                                    const std::function<Status(const DemBlock&)>& fn) {
+  if (token == 0) TB_RETURN_IF_ERROR(RefreshToken());
+  DemBlockCache& cache = DemBlockCache::Instance();
   const DemLevel lv = LevelOf(dem, level);
   const int64_t b = dem.block_size;
   // Not a cached statement: `fn` may itself read blocks, which would reset a shared one.
@@ -612,15 +747,22 @@ Status DemStore::Impl::VisitBlocks(const DemInfo& dem, int level, const CellRang
         static_cast<double>(lv.block_row0 + block.by * b) * lv.geometry.cell_y;
     block.geometry.width = b;
     block.geometry.height = b;
-    size_t size = 0;
-    const uint8_t* data = stmt->ColumnBlob(5, &size);
-    auto cells = DecodeBlock(static_cast<int>(stmt->ColumnInt(4)), std::span(data, size),
-                             static_cast<size_t>(b * b));
-    if (!cells.ok())
-      return cells.status().WithContext(
-          "DEM " + Quoted(dem.name) + ", level " + std::to_string(level) + " block (" +
-          std::to_string(block.bx) + ", " + std::to_string(block.by) + ")");
-    block.cells = &*cells;
+    // The blob is fetched (and decoded) only on a cache miss.
+    const DemBlockKey key{token, dem.id, level, block.bx, block.by};
+    Block cells;
+    if (!cache.Lookup(key, &cells) || !cells) {
+      size_t size = 0;
+      const uint8_t* data = stmt->ColumnBlob(5, &size);
+      auto decoded = DecodeBlock(static_cast<int>(stmt->ColumnInt(4)), std::span(data, size),
+                                 static_cast<size_t>(b * b));
+      if (!decoded.ok())
+        return decoded.status().WithContext(
+            "DEM " + Quoted(dem.name) + ", level " + std::to_string(level) + " block (" +
+            std::to_string(block.bx) + ", " + std::to_string(block.by) + ")");
+      cells = std::make_shared<const std::vector<float>>(std::move(decoded).value());
+      cache.Insert(key, cells);
+    }
+    block.cells = cells.get();
     TB_RETURN_IF_ERROR(fn(block));
   }
 }

@@ -3,19 +3,25 @@
 //
 // Import reads any GDAL raster; rasters in another CRS than the store's are warped onto it with
 // GDAL (bilinear). A store without a CRS adopts the first DEM's: a projected CRS as is, a
-// geographic one replaced by the UTM zone of the raster's centre (GeographicLib). Sampling reads
-// only the blocks it needs, through a small cache of decoded blocks owned by the DemStore (cleared
-// by every Import). Several files imported into one DEM are sheets of a mosaic on one grid.
+// geographic one replaced by the UTM zone of the raster's centre (GeographicLib). Sampling, window
+// reads and ForEachBlock read only the blocks they need, through the process-wide cache of decoded
+// blocks (db/dem_block_cache.h) with, for sampling, a small per-thread front cache of the last
+// blocks used, so a warm sample takes no lock and no SQL. Every import gives the store a new cache
+// token (meta `dem_cache_token`), so no block it replaced is served again from the cache; a
+// DemStore picks up another process's import when it next looks a DEM up (Find, FindById, List).
+// Several files imported into one DEM are sheets of a mosaic on one grid.
 // Overview levels 1..levels-1 each halve the one below (a cell is the mean of the valid cells of
 // the 2 x 2 below it) until one block holds the level; Import keeps them up to date, recomputing
 // only the overview blocks above the level-0 blocks it wrote.
-// Thread-safety: one DemStore per Store, one thread at a time.
+// Thread-safety: one DemStore per Store, one thread at a time; DemStores of several threads (each
+// with its own Store) share the block cache safely.
 #pragma once
 
 #include <cstdint>
 #include <functional>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -84,6 +90,15 @@ struct DemImportOptions {
   // Where sheets overlap (each other or the DEM being extended), the later sheet's valid cells
   // win; with keep_first, a later sheet only fills cells that are still nodata.
   bool keep_first = false;
+  // Test seam for failure injection: called after every block written or deleted (level 0 and
+  // overviews) with the count so far; a non-OK status aborts the import like a failed write
+  // (the transaction rolls back, the store is unchanged) and Import returns it.
+  std::function<Status(int64_t blocks_written)> after_block_write;
+};
+
+enum class DemSampling {
+  kBilinear,  // GDAL's bilinear convention (core/raster/bilinear.h)
+  kNearest,   // the value of the cell holding the point (on a shared edge: the east / south one)
 };
 
 struct DemImportReport {
@@ -118,10 +133,18 @@ class DemStore {
   Result<DemInfo> Find(const std::string& name);
   Result<DemInfo> FindById(int64_t id);
 
-  // Bilinear elevation at (x, y) in the store's CRS (GDAL's conventions, core/raster/bilinear.h).
-  // InvalidArgument naming the point when it lies outside the DEM; NaN-valued cells around it
-  // give NotFound ("no data at ...").
-  Result<double> Sample(const DemInfo& dem, double x, double y);
+  // Elevation at (x, y) in the store's CRS, bilinear (GDAL's conventions, core/raster/bilinear.h)
+  // or nearest. InvalidArgument naming the point when it lies outside the DEM; NaN-valued cells
+  // around it give NotFound ("no data at ..."); Corruption naming the block when it cannot be
+  // decoded.
+  Result<double> Sample(const DemInfo& dem, double x, double y,
+                        DemSampling method = DemSampling::kBilinear);
+  // Samples many points in one call: out[i] = the elevation at (xs[i], ys[i]), NaN where the point
+  // is outside the DEM or has no data. Points close together are fastest (the last block is kept
+  // at hand). InvalidArgument when the spans differ in length; Corruption as Sample (out is then
+  // partly written).
+  Status SampleMany(const DemInfo& dem, std::span<const double> xs, std::span<const double> ys,
+                    std::span<double> out, DemSampling method = DemSampling::kBilinear);
   // The whole level-0 grid in memory (REQUIRES: it fits).
   Result<Grid> ReadGrid(const DemInfo& dem);
   // The cells of overview `level` that intersect `box` (clipped to the DEM), NaN where no data.

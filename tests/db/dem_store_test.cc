@@ -624,6 +624,123 @@ void WriteGrid(const std::string& path, const Grid& grid, const std::string& crs
   GDALClose(ds);
 }
 
+// ---- Sampling through the process-wide block cache.
+
+// Nearest equals GDAL's cell under the point, bilinear in SampleMany equals Sample to the bit, and
+// points outside or on nodata come back NaN, on the real Vinschgau DEM (Float32 with nodata).
+TEST(DemSampling, ManyPointsNearestAndBilinearAgreeWithGdalAndSample) {
+  TempDir dir;
+  auto store = MakeStore(dir, "");
+  DemStore dems(*store);
+  const std::string file = DataPath("dem/elev_vinschgau.tif");
+  ASSERT_TRUE(dems.Import({file}, Options("v", 64)).ok());
+  auto dem = dems.Find("v");
+  ASSERT_TRUE(dem.ok());
+  GdalRaster raster = OpenRaster(file);
+  const Grid source = *raster.Read();
+  const GridGeometry& g = source.geometry;
+  std::mt19937 rng(7);
+  // 10% of the points fall outside the DEM.
+  std::uniform_real_distribution<double> ux(g.MinX() - 0.05 * (g.MaxX() - g.MinX()),
+                                            g.MaxX() + 0.05 * (g.MaxX() - g.MinX()));
+  std::uniform_real_distribution<double> uy(g.MinY() - 0.05 * (g.MaxY() - g.MinY()),
+                                            g.MaxY() + 0.05 * (g.MaxY() - g.MinY()));
+  std::vector<double> xs(5000), ys(5000), nearest(5000), bilinear(5000);
+  for (size_t i = 0; i < xs.size(); ++i) {
+    xs[i] = ux(rng);
+    ys[i] = uy(rng);
+  }
+  ASSERT_TRUE(dems.SampleMany(*dem, xs, ys, nearest, DemSampling::kNearest).ok());
+  ASSERT_TRUE(dems.SampleMany(*dem, xs, ys, bilinear).ok());
+  GDALRasterBand* band = raster.dataset()->GetRasterBand(1);
+  int has_nodata = 0;
+  const double nodata = band->GetNoDataValue(&has_nodata);
+  ASSERT_TRUE(has_nodata);
+  int outside = 0, no_data = 0, valid = 0;
+  for (size_t i = 0; i < xs.size(); ++i) {
+    SCOPED_TRACE("point " + std::to_string(xs[i]) + ", " + std::to_string(ys[i]));
+    if (!g.Contains(xs[i], ys[i])) {
+      ++outside;
+      EXPECT_TRUE(std::isnan(nearest[i]));
+      EXPECT_TRUE(std::isnan(bilinear[i]));
+      EXPECT_EQ(dems.Sample(*dem, xs[i], ys[i]).status().code(), StatusCode::kInvalidArgument);
+      continue;
+    }
+    const int col = std::min(static_cast<int>(std::floor((xs[i] - g.origin_x) / g.cell_x)),
+                             static_cast<int>(g.width) - 1);
+    const int row = std::min(static_cast<int>(std::floor((ys[i] - g.origin_y) / g.cell_y)),
+                             static_cast<int>(g.height) - 1);
+    double cell = 0;
+    ASSERT_EQ(band->RasterIO(GF_Read, col, row, 1, 1, &cell, 1, 1, GDT_Float64, 0, 0, nullptr),
+              CE_None);
+    if (cell == nodata) {
+      ++no_data;
+      EXPECT_TRUE(std::isnan(nearest[i]));
+      EXPECT_EQ(dems.Sample(*dem, xs[i], ys[i], DemSampling::kNearest).status().code(),
+                StatusCode::kNotFound);
+    } else {
+      ++valid;
+      EXPECT_EQ(nearest[i], cell);
+    }
+    auto one = dems.Sample(*dem, xs[i], ys[i]);
+    if (one.ok()) {
+      EXPECT_EQ(*one, bilinear[i]);
+    } else {
+      EXPECT_EQ(one.status().code(), StatusCode::kNotFound);
+      EXPECT_TRUE(std::isnan(bilinear[i]));
+    }
+  }
+  EXPECT_GT(outside, 100);
+  EXPECT_GT(no_data, 10);
+  EXPECT_GT(valid, 1000);
+  std::vector<double> short_out(3);
+  EXPECT_EQ(dems.SampleMany(*dem, xs, ys, short_out).code(), StatusCode::kInvalidArgument);
+}
+
+// Samples served from the cache before an import that rewrites the blocks are not served after
+// it: in the importing DemStore at once, in another connection (as another process would be)
+// after its next Find.
+TEST_F(Mosaic, ImportInvalidatesCachedBlocks) {
+  auto store = MakeStore(dir_, "");
+  DemStore dems(*store);
+  ASSERT_TRUE(dems.Import({paths_["ne"]}, Options("v", 32)).ok());
+  auto other_store = Store::Open(store->path(), Store::Access::kReadOnly);
+  ASSERT_TRUE(other_store.ok());
+  DemStore other(**other_store);
+  auto dem = dems.Find("v");
+  ASSERT_TRUE(dem.ok());
+  auto other_dem = other.Find("v");
+  ASSERT_TRUE(other_dem.ok());
+  // A point of the north-east sheet with data around it.
+  const GridGeometry& g = dem->geometry;
+  double x = 0, y = 0;
+  double before = 0;
+  bool found = false;
+  for (int64_t r = 5; r < g.height - 5 && !found; ++r)
+    for (int64_t c = 5; c < g.width - 5 && !found; ++c) {
+      x = g.CellCenterX(c) + 0.25 * g.cell_x;
+      y = g.CellCenterY(r);
+      auto z = dems.Sample(*dem, x, y);
+      found = z.ok();
+      if (found) before = *z;
+    }
+  ASSERT_TRUE(found);
+  ASSERT_EQ(*other.Sample(*other_dem, x, y), before);  // warm in both
+  Grid raised = *OpenRaster(paths_["ne"]).Read();
+  for (float& v : raised.cells) v += 1000;
+  const std::string raised_path = dir_.Path("ne_raised.tif");
+  WriteGrid(raised_path, raised, raised.crs_wkt);
+  ASSERT_TRUE(dems.Import({raised_path}, Options("v", 32)).ok());
+  auto after = dems.Sample(*dem, x, y);
+  ASSERT_TRUE(after.ok());
+  EXPECT_NEAR(*after, before + 1000, 1e-3);
+  other_dem = other.Find("v");
+  ASSERT_TRUE(other_dem.ok());
+  auto other_after = other.Sample(*other_dem, x, y);
+  ASSERT_TRUE(other_after.ok());
+  EXPECT_EQ(*other_after, *after);
+}
+
 TEST_F(Mosaic, LaterSheetsWinUnlessKeepFirst) {
   // The north-east sheet raised by 1000 m: in the overlap its cells tell which sheet won.
   Grid raised = *OpenRaster(paths_["ne"]).Read();
