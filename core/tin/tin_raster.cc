@@ -6,9 +6,13 @@
 
 namespace tinbase {
 
-std::vector<float> RasteriseTin(const Tin& tin, const GridGeometry& g) {
-  std::vector<float> cells(static_cast<size_t>(g.CellCount()),
-                           std::numeric_limits<float>::quiet_NaN());
+namespace {
+
+// The TIN's z at every cell centre in double precision: the error measure must not round to
+// float32 (about 6e-5 m at 1000 m), or a stored tolerance made from it would fail the checker.
+std::vector<double> TinAtCellCentres(const Tin& tin, const GridGeometry& g) {
+  std::vector<double> cells(static_cast<size_t>(g.CellCount()),
+                            std::numeric_limits<double>::quiet_NaN());
   if (g.width <= 0 || g.height <= 0) return cells;
   for (const TinTriangle& t : tin.triangles) {
     const TinVertex& p0 = tin.vertices[t.v[0]];
@@ -41,16 +45,22 @@ std::vector<float> RasteriseTin(const Tin& tin, const GridGeometry& g) {
         const double l2 = (ax * y - x * ay) / det;
         const double l0 = 1 - l1 - l2;
         if (l0 < -kEdgeSlack || l1 < -kEdgeSlack || l2 < -kEdgeSlack) continue;
-        cells[static_cast<size_t>(r * g.width + c)] =
-            static_cast<float>(l0 * p0.z + l1 * p1.z + l2 * p2.z);
+        cells[static_cast<size_t>(r * g.width + c)] = l0 * p0.z + l1 * p1.z + l2 * p2.z;
       }
     }
   }
   return cells;
 }
 
+}  // namespace
+
+std::vector<float> RasteriseTin(const Tin& tin, const GridGeometry& g) {
+  const std::vector<double> z = TinAtCellCentres(tin, g);
+  return std::vector<float>(z.begin(), z.end());
+}
+
 TinGridError CompareTinToGrid(const Tin& tin, const Grid& grid) {
-  const std::vector<float> z = RasteriseTin(tin, grid.geometry);
+  const std::vector<double> z = TinAtCellCentres(tin, grid.geometry);
   TinGridError error;
   double sum_sq = 0;
   for (size_t i = 0; i < grid.cells.size(); ++i) {
@@ -59,7 +69,7 @@ TinGridError CompareTinToGrid(const Tin& tin, const Grid& grid) {
       ++error.uncovered;
       continue;
     }
-    const double d = static_cast<double>(z[i]) - grid.cells[i];
+    const double d = z[i] - grid.cells[i];
     error.max_error = std::max(error.max_error, std::fabs(d));
     sum_sq += d * d;
     ++error.cells;

@@ -6,17 +6,17 @@
 
 #include <nlohmann/json.hpp>
 
+#include "tests/support/cli_support.h"
 #include "tests/support/test_support.h"
 
 namespace tinbase {
 namespace {
 
 using testing::DataPath;
+using testing::Quote;
 using testing::RunCli;
 using testing::TableChecksums;
 using testing::TempDir;
-
-std::string Quote(const std::string& s) { return "'" + s + "'"; }
 
 nlohmann::json SurfaceNamed(const std::string& store, const std::string& name) {
   auto r = RunCli("info --json " + Quote(store));

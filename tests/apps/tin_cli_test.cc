@@ -9,37 +9,21 @@
 #include <nlohmann/json.hpp>
 
 #include "tests/support/make_contours.h"
+#include "tests/support/cli_support.h"
 #include "tests/support/test_support.h"
 
 namespace tinbase {
 namespace {
 
 using testing::CliResult;
+using testing::ExpectRejected;
+using testing::Json;
+using testing::Quote;
+using testing::RunWrite;
 using testing::DataPath;
 using testing::RunCli;
 using testing::TableChecksums;
 using testing::TempDir;
-
-std::string Quote(const std::string& s) { return "'" + s + "'"; }
-
-CliResult RunWrite(const std::string& store, const std::string& args) {
-  CliResult r = RunCli(args);
-  EXPECT_EQ(r.exit_code, 0) << args << "\n" << r.err;
-  CliResult check = RunCli("check " + Quote(store));
-  EXPECT_EQ(check.exit_code, 0) << "check after: " << args << "\n" << check.out << check.err;
-  return r;
-}
-
-void ExpectRejected(const std::string& store, const std::string& args,
-                    const std::string& expected) {
-  const auto before = TableChecksums(store);
-  CliResult r = RunCli(args);
-  EXPECT_NE(r.exit_code, 0) << args;
-  EXPECT_NE(r.err.find(expected), std::string::npos) << args << "\nstderr: " << r.err;
-  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "one line expected: " << r.err;
-  EXPECT_EQ(r.err.rfind("tinbase: ", 0), 0u) << r.err;
-  EXPECT_EQ(TableChecksums(store), before) << "store changed by rejected: " << args;
-}
 
 nlohmann::json Surface(const std::string& store, const std::string& name) {
   CliResult r = RunCli("info --json " + Quote(store));
