@@ -1,4 +1,7 @@
 // Kernels: `dem import` (rasters into the blocked DEM store) and `dem sample` (bilinear z).
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
 #include <iostream>
 
 #include <nlohmann/json.hpp>
@@ -17,6 +20,7 @@ struct ImportArgs {
   std::vector<std::string> files;
   std::string name;
   int block_size = 256;
+  bool keep_first = false;
 };
 
 int RunImport(const ImportArgs& args) {
@@ -26,6 +30,7 @@ int RunImport(const ImportArgs& args) {
   DemImportOptions options;
   options.name = args.name;
   options.block_size = args.block_size;
+  options.keep_first = args.keep_first;
   Stopwatch watch;
   auto report = dems.Import(args.files, options);
   if (!report.ok()) return ReportError(report.status());
@@ -43,6 +48,7 @@ struct SampleArgs : ReadArgs {
   double x = 0;
   double y = 0;
   std::string dem;
+  bool nearest = false;
 };
 
 int RunSample(const SampleArgs& args) {
@@ -51,7 +57,8 @@ int RunSample(const SampleArgs& args) {
   DemStore dems(**store);
   auto dem = ResolveDem(dems, args.dem);
   if (!dem.ok()) return ReportError(dem.status());
-  auto z = dems.Sample(*dem, args.x, args.y);
+  auto z = dems.Sample(*dem, args.x, args.y,
+                       args.nearest ? DemSampling::kNearest : DemSampling::kBilinear);
   if (!z.ok()) return ReportError(z.status());
   if (args.json) {
     std::cout << nlohmann::json{{"dem", dem->name}, {"x", args.x}, {"y", args.y}, {"z", *z}}.dump()
@@ -59,6 +66,134 @@ int RunSample(const SampleArgs& args) {
   } else {
     std::cout << Num(*z, 12) << "\n";
   }
+  return kExitOk;
+}
+
+
+// Stored blocks and compressed bytes per level, from the block table itself.
+struct LevelStats {
+  int64_t blocks = 0;
+  int64_t bytes = 0;
+};
+
+Result<std::vector<LevelStats>> StatsByLevel(Store& store, const DemInfo& dem) {
+  TB_ASSIGN_OR_RETURN(Statement * stmt,
+                      store.db().Cached("SELECT level, count(*), sum(length(data)) FROM "
+                                        "dem_blocks WHERE dem = ? GROUP BY level ORDER BY level"));
+  stmt->Bind(1, dem.id);
+  std::vector<LevelStats> out(static_cast<size_t>(std::max(dem.levels, 1)));
+  while (true) {
+    TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
+    if (!row) break;
+    const int64_t level = stmt->ColumnInt(0);
+    if (level >= 0 && level < static_cast<int64_t>(out.size()))
+      out[static_cast<size_t>(level)] = {stmt->ColumnInt(1), stmt->ColumnInt(2)};
+  }
+  stmt->Reset();
+  return out;
+}
+
+Result<nlohmann::json> DescribeDem(Store& store, const DemInfo& dem) {
+  TB_ASSIGN_OR_RETURN(auto stats, StatsByLevel(store, dem));
+  nlohmann::json levels = nlohmann::json::array();
+  int64_t bytes = 0;
+  for (int level = 0; level < dem.levels; ++level) {
+    const DemLevel l = LevelOf(dem, level);
+    const LevelStats& st = stats[static_cast<size_t>(level)];
+    bytes += st.bytes;
+    levels.push_back({{"level", level},
+                      {"width", l.geometry.width},
+                      {"height", l.geometry.height},
+                      {"cell_size", l.geometry.cell_x},
+                      {"blocks", st.blocks},
+                      {"bytes", st.bytes}});
+  }
+  // Raw size: the stored level-0 blocks as plain float32, what the codec saves against.
+  const double raw = static_cast<double>(stats[0].blocks) * dem.block_size * dem.block_size * 4;
+  const GridGeometry& g = dem.geometry;
+  return nlohmann::json{{"name", dem.name},
+                        {"width", g.width},
+                        {"height", g.height},
+                        {"cell_size", {g.cell_x, -g.cell_y}},
+                        {"bbox", {g.MinX(), g.MinY(), g.MaxX(), g.MaxY()}},
+                        {"block_size", dem.block_size},
+                        {"levels", levels},
+                        {"bytes_stored", bytes},
+                        {"compression_ratio", stats[0].bytes > 0 ? raw / stats[0].bytes : 0.0}};
+}
+
+struct InfoArgs : ReadArgs {
+  std::string dem;
+};
+
+int RunInfo(const InfoArgs& args) {
+  auto store = Store::Open(args.store, Store::Access::kReadOnly);
+  if (!store.ok()) return ReportError(store.status());
+  DemStore dems(**store);
+  auto dem = ResolveDem(dems, args.dem);
+  if (!dem.ok()) return ReportError(dem.status());
+  auto j = DescribeDem(**store, *dem);
+  if (!j.ok()) return ReportError(j.status());
+  if (args.json) {
+    std::cout << j->dump(2) << "\n";
+    return kExitOk;
+  }
+  std::cout << "DEM '" << dem->name << "': " << dem->geometry.width << " x "
+            << dem->geometry.height << " cells of " << Num(dem->geometry.cell_x) << ", blocks of "
+            << dem->block_size << ", " << Num((*j)["bytes_stored"].get<double>() / 1048576.0, 4)
+            << " MiB stored, level 0 compressed " << Num((*j)["compression_ratio"].get<double>(), 3)
+            << "x against raw float32\n";
+  for (const auto& l : (*j)["levels"])
+    std::cout << "  level " << l["level"] << ": " << l["width"] << " x " << l["height"]
+              << " cells of " << Num(l["cell_size"].get<double>()) << ", " << l["blocks"]
+              << " blocks, " << l["bytes"] << " bytes\n";
+  return kExitOk;
+}
+
+struct ClipArgs {
+  std::string store;
+  std::string dem;
+  std::string bbox;
+  int64_t max_cells = 4096 * 4096;
+  std::string output;
+};
+
+// "minx,miny,maxx,maxy" -> a box; InvalidArgument naming the text otherwise.
+Result<DemBox> ParseBbox(const std::string& text) {
+  std::vector<double> v;
+  size_t start = 0;
+  while (start <= text.size()) {
+    const size_t comma = std::min(text.find(',', start), text.size());
+    const std::string part = text.substr(start, comma - start);
+    char* end = nullptr;
+    const double d = std::strtod(part.c_str(), &end);
+    if (part.empty() || end != part.c_str() + part.size() || !std::isfinite(d))
+      return Status::InvalidArgument("--bbox '" + text + "': '" + part + "' is not a number");
+    v.push_back(d);
+    start = comma + 1;
+  }
+  if (v.size() != 4)
+    return Status::InvalidArgument("--bbox '" + text + "' needs 4 numbers: MINX,MINY,MAXX,MAXY");
+  if (v[0] >= v[2] || v[1] >= v[3])
+    return Status::InvalidArgument("--bbox '" + text + "': min must be below max");
+  return DemBox{v[0], v[1], v[2], v[3]};
+}
+
+int RunClip(const ClipArgs& args) {
+  auto box = ParseBbox(args.bbox);
+  if (!box.ok()) return ReportError(box.status());
+  if (args.max_cells < 1) return ReportError(Status::InvalidArgument("--max-cells must be >= 1"));
+  auto store = Store::Open(args.store, Store::Access::kReadOnly);
+  if (!store.ok()) return ReportError(store.status());
+  DemStore dems(**store);
+  auto dem = ResolveDem(dems, args.dem);
+  if (!dem.ok()) return ReportError(dem.status());
+  Stopwatch watch;
+  auto clip = dems.Clip(*dem, *box, args.max_cells, args.output);
+  if (!clip.ok()) return ReportError(clip.status());
+  std::cout << "wrote " << args.output << ": " << clip->geometry.width << " x "
+            << clip->geometry.height << " cells of " << Num(clip->geometry.cell_x)
+            << " from level " << clip->level << " in " << Num(watch.Seconds(), 3) << " s\n";
   return kExitOk;
 }
 
@@ -75,7 +210,27 @@ void RegisterDemCommands(CLI::App& app, int* exit_code) {
   import->add_option("--name", import_args->name, "DEM name (default: the first file's stem)");
   import->add_option("--block-size", import_args->block_size,
                      "Block edge in cells, a power of two (default 256)");
+  import->add_flag("--keep-first", import_args->keep_first,
+                   "Where sheets overlap, keep the earlier sheet's cells");
   import->callback([=] { *exit_code = RunImport(*import_args); });
+
+  auto info_args = std::make_shared<InfoArgs>();
+  CLI::App* info = dem->add_subcommand("info", "Grid, levels, blocks and compression of a DEM");
+  info->add_option("store", info_args->store, "Store file")->required();
+  info->add_option("--name", info_args->dem, "DEM name (default: the only DEM)");
+  info->add_flag("--json", info_args->json, "Print JSON");
+  info->callback([=] { *exit_code = RunInfo(*info_args); });
+
+  auto clip_args = std::make_shared<ClipArgs>();
+  CLI::App* clip = dem->add_subcommand("clip", "Write a window of a DEM as a GeoTIFF");
+  clip->add_option("store", clip_args->store, "Store file")->required();
+  clip->add_option("--name", clip_args->dem, "DEM name (default: the only DEM)");
+  clip->add_option("--bbox", clip_args->bbox, "MINX,MINY,MAXX,MAXY in the store's CRS")
+      ->required();
+  clip->add_option("--max-cells", clip_args->max_cells,
+                   "Read the finest overview whose window has at most this many cells");
+  clip->add_option("-o,--output", clip_args->output, "GeoTIFF to write")->required();
+  clip->callback([=] { *exit_code = RunClip(*clip_args); });
 
   auto sample_args = std::make_shared<SampleArgs>();
   CLI::App* sample = dem->add_subcommand("sample", "Bilinear elevation at a point (store CRS)");
@@ -84,6 +239,7 @@ void RegisterDemCommands(CLI::App& app, int* exit_code) {
   sample->add_option("y", sample_args->y, "Y in the store's CRS")->required();
   sample->add_option("--dem", sample_args->dem, "DEM name (default: the only DEM)");
   sample->add_flag("--json", sample_args->json, "Print JSON");
+  sample->add_flag("--nearest", sample_args->nearest, "The cell's value instead of bilinear");
   sample->callback([=] { *exit_code = RunSample(*sample_args); });
 }
 

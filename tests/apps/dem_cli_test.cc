@@ -1,0 +1,122 @@
+// `tinbase dem info|clip|sample --nearest|import --keep-first` end to end on a real SRTM tile.
+#include <gtest/gtest.h>
+
+#include <gdal_priv.h>
+
+#include <cmath>
+
+#include "db/dem_store.h"
+#include "tests/support/cli_support.h"
+#include "tests/support/test_support.h"
+
+namespace tinbase {
+namespace {
+
+using testing::DataPath;
+using testing::ExpectRejected;
+using testing::Json;
+using testing::Quote;
+using testing::RunCli;
+using testing::RunWrite;
+using testing::TempDir;
+
+class DemCliTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    GDALAllRegister();
+    store_ = dir_.Path("d.tinbase");
+    RunWrite(store_, "init " + Quote(store_));
+    RunWrite(store_, "dem import " + Quote(store_) + " " + Quote(DataPath("dem/N43E007.hgt")) +
+                         " --block-size 128");
+  }
+  TempDir dir_;
+  std::string store_;
+};
+
+TEST_F(DemCliTest, InfoListsLevelsAndCompression) {
+  auto j = Json(RunCli("dem info --json " + Quote(store_)));
+  EXPECT_EQ(j["block_size"], 128);
+  ASSERT_GE(j["levels"].size(), 2u);
+  for (size_t l = 1; l < j["levels"].size(); ++l) {
+    // Each overview halves the level below (rounding up).
+    EXPECT_EQ(j["levels"][l]["width"].get<int>(), (j["levels"][l - 1]["width"].get<int>() + 1) / 2);
+    EXPECT_DOUBLE_EQ(j["levels"][l]["cell_size"].get<double>(),
+                     2 * j["levels"][l - 1]["cell_size"].get<double>());
+  }
+  // Shuffled zstd of a 16-bit-precision terrain is far smaller than raw float32.
+  EXPECT_GT(j["compression_ratio"].get<double>(), 2.0);
+  EXPECT_EQ(RunCli("dem info " + Quote(store_)).exit_code, 0);
+}
+
+TEST_F(DemCliTest, ClipWritesTheWindowCellForCell) {
+  auto info = Json(RunCli("dem info --json " + Quote(store_)));
+  const auto& b = info["bbox"];
+  const double x0 = b[0].get<double>() + 20000, y0 = b[1].get<double>() + 30000;
+  const std::string bbox = std::to_string(x0) + "," + std::to_string(y0) + "," +
+                           std::to_string(x0 + 15000) + "," + std::to_string(y0 + 12000);
+  const std::string out = dir_.Path("w.tif");
+  ASSERT_EQ(RunCli("dem clip " + Quote(store_) + " --bbox " + bbox + " -o " + Quote(out)).exit_code,
+            0);
+  // The GeoTIFF holds exactly the store's level-0 window.
+  auto store = Store::Open(store_, Store::Access::kReadOnly);
+  ASSERT_TRUE(store.ok());
+  DemStore dems(**store);
+  auto dem = dems.Find("N43E007");
+  ASSERT_TRUE(dem.ok());
+  auto window = dems.ReadWindow(*dem, {x0, y0, x0 + 15000, y0 + 12000}, 0);
+  ASSERT_TRUE(window.ok()) << window.status().ToString();
+  GDALDatasetUniquePtr ds(GDALDataset::Open(out.c_str(), GDAL_OF_RASTER));
+  ASSERT_TRUE(ds);
+  ASSERT_EQ(ds->GetRasterXSize(), window->geometry.width);
+  ASSERT_EQ(ds->GetRasterYSize(), window->geometry.height);
+  std::vector<float> cells(static_cast<size_t>(window->geometry.CellCount()));
+  ASSERT_EQ(ds->GetRasterBand(1)->RasterIO(GF_Read, 0, 0, ds->GetRasterXSize(),
+                                           ds->GetRasterYSize(), cells.data(),
+                                           ds->GetRasterXSize(), ds->GetRasterYSize(),
+                                           GDT_Float32, 0, 0),
+            CE_None);
+  for (size_t i = 0; i < cells.size(); ++i) {
+    if (!std::isnan(window->cells[i])) {
+      ASSERT_EQ(cells[i], window->cells[i]) << i;
+    }
+  }
+
+  // A large window with a small cell budget comes from an overview.
+  const std::string coarse = dir_.Path("c.tif");
+  auto r = RunCli("dem clip " + Quote(store_) + " --bbox " + std::to_string(b[0].get<double>()) +
+                  "," + std::to_string(b[1].get<double>()) + "," +
+                  std::to_string(b[2].get<double>()) + "," + std::to_string(b[3].get<double>()) +
+                  " --max-cells 20000 -o " + Quote(coarse));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out.find("from level 0"), std::string::npos) << r.out;
+  GDALDatasetUniquePtr small(GDALDataset::Open(coarse.c_str(), GDAL_OF_RASTER));
+  ASSERT_TRUE(small);
+  EXPECT_LE(int64_t{small->GetRasterXSize()} * small->GetRasterYSize(), 20000);
+}
+
+TEST_F(DemCliTest, BadBoxesAreRejectedUnchanged) {
+  const std::string s = Quote(store_);
+  const std::string o = " -o " + Quote(dir_.Path("x.tif"));
+  ExpectRejected(store_, "dem clip " + s + " --bbox 1,2,3" + o, "4 numbers");
+  ExpectRejected(store_, "dem clip " + s + " --bbox 5,2,3,4" + o, "min must be below max");
+  ExpectRejected(store_, "dem clip " + s + " --bbox a,2,3,4" + o, "'a' is not a number");
+  ExpectRejected(store_, "dem clip " + s + " --bbox 0,0,10,10" + o, "does not overlap");
+}
+
+TEST_F(DemCliTest, NearestSampleIsACellValue) {
+  auto info = Json(RunCli("dem info --json " + Quote(store_)));
+  const auto& b = info["bbox"];
+  const double x = (b[0].get<double>() + b[2].get<double>()) / 2 + 17.3;
+  const double y = (b[1].get<double>() + b[3].get<double>()) / 2 + 11.9;
+  const std::string xy = " -- " + std::to_string(x) + " " + std::to_string(y);
+  auto nearest = Json(RunCli("dem sample --json --nearest " + Quote(store_) + xy));
+  auto bilinear = Json(RunCli("dem sample --json " + Quote(store_) + xy));
+  const double z = nearest["z"].get<double>();
+  EXPECT_TRUE(std::isfinite(z));
+  // The warped .hgt keeps bilinear values between cells; the nearest value is a stored cell,
+  // never further than the terrain's local relief from the bilinear one.
+  EXPECT_NEAR(z, bilinear["z"].get<double>(), 200.0);
+}
+
+}  // namespace
+}  // namespace tinbase
