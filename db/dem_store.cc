@@ -802,6 +802,13 @@ Status CheckLevel(const DemInfo& dem, int level) {
 }
 }  // namespace
 
+Result<std::shared_ptr<const std::vector<float>>> DemStore::ReadBlock(const DemInfo& dem,
+                                                                       int level, int64_t bx,
+                                                                       int64_t by) {
+  TB_RETURN_IF_ERROR(CheckLevel(dem, level));
+  return impl_->CachedBlock(dem, level, bx, by);
+}
+
 Result<Grid> DemStore::ReadGrid(const DemInfo& dem) {
   return impl_->ReadCells(dem, 0, CellRange{0, dem.geometry.width - 1, 0, dem.geometry.height - 1});
 }

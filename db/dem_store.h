@@ -145,6 +145,11 @@ class DemStore {
   // partly written).
   Status SampleMany(const DemInfo& dem, std::span<const double> xs, std::span<const double> ys,
                     std::span<double> out, DemSampling method = DemSampling::kBilinear);
+  // The decoded cells of block (bx, by) of `level` (block_size x block_size, row-major, NaN =
+  // nodata; LevelOf gives where it lies) through the process-wide cache; null when no block is
+  // stored there. Corruption naming the block when it cannot be decoded.
+  Result<std::shared_ptr<const std::vector<float>>> ReadBlock(const DemInfo& dem, int level,
+                                                              int64_t bx, int64_t by);
   // The whole level-0 grid in memory (REQUIRES: it fits).
   Result<Grid> ReadGrid(const DemInfo& dem);
   // The cells of overview `level` that intersect `box` (clipped to the DEM), NaN where no data.

@@ -7,6 +7,7 @@
 #include "core/tin/grid_triangulation.h"
 #include "core/tin/terrain_builder.h"
 #include "db/change_log.h"
+#include "db/dem_cell_source.h"
 
 namespace tinbase {
 
@@ -32,10 +33,24 @@ Change BuildChange(const SurfaceInfo& surface, const Tin& tin) {
   return change;
 }
 
-// The TIN of `method` from `grid`; fills the method's part of `report` and the surface's kind
-// and tolerance in `spec`.
-Result<Tin> BuildTin(const Grid& grid, const SurfaceBuildOptions& options, SurfaceInfo* spec,
-                     SurfaceBuildReport* report) {
+// Greedy insertion reads the DEM block by block as it goes, so it is bounded by the TIN's size
+// and the block cache, not by the DEM's: DEMs larger than memory build.
+Result<Tin> BuildGreedy(DemStore& dems, const DemInfo& dem, const SurfaceBuildOptions& options,
+                        SurfaceInfo* spec, SurfaceBuildReport* report) {
+  DemCellSource source(dems, dem);
+  TB_ASSIGN_OR_RETURN(Tin tin, BuildGreedyTin(source, options.greedy, &report->quality));
+  spec->kind = SurfaceKind::kDelaunay;
+  // A point budget may stop greedy early: record the tolerance the surface really keeps, so
+  // invariant 7 is a promise and not a wish.
+  spec->tolerance = std::max(options.greedy.tolerance, report->quality.max_error);
+  return tin;
+}
+
+// The TIN of `method` from the DEM's grid in memory; fills the method's part of `report` and the
+// surface's kind and tolerance in `spec`.
+Result<Tin> BuildInMemory(DemStore& dems, const DemInfo& dem, const SurfaceBuildOptions& options,
+                          SurfaceInfo* spec, SurfaceBuildReport* report) {
+  TB_ASSIGN_OR_RETURN(Grid grid, dems.ReadGrid(dem));
   TerrainMethod terrain;
   if (ParseTerrainMethod(options.method, &terrain)) {
     TerrainBuildOptions o;
@@ -49,8 +64,7 @@ Result<Tin> BuildTin(const Grid& grid, const SurfaceBuildOptions& options, Surfa
     report->quality.rms_error = r.rms_error;
     report->quality.points = r.points;
     spec->kind = r.delaunay ? SurfaceKind::kDelaunay : SurfaceKind::kFree;
-    // VIP has no error bound, and a point budget may stop greedy early: record the tolerance the
-    // surface really keeps, so invariant 7 is a promise and not a wish.
+    // VIP has no error bound: its tolerance is the error it measured.
     spec->tolerance = terrain == TerrainMethod::kVip
                           ? r.max_error
                           : std::max(options.greedy.tolerance, r.max_error);
@@ -78,7 +92,8 @@ Result<DemInfo> ResolveDem(DemStore& dems, const std::string& name) {
   if (all.size() > 1) {
     std::string names;
     for (const auto& d : all) names += (names.empty() ? "" : ", ") + d.name;
-    return Status::InvalidArgument("the store has several DEMs (" + names + "): name one with --dem");
+    return Status::InvalidArgument("the store has several DEMs (" + names +
+                                   "): name one with --dem");
   }
   return all.front();
 }
@@ -99,9 +114,10 @@ Result<SurfaceBuildReport> BuildSurfaceFromDem(Store& store, const SurfaceBuildO
   TB_ASSIGN_OR_RETURN(DemInfo dem, ResolveDem(dems, options.dem));
   SurfaceBuildReport report;
   auto start = std::chrono::steady_clock::now();
-  TB_ASSIGN_OR_RETURN(Grid grid, dems.ReadGrid(dem));
   SurfaceInfo spec;
-  TB_ASSIGN_OR_RETURN(Tin tin, BuildTin(grid, options, &spec, &report));
+  TB_ASSIGN_OR_RETURN(Tin tin, options.method == "greedy"
+                                   ? BuildGreedy(dems, dem, options, &spec, &report)
+                                   : BuildInMemory(dems, dem, options, &spec, &report));
   report.build_seconds = SecondsSince(start);
 
   start = std::chrono::steady_clock::now();

@@ -1,6 +1,7 @@
 // SurfaceBuilder: builds a terrain surface from a stored DEM and writes it in one transaction.
 //
-// Reads the DEM's level-0 grid, runs a core TIN builder and writes
+// Runs a core TIN builder on the DEM (greedy streams it block by block, so its DEM may be larger
+// than memory; the others read the level-0 grid into memory) and writes
 // vertices, triangles, neighbour links, visibility, blocks and a `changes` row together: on any
 // error nothing is written. Builders, by `method`:
 //   greedy    greedy insertion to a vertical tolerance (core/tin/greedy_builder.h); a
@@ -28,8 +29,8 @@
 namespace tinbase {
 
 struct SurfaceBuildOptions {
-  std::string surface;  // new surface name
-  std::string dem;      // DEM name; empty: the store's only DEM
+  std::string surface;            // new surface name
+  std::string dem;                // DEM name; empty: the store's only DEM
   std::string method = "greedy";  // "greedy", "vip", "rtin" or "collapse"
   GreedyOptions greedy;           // tolerance (greedy, rtin) and max_points (greedy, vip)
   double vip_threshold = 1.0;     // vip: the significance threshold in metres
@@ -38,8 +39,8 @@ struct SurfaceBuildOptions {
 
 struct SurfaceBuildReport {
   SurfaceInfo surface;
-  GreedyReport quality;      // max and RMS |TIN - DEM| for every method; points for greedy
-  CollapseReport collapse;   // for collapse
+  GreedyReport quality;     // max and RMS |TIN - DEM| for every method; points for greedy
+  CollapseReport collapse;  // for collapse
   int64_t vertices = 0;
   int64_t triangles = 0;
   int64_t tx = 0;

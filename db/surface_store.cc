@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <unordered_map>
 
 namespace tinbase {
@@ -128,6 +129,15 @@ class ScopedPageCache {
   std::optional<int64_t> previous_;
 };
 
+// 0..count-1 ordered by `less`, ties in index order.
+template <typename Less>
+std::vector<uint32_t> OrderBy(size_t count, Less less) {
+  std::vector<uint32_t> order(count);
+  std::iota(order.begin(), order.end(), 0u);
+  std::stable_sort(order.begin(), order.end(), less);
+  return order;
+}
+
 }  // namespace
 
 const char* SurfaceKindName(SurfaceKind kind) {
@@ -226,47 +236,63 @@ Result<LoadedSurface> SurfaceStore::WriteRows(const SurfaceInfo& surface, const 
   TB_ASSIGN_OR_RETURN(const int64_t triangle_base, NextId(db, "triangles"));
   TB_ASSIGN_OR_RETURN(const std::vector<int64_t> tag_ids, TagIds(db, tin));
 
+  // Rows go in the order of their secondary index ((surface, x, y) and (surface, block)), so
+  // each index insert appends at the right edge of its b-tree instead of seeking a random page:
+  // bulk writes of millions of rows stay sequential. Ids are still consecutive, in that order.
+  const std::vector<uint32_t> vertex_order =
+      OrderBy(tin.vertices.size(), [&](uint32_t a, uint32_t b) {
+        const TinVertex &p = tin.vertices[a], &q = tin.vertices[b];
+        return p.x != q.x ? p.x < q.x : p.y < q.y;
+      });
+  std::vector<int64_t> blocks(tin.triangles.size());
+  for (size_t t = 0; t < tin.triangles.size(); ++t) {
+    const TinTriangle& tri = tin.triangles[t];
+    const TinVertex& a = tin.vertices[tri.v[0]];
+    const TinVertex& b = tin.vertices[tri.v[1]];
+    const TinVertex& c = tin.vertices[tri.v[2]];
+    blocks[t] = CentroidBlock(surface.blocks, a.x, a.y, b.x, b.y, c.x, c.y);
+  }
+  const std::vector<uint32_t> triangle_order =
+      OrderBy(tin.triangles.size(), [&](uint32_t a, uint32_t b) { return blocks[a] < blocks[b]; });
+  out.vertex_ids.resize(tin.vertices.size());
+  for (size_t rank = 0; rank < vertex_order.size(); ++rank)
+    out.vertex_ids[vertex_order[rank]] = vertex_base + static_cast<int64_t>(rank);
+  out.triangle_ids.resize(tin.triangles.size());
+  for (size_t rank = 0; rank < triangle_order.size(); ++rank)
+    out.triangle_ids[triangle_order[rank]] = triangle_base + static_cast<int64_t>(rank);
+
   TB_ASSIGN_OR_RETURN(
       Statement * vertex,
       db.Cached("INSERT INTO vertices(id, surface, x, y, z, kind) VALUES (?, ?, ?, ?, ?, ?)"));
-  out.vertex_ids.reserve(tin.vertices.size());
-  for (size_t i = 0; i < tin.vertices.size(); ++i) {
+  for (uint32_t i : vertex_order) {
     const TinVertex& v = tin.vertices[i];
-    const int64_t id = vertex_base + static_cast<int64_t>(i);
-    vertex->Bind(1, id).Bind(2, surface.id).Bind(3, v.x).Bind(4, v.y).Bind(5, v.z);
+    vertex->Bind(1, out.vertex_ids[i]).Bind(2, surface.id).Bind(3, v.x).Bind(4, v.y).Bind(5, v.z);
     vertex->Bind(6, std::string_view(VertexKindName(v.kind)));
     if (Status s = vertex->Run(); !s.ok()) return s.WithContext("surface " + Quoted(surface.name));
-    out.vertex_ids.push_back(id);
   }
 
   TB_ASSIGN_OR_RETURN(
       Statement * triangle,
       db.Cached("INSERT INTO triangles(id, surface, v0, v1, v2, n0, n1, n2, visible, tag, block) "
                 "VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)"));
-  out.triangle_ids.reserve(tin.triangles.size());
-  for (size_t t = 0; t < tin.triangles.size(); ++t) {
+  for (uint32_t t : triangle_order) {
     const TinTriangle& tri = tin.triangles[t];
-    const int64_t id = triangle_base + static_cast<int64_t>(t);
-    triangle->Bind(1, id).Bind(2, surface.id);
+    triangle->Bind(1, out.triangle_ids[t]).Bind(2, surface.id);
     for (int i = 0; i < 3; ++i) {
       triangle->Bind(3 + i, out.vertex_ids[tri.v[i]]);
       if (tri.n[i] == kNoNeighbour)
         triangle->BindNull(6 + i);
       else
-        triangle->Bind(6 + i, triangle_base + tri.n[i]);
+        triangle->Bind(6 + i, out.triangle_ids[tri.n[i]]);
     }
     triangle->Bind(9, int64_t{tri.visible ? 1 : 0});
     if (tri.tag == kNoTag)
       triangle->BindNull(10);
     else
       triangle->Bind(10, tag_ids[tri.tag]);
-    const TinVertex& a = tin.vertices[tri.v[0]];
-    const TinVertex& b = tin.vertices[tri.v[1]];
-    const TinVertex& c = tin.vertices[tri.v[2]];
-    triangle->Bind(11, CentroidBlock(surface.blocks, a.x, a.y, b.x, b.y, c.x, c.y));
+    triangle->Bind(11, blocks[t]);
     if (Status s = triangle->Run(); !s.ok())
       return s.WithContext("surface " + Quoted(surface.name));
-    out.triangle_ids.push_back(id);
   }
 
   TB_ASSIGN_OR_RETURN(Statement * constraint,

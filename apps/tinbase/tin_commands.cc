@@ -1,5 +1,9 @@
 // Kernel: `tin build` (a terrain surface from a stored DEM, by greedy insertion or edge collapse).
+#include <algorithm>
 #include <iostream>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "apps/tinbase/command.h"
 #include "apps/tinbase/output.h"
@@ -13,9 +17,26 @@ struct BuildArgs {
   std::string store;
   SurfaceBuildOptions options;
   std::string strategy = "quadric";
+  // Method-specific options the user gave, with the methods they apply to: one given to a
+  // method that would ignore it is an error, not a silent no-op.
+  std::vector<std::pair<CLI::Option*, std::vector<std::string>>> method_options;
 };
 
+Status CheckMethodOptions(const BuildArgs& args) {
+  for (const auto& [option, methods] : args.method_options) {
+    if (option->count() == 0 ||
+        std::find(methods.begin(), methods.end(), args.options.method) != methods.end())
+      continue;
+    std::string list;
+    for (const std::string& m : methods) list += (list.empty() ? "" : " or ") + m;
+    return Status::InvalidArgument(option->get_name() + " applies only to --method " + list +
+                                   ", not " + args.options.method);
+  }
+  return Status::Ok();
+}
+
 int RunBuild(const BuildArgs& args) {
+  if (Status s = CheckMethodOptions(args); !s.ok()) return ReportError(s);
   SurfaceBuildOptions options = args.options;
   if (!ParseCollapseStrategy(args.strategy, &options.collapse.strategy)) {
     return ReportError(Status::InvalidArgument("unknown collapse strategy '" + args.strategy +
@@ -25,11 +46,12 @@ int RunBuild(const BuildArgs& args) {
   if (!store.ok()) return ReportError(store.status());
   auto report = BuildSurfaceFromDem(**store, options);
   if (!report.ok()) return ReportError(report.status());
-  std::cout << "surface '" << report->surface.name << "' (" << report->surface.method << "): "
-            << report->vertices << " vertices, " << report->triangles << " triangles; max error "
-            << Num(report->quality.max_error, 4) << " m, RMS " << Num(report->quality.rms_error, 4)
-            << " m; built in " << Num(report->build_seconds, 3) << " s, written in "
-            << Num(report->write_seconds, 3) << " s (transaction " << report->tx << ")\n";
+  std::cout << "surface '" << report->surface.name << "' (" << report->surface.method
+            << "): " << report->vertices << " vertices, " << report->triangles
+            << " triangles; max error " << Num(report->quality.max_error, 4) << " m, RMS "
+            << Num(report->quality.rms_error, 4) << " m; built in " << Num(report->build_seconds, 3)
+            << " s, written in " << Num(report->write_seconds, 3) << " s (transaction "
+            << report->tx << ")\n";
   if (options.method == "collapse" && !report->collapse.budget_met) {
     std::cout << "note: no allowed collapse was left at " << report->collapse.faces_out
               << " faces, above the budget of " << options.collapse.faces
@@ -50,18 +72,27 @@ void RegisterTinCommands(CLI::App& app, int* exit_code) {
   build->add_option("--method", args->options.method,
                     "Builder: greedy or rtin (to a tolerance), vip (to a significance "
                     "threshold) or collapse (to a face budget)");
-  build->add_option("--threshold", args->options.vip_threshold,
-                    "vip: keep cells at least this significant, in metres (default 1)");
+  CLI::Option* threshold =
+      build->add_option("--threshold", args->options.vip_threshold,
+                        "vip: keep cells at least this significant, in metres (default 1)");
   build->add_option("--dem", args->options.dem, "DEM name (default: the only DEM)");
-  build->add_option("--tolerance", args->options.greedy.tolerance,
-                    "Largest vertical error in metres (default 1)");
-  build->add_option("--max-points", args->options.greedy.max_points,
-                    "Stop at this many vertices (default: no limit)");
-  build->add_option("--faces", args->options.collapse.faces,
-                    "collapse: the face budget, at least 2");
-  build->add_option("--strategy", args->strategy,
-                    "collapse: quadric (Garland-Heckbert, default) or paper (short, flat, low "
-                    "degree first; vertices stay DEM samples)");
+  CLI::Option* tolerance = build->add_option("--tolerance", args->options.greedy.tolerance,
+                                             "greedy, rtin: largest vertical error in metres "
+                                             "(default 1)");
+  CLI::Option* max_points = build->add_option("--max-points", args->options.greedy.max_points,
+                                              "greedy, vip: stop at this many vertices (default: "
+                                              "no limit)");
+  CLI::Option* faces = build->add_option("--faces", args->options.collapse.faces,
+                                         "collapse: the face budget, at least 2");
+  CLI::Option* strategy =
+      build->add_option("--strategy", args->strategy,
+                        "collapse: quadric (Garland-Heckbert, default) or paper (short, flat, low "
+                        "degree first; vertices stay DEM samples)");
+  args->method_options = {{threshold, {"vip"}},
+                          {tolerance, {"greedy", "rtin"}},
+                          {max_points, {"greedy", "vip"}},
+                          {faces, {"collapse"}},
+                          {strategy, {"collapse"}}};
   build->callback([=] { *exit_code = RunBuild(*args); });
 }
 

@@ -16,6 +16,7 @@
 #include <cstdint>
 #include <limits>
 
+#include "core/raster/cell_source.h"
 #include "core/raster/grid.h"
 #include "core/tin/tin.h"
 
@@ -96,19 +97,33 @@ void ForEachCellSpan(const CellTriangle& t, int64_t width, int64_t height, SpanF
   }
 }
 
+// The cell containing the centroid of (a, b, c); false when the centroid is off the grid.
+inline bool CentroidCell(const GridGeometry& g, const TinVertex& a, const TinVertex& b,
+                         const TinVertex& c, int64_t* col, int64_t* row) {
+  const double x = std::floor((((a.x + b.x + c.x) / 3) - g.origin_x) / g.cell_x);
+  const double y = std::floor((((a.y + b.y + c.y) / 3) - g.origin_y) / g.cell_y);
+  if (!(x >= 0 && y >= 0 && x < static_cast<double>(g.width) && y < static_cast<double>(g.height)))
+    return false;
+  *col = static_cast<int64_t>(x);
+  *row = static_cast<int64_t>(y);
+  return true;
+}
+
 // True when the cell containing the centroid of (a, b, c) holds data.
 inline bool TriangleOnData(const Grid& dem, const TinVertex& a, const TinVertex& b,
                            const TinVertex& c) {
-  const GridGeometry& g = dem.geometry;
-  const double col = std::floor((((a.x + b.x + c.x) / 3) - g.origin_x) / g.cell_x);
-  const double row = std::floor((((a.y + b.y + c.y) / 3) - g.origin_y) / g.cell_y);
-  if (!(col >= 0 && row >= 0 && col < static_cast<double>(g.width) &&
-        row < static_cast<double>(g.height)))
-    return false;
-  return dem.IsValid(static_cast<int64_t>(col), static_cast<int64_t>(row));
+  int64_t col = 0, row = 0;
+  return CentroidCell(dem.geometry, a, b, c, &col, &row) && dem.IsValid(col, row);
 }
 
-inline bool TriangleOnData(const Grid& dem, const Tin& tin, const TinTriangle& t) {
+inline bool TriangleOnData(CellSource& dem, const TinVertex& a, const TinVertex& b,
+                           const TinVertex& c) {
+  int64_t col = 0, row = 0;
+  return CentroidCell(dem.geometry(), a, b, c, &col, &row) && dem.IsValid(col, row);
+}
+
+template <typename Dem>
+bool TriangleOnData(Dem& dem, const Tin& tin, const TinTriangle& t) {
   return TriangleOnData(dem, tin.vertices[t.v[0]], tin.vertices[t.v[1]], tin.vertices[t.v[2]]);
 }
 

@@ -14,28 +14,34 @@
 namespace tinbase {
 namespace {
 
-// Mean of the valid cells in the smallest square window around (col, row) that holds any.
-// REQUIRES: the grid has a valid cell.
-double MeanOfNearestValid(const Grid& dem, int64_t col, int64_t row) {
-  const int64_t w = dem.geometry.width, h = dem.geometry.height;
-  for (int64_t radius = 1;; ++radius) {
+// Mean of the valid cells in the smallest square window around (col, row) that holds any: the
+// cells of the first ring of that window holding one, since the rings inside it hold none. NaN
+// when the grid has no valid cell. REQUIRES: (col, row) is on the grid and nodata.
+double MeanOfNearestValid(CellSource& dem, int64_t col, int64_t row) {
+  const int64_t w = dem.geometry().width, h = dem.geometry().height;
+  for (int64_t radius = 1; radius <= std::max(w, h); ++radius) {
     double sum = 0;
     int64_t count = 0;
+    const auto add = [&](int64_t, float v) {
+      if (std::isnan(v)) return;
+      sum += v;
+      ++count;
+    };
+    const int64_t c0 = std::max<int64_t>(0, col - radius), c1 = std::min(w - 1, col + radius);
     for (int64_t r = std::max<int64_t>(0, row - radius); r <= std::min(h - 1, row + radius); ++r) {
-      for (int64_t c = std::max<int64_t>(0, col - radius); c <= std::min(w - 1, col + radius);
-           ++c) {
-        if (dem.IsValid(c, r)) {
-          sum += dem.At(c, r);
-          ++count;
-        }
+      if (r == row - radius || r == row + radius) {
+        dem.ForEachCell(r, c0, c1, add);
+        continue;
       }
+      if (col - radius >= 0) add(col - radius, dem.At(col - radius, r));
+      if (col + radius < w) add(col + radius, dem.At(col + radius, r));
     }
     if (count > 0) return sum / static_cast<double>(count);
   }
+  return std::numeric_limits<double>::quiet_NaN();
 }
 
-Status Validate(const Grid& dem, const GreedyOptions& options) {
-  const GridGeometry& g = dem.geometry;
+Status ValidateOptions(const GreedyOptions& options) {
   if (!(options.tolerance > 0) || !std::isfinite(options.tolerance)) {
     return Status::InvalidArgument(
         "greedy TIN: tolerance must be a positive number of metres, got " +
@@ -46,6 +52,10 @@ Status Validate(const Grid& dem, const GreedyOptions& options) {
         "greedy TIN: max_points must be 0 (no limit) or at least 4 (the grid corners), got " +
         std::to_string(options.max_points));
   }
+  return Status::Ok();
+}
+
+Status ValidateGeometry(const GridGeometry& g) {
   if (g.width <= 0 || g.height <= 0) {
     return Status::InvalidArgument("greedy TIN: the DEM is empty (" + std::to_string(g.width) +
                                    " x " + std::to_string(g.height) + " cells)");
@@ -54,28 +64,27 @@ Status Validate(const Grid& dem, const GreedyOptions& options) {
     return Status::InvalidArgument("greedy TIN: the DEM needs at least 2 x 2 cells, got " +
                                    std::to_string(g.width) + " x " + std::to_string(g.height));
   }
-  if (g.width > INT32_MAX || g.height > INT32_MAX ||
-      dem.cells.size() != static_cast<size_t>(g.CellCount())) {
-    return Status::InvalidArgument("greedy TIN: the DEM's cells do not match its " +
-                                   std::to_string(g.width) + " x " + std::to_string(g.height) +
-                                   " geometry");
-  }
-  if (std::none_of(dem.cells.begin(), dem.cells.end(), [](float v) { return !std::isnan(v); })) {
-    return Status::InvalidArgument("greedy TIN: the DEM has no valid cell (all nodata)");
+  if (g.width > INT32_MAX || g.height > INT32_MAX) {
+    return Status::InvalidArgument("greedy TIN: the DEM is too large (" + std::to_string(g.width) +
+                                   " x " + std::to_string(g.height) + " cells)");
   }
   return Status::Ok();
 }
 
 // The four grid corners (a corner on nodata takes the mean of its nearest valid cells), then
-// tolerance refinement over the whole grid.
-Tin BuildFromCorners(const Grid& dem, const GreedyOptions& options) {
-  const GridGeometry& g = dem.geometry;
+// tolerance refinement over the whole grid. InvalidArgument when the grid has no valid cell.
+Result<Tin> BuildFromCorners(CellSource& dem, const GreedyOptions& options) {
+  const GridGeometry& g = dem.geometry();
   std::vector<TinVertex> corners;
   for (auto [c, r] : {std::pair<int64_t, int64_t>{0, 0},
                       {g.width - 1, 0},
                       {0, g.height - 1},
                       {g.width - 1, g.height - 1}}) {
     const double z = dem.IsValid(c, r) ? dem.At(c, r) : MeanOfNearestValid(dem, c, r);
+    if (std::isnan(z)) {
+      TB_RETURN_IF_ERROR(dem.status());
+      return Status::InvalidArgument("greedy TIN: the DEM has no valid cell (all nodata)");
+    }
     corners.push_back(TinVertex{g.CellCenterX(c), g.CellCenterY(r), z, VertexKind::kDem});
   }
   Cdt cdt;
@@ -84,35 +93,61 @@ Tin BuildFromCorners(const Grid& dem, const GreedyOptions& options) {
   refine.tolerance = options.tolerance;
   refine.max_points = options.max_points > 0 ? options.max_points - 4 : 0;
   if (options.max_points != 4) RefineToTolerance(cdt, dem, refine);
-  Tin tin = cdt.ToTin();
-  for (TinTriangle& t : tin.triangles) t.visible = TriangleOnData(dem, tin, t);
-  return tin;
+  return cdt.ToTin();
 }
 
-// Errors over every valid cell, each counted once, from the final triangles.
-void Measure(const Grid& dem, const Tin& tin, GreedyReport* report) {
-  const int64_t width = dem.geometry.width;
-  std::vector<uint8_t> seen(dem.cells.size(), 0);
+// Triangle indices ordered by the tile of cells holding their centroid, tiles row by row, so
+// a pass over them reads a streamed DEM's blocks a few at a time instead of at random. 256
+// cells is the DEM store's default block; any size near it gives the locality.
+std::vector<size_t> InTileOrder(const GridGeometry& g, const Tin& tin) {
+  constexpr double kTile = 256;
+  std::vector<std::pair<int64_t, size_t>> keyed;
+  keyed.reserve(tin.triangles.size());
+  const int64_t tiles_across = static_cast<int64_t>(std::ceil(g.width / kTile)) + 1;
+  for (size_t t = 0; t < tin.triangles.size(); ++t) {
+    const auto& v = tin.triangles[t].v;
+    const double x = (tin.vertices[v[0]].x + tin.vertices[v[1]].x + tin.vertices[v[2]].x) / 3;
+    const double y = (tin.vertices[v[0]].y + tin.vertices[v[1]].y + tin.vertices[v[2]].y) / 3;
+    const auto tx = static_cast<int64_t>(std::max(0.0, std::floor(g.ColumnAt(x) / kTile)));
+    const auto ty = static_cast<int64_t>(std::max(0.0, std::floor(g.RowAt(y) / kTile)));
+    keyed.emplace_back(ty * tiles_across + tx, t);
+  }
+  std::sort(keyed.begin(), keyed.end());
+  std::vector<size_t> order;
+  order.reserve(keyed.size());
+  for (const auto& [key, t] : keyed) order.push_back(t);
+  return order;
+}
+
+// Sets every triangle's visibility (on data or not) and measures the errors over every valid
+// cell, each counted once.
+void PaintAndMeasure(CellSource& dem, Tin& tin, GreedyReport* report) {
+  const GridGeometry& g = dem.geometry();
+  std::vector<bool> seen(static_cast<size_t>(g.CellCount()), false);
   double max_error = 0, sum_sq = 0;
   int64_t count = 0;
-  for (const TinTriangle& t : tin.triangles) {
+  for (size_t index : InTileOrder(g, tin)) {
+    TinTriangle& t = tin.triangles[index];
+    t.visible = TriangleOnData(dem, tin, t);
+    if (report == nullptr) continue;
     const CellTriangle cells =
-        ToCellSpace(dem.geometry, tin.vertices[t.v[0]], tin.vertices[t.v[1]], tin.vertices[t.v[2]]);
+        ToCellSpace(g, tin.vertices[t.v[0]], tin.vertices[t.v[1]], tin.vertices[t.v[2]]);
     CellPlane plane;
     if (!PlaneOf(cells, &plane)) continue;
-    ForEachCellSpan(cells, width, dem.geometry.height, [&](int64_t r, int64_t first, int64_t last) {
-      for (int64_t c = first; c <= last; ++c) {
-        const size_t at = static_cast<size_t>(r * width + c);
-        if (seen[at] || std::isnan(dem.cells[at])) continue;
-        seen[at] = 1;
+    ForEachCellSpan(cells, g.width, g.height, [&](int64_t r, int64_t first, int64_t last) {
+      dem.ForEachCell(r, first, last, [&](int64_t c, float value) {
+        const size_t at = static_cast<size_t>(r * g.width + c);
+        if (seen[at] || std::isnan(value)) return;
+        seen[at] = true;
         const double error =
-            std::fabs(plane.At(static_cast<double>(c), static_cast<double>(r)) - dem.cells[at]);
+            std::fabs(plane.At(static_cast<double>(c), static_cast<double>(r)) - value);
         max_error = std::max(max_error, error);
         sum_sq += error * error;
         ++count;
-      }
+      });
     });
   }
+  if (report == nullptr) return;
   report->max_error = max_error;
   report->rms_error = count > 0 ? std::sqrt(sum_sq / static_cast<double>(count)) : 0;
   report->points = static_cast<int64_t>(tin.vertices.size());
@@ -120,11 +155,25 @@ void Measure(const Grid& dem, const Tin& tin, GreedyReport* report) {
 
 }  // namespace
 
-Result<Tin> BuildGreedyTin(const Grid& dem, const GreedyOptions& options, GreedyReport* report) {
-  TB_RETURN_IF_ERROR(Validate(dem, options));
-  Tin tin = BuildFromCorners(dem, options);
-  if (report != nullptr) Measure(dem, tin, report);
+Result<Tin> BuildGreedyTin(CellSource& dem, const GreedyOptions& options, GreedyReport* report) {
+  TB_RETURN_IF_ERROR(ValidateOptions(options));
+  TB_RETURN_IF_ERROR(ValidateGeometry(dem.geometry()));
+  TB_ASSIGN_OR_RETURN(Tin tin, BuildFromCorners(dem, options));
+  PaintAndMeasure(dem, tin, report);
+  TB_RETURN_IF_ERROR(dem.status());
   return tin;
+}
+
+Result<Tin> BuildGreedyTin(const Grid& dem, const GreedyOptions& options, GreedyReport* report) {
+  TB_RETURN_IF_ERROR(ValidateOptions(options));
+  TB_RETURN_IF_ERROR(ValidateGeometry(dem.geometry));
+  if (dem.cells.size() != static_cast<size_t>(dem.geometry.CellCount())) {
+    return Status::InvalidArgument("greedy TIN: the DEM's cells do not match its " +
+                                   std::to_string(dem.geometry.width) + " x " +
+                                   std::to_string(dem.geometry.height) + " geometry");
+  }
+  GridCellSource source(dem);
+  return BuildGreedyTin(source, options, report);
 }
 
 }  // namespace tinbase

@@ -12,6 +12,7 @@
 #include <cstdint>
 
 #include "core/base/status.h"
+#include "core/raster/cell_source.h"
 #include "core/raster/grid.h"
 #include "core/tin/tin.h"
 
@@ -33,6 +34,11 @@ struct GreedyReport {
 // with no valid cell, a grid narrower than 2 x 2 cells (its corners span no triangle), or a
 // max_points other than 0 below 4 (the corners alone are 4).
 Result<Tin> BuildGreedyTin(const Grid& dem, const GreedyOptions& options,
+                           GreedyReport* report = nullptr);
+
+// The same over a streamed DEM (core/raster/cell_source.h): the grid is read a span at a time,
+// so it need not fit in memory. Returns the source's error if a block could not be read.
+Result<Tin> BuildGreedyTin(CellSource& dem, const GreedyOptions& options,
                            GreedyReport* report = nullptr);
 
 }  // namespace tinbase

@@ -14,8 +14,8 @@ namespace {
 
 class Refiner {
  public:
-  Refiner(Cdt& cdt, const Grid& dem, const RefineOptions& options)
-      : cdt_(cdt), dem_(dem), options_(options) {}
+  Refiner(Cdt& cdt, CellSource& dem, const RefineOptions& options)
+      : cdt_(cdt), dem_(dem), geometry_(dem.geometry()), options_(options) {}
 
   std::vector<uint32_t> Run(const std::vector<Cdt::FaceRef>& region, RefineReport* report) {
     for (Cdt::FaceRef f : region) Scan(f);
@@ -31,7 +31,7 @@ class Refiner {
         break;
       }
       const size_t before = cdt_.vertices().size();
-      const TinVertex v{dem_.geometry.CellCenterX(worst.col), dem_.geometry.CellCenterY(worst.row),
+      const TinVertex v{geometry_.CellCenterX(worst.col), geometry_.CellCenterY(worst.row),
                         dem_.At(worst.col, worst.row), VertexKind::kDem};
       const uint32_t index = cdt_.InsertVertex(v, worst.face, &incident);
       if (cdt_.vertices().size() == before) {
@@ -69,34 +69,30 @@ class Refiner {
     const std::array<uint32_t, 3> v = cdt_.FaceVertices(face);
     const std::vector<TinVertex>& vertices = cdt_.vertices();
     if (options_.in_region && !options_.in_region(v)) return;
-    const CellTriangle t =
-        ToCellSpace(dem_.geometry, vertices[v[0]], vertices[v[1]], vertices[v[2]]);
+    const CellTriangle t = ToCellSpace(geometry_, vertices[v[0]], vertices[v[1]], vertices[v[2]]);
     CellPlane plane;
     if (!PlaneOf(t, &plane)) return;
     double worst = options_.tolerance;
     int64_t worst_col = -1, worst_row = -1;
-    const int64_t width = dem_.geometry.width;
-    const float* cells = dem_.cells.data();
-    ForEachCellSpan(t, width, dem_.geometry.height, [&](int64_t r, int64_t first, int64_t last) {
-      const float* row = cells + r * width;
-      for (int64_t c = first; c <= last; ++c) {
-        const float value = row[c];
-        if (std::isnan(value)) continue;
-        const double error =
-            std::fabs(plane.At(static_cast<double>(c), static_cast<double>(r)) - value);
-        if (error <= worst || Skipped(c, r) || !Covers(v, c, r)) continue;
-        worst = error;
-        worst_col = c;
-        worst_row = r;
-      }
-    });
+    ForEachCellSpan(
+        t, geometry_.width, geometry_.height, [&](int64_t r, int64_t first, int64_t last) {
+          const double row = static_cast<double>(r);
+          dem_.ForEachCell(r, first, last, [&](int64_t c, float value) {
+            if (std::isnan(value)) return;
+            const double error = std::fabs(plane.At(static_cast<double>(c), row) - value);
+            if (error <= worst || Skipped(c, r) || !Covers(v, c, r)) return;
+            worst = error;
+            worst_col = c;
+            worst_row = r;
+          });
+        });
     if (worst_col >= 0) queue_.push(Candidate{worst, face, stamp, worst_col, worst_row});
   }
 
   // The rasteriser's margin admits cell centres a rounding away from the face; the exact test
   // keeps only those inside or on it, so an insertion never lands outside the region.
   bool Covers(const std::array<uint32_t, 3>& v, int64_t col, int64_t row) const {
-    const Point2 p{dem_.geometry.CellCenterX(col), dem_.geometry.CellCenterY(row)};
+    const Point2 p{geometry_.CellCenterX(col), geometry_.CellCenterY(row)};
     const std::vector<TinVertex>& vs = cdt_.vertices();
     for (int i = 0; i < 3; ++i) {
       const TinVertex& a = vs[v[i]];
@@ -109,11 +105,12 @@ class Refiner {
   bool Skipped(int64_t col, int64_t row) const {
     if (!blocked_.empty() && blocked_.count({col, row})) return true;
     return options_.excluded &&
-           options_.excluded(dem_.geometry.CellCenterX(col), dem_.geometry.CellCenterY(row));
+           options_.excluded(geometry_.CellCenterX(col), geometry_.CellCenterY(row));
   }
 
   Cdt& cdt_;
-  const Grid& dem_;
+  CellSource& dem_;
+  const GridGeometry& geometry_;
   const RefineOptions& options_;
   std::priority_queue<Candidate> queue_;
   std::set<std::pair<int64_t, int64_t>> blocked_;
@@ -122,10 +119,16 @@ class Refiner {
 
 }  // namespace
 
-std::vector<uint32_t> RefineToTolerance(Cdt& cdt, const Grid& dem, const RefineOptions& options,
+std::vector<uint32_t> RefineToTolerance(Cdt& cdt, CellSource& dem, const RefineOptions& options,
                                         RefineReport* report) {
   Refiner refiner(cdt, dem, options);
   return refiner.Run(cdt.FiniteFaces(), report);
+}
+
+std::vector<uint32_t> RefineToTolerance(Cdt& cdt, const Grid& dem, const RefineOptions& options,
+                                        RefineReport* report) {
+  GridCellSource source(dem);
+  return RefineToTolerance(cdt, source, options, report);
 }
 
 }  // namespace tinbase

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "core/geometry/cdt.h"
+#include "core/raster/cell_source.h"
 #include "core/raster/grid.h"
 
 namespace tinbase {
@@ -42,8 +43,12 @@ struct RefineReport {
 // Inserts DEM cell centres into `cdt` until every valid, non-excluded cell covered by a face of
 // the region (options.in_region, or every finite face) is within options.tolerance of the face's
 // plane. Returns the indices of the new vertices in
-// insertion order. REQUIRES: every vertex of `cdt` has an index (Cdt::IndexCrossings after
-// constraints crossed), dem's cells match its geometry, options.tolerance > 0.
+// insertion order. The DEM may be streamed (core/raster/cell_source.h): cells it fails to read
+// count as nodata, and the caller checks dem.status() afterwards. REQUIRES: every vertex of `cdt`
+// has an index (Cdt::IndexCrossings after constraints crossed), options.tolerance > 0.
+std::vector<uint32_t> RefineToTolerance(Cdt& cdt, CellSource& dem, const RefineOptions& options,
+                                        RefineReport* report = nullptr);
+// The same over a grid in memory. REQUIRES: dem's cells match its geometry.
 std::vector<uint32_t> RefineToTolerance(Cdt& cdt, const Grid& dem, const RefineOptions& options,
                                         RefineReport* report = nullptr);
 

@@ -5,23 +5,22 @@
 
 #include <algorithm>
 #include <cmath>
-
 #include <nlohmann/json.hpp>
 
-#include "tests/support/make_contours.h"
 #include "tests/support/cli_support.h"
+#include "tests/support/make_contours.h"
 #include "tests/support/test_support.h"
 
 namespace tinbase {
 namespace {
 
 using testing::CliResult;
+using testing::DataPath;
 using testing::ExpectRejected;
 using testing::Json;
 using testing::Quote;
-using testing::RunWrite;
-using testing::DataPath;
 using testing::RunCli;
+using testing::RunWrite;
 using testing::TableChecksums;
 using testing::TempDir;
 
@@ -41,8 +40,8 @@ class TinCliTest : public ::testing::Test {
   void SetUp() override {
     store_ = dir_.Path("s.tinbase");
     RunWrite(store_, "init " + Quote(store_));
-    RunWrite(store_, "dem import " + Quote(store_) + " " +
-                         Quote(DataPath("geology/hamersley/dtm_rp.tif")));
+    RunWrite(store_,
+             "dem import " + Quote(store_) + " " + Quote(DataPath("geology/hamersley/dtm_rp.tif")));
   }
   TempDir dir_;
   std::string store_;
@@ -76,7 +75,8 @@ TEST_F(TinCliTest, GreedyRtinAndVipBuildCheckedSurfaces) {
   EXPECT_NEAR(Surface(store_, "r")["tolerance"].get<double>(), 15, 1e-6);
   EXPECT_GT(Surface(store_, "v")["tolerance"].get<double>(), 0);
   const auto before = TableChecksums(store_);
-  CliResult r = RunCli("tin build " + Quote(store_) + " --surface x --method rtin --tolerance 5 "
+  CliResult r = RunCli("tin build " + Quote(store_) +
+                       " --surface x --method rtin --tolerance 5 "
                        "--max-points 100");
   EXPECT_NE(r.exit_code, 0);
   r = RunCli("tin build " + Quote(store_) + " --surface x --method nosuch");
@@ -92,6 +92,20 @@ TEST_F(TinCliTest, CollapseRejectsBadOptions) {
                  "unknown collapse strategy 'fastest'");
   ExpectRejected(store_, "tin build " + Quote(store_) + " --surface t --method magic",
                  "unknown TIN method 'magic'");
+}
+
+// An option the chosen method would ignore is refused, naming the option and the methods it is for.
+TEST_F(TinCliTest, OptionsOfAnotherMethodAreRejected) {
+  const std::string build = "tin build " + Quote(store_) + " --surface t";
+  ExpectRejected(store_, build + " --faces 500", "--faces applies only to --method collapse");
+  ExpectRejected(store_, build + " --method rtin --tolerance 5 --strategy paper",
+                 "--strategy applies only to --method collapse");
+  ExpectRejected(store_, build + " --method greedy --threshold 3",
+                 "--threshold applies only to --method vip, not greedy");
+  ExpectRejected(store_, build + " --method vip --tolerance 3",
+                 "--tolerance applies only to --method greedy or rtin, not vip");
+  ExpectRejected(store_, build + " --method collapse --faces 500 --max-points 40",
+                 "--max-points applies only to --method greedy or vip");
 }
 
 TEST_F(TinCliTest, DemFromContoursThenCollapse) {
