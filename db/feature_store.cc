@@ -141,6 +141,12 @@ Status DeleteFeature(Store& store, int64_t id) {
 }
 
 Paint PaintFromFeatures(const std::vector<EditorFeature>& features, const Grid* dem, Tin& tin) {
+  if (dem == nullptr) return PaintFromFeatures(features, static_cast<CellSource*>(nullptr), tin);
+  GridCellSource source(*dem);
+  return PaintFromFeatures(features, &source, tin);
+}
+
+Paint PaintFromFeatures(const std::vector<EditorFeature>& features, CellSource* dem, Tin& tin) {
   tin.tags.clear();
   std::map<std::string, int32_t> tag_index;
   std::vector<PaintedFeature> painted;

@@ -15,6 +15,7 @@
 
 #include "core/base/status.h"
 #include "core/geometry/polygon.h"
+#include "core/raster/cell_source.h"
 #include "core/raster/grid.h"
 #include "core/tin/feature_paint.h"
 #include "core/tin/tin.h"
@@ -75,6 +76,8 @@ Status DeleteFeature(Store& store, int64_t id);
 // features' tag values (paint.tag indexes them). `dem` may be a window of the DEM, as long as it
 // covers the triangles' centroids (a centroid off the window counts as nodata).
 Paint PaintFromFeatures(const std::vector<EditorFeature>& features, const Grid* dem, Tin& tin);
+// The same with the DEM streamed (db/dem_cell_source.h); the caller checks dem->status().
+Paint PaintFromFeatures(const std::vector<EditorFeature>& features, CellSource* dem, Tin& tin);
 
 // The surface of one polygon feature as paper 000 cuts it out: the triangles inside its
 // polygons (its rings are constrained edges, so they tile the inside exactly; holes are left

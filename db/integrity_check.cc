@@ -11,6 +11,7 @@
 #include "core/geometry/polygon_locator.h"
 #include "core/geometry/predicates.h"
 #include "core/tin/cell_cover.h"
+#include "db/dem_cell_source.h"
 #include "db/dem_store.h"
 #include "db/feature_store.h"
 #include "db/surface_store.h"
@@ -383,11 +384,12 @@ class SurfaceChecker {
   Status CheckPaintAndTolerance() {
     TB_ASSIGN_OR_RETURN(LoadedSurface loaded, SurfaceStore(store_).Load(surface_));
     TB_ASSIGN_OR_RETURN(std::vector<EditorFeature> features, LoadFeatures(store_, surface_));
-    std::optional<Grid> dem;
+    // The DEM is streamed a block at a time: a store's DEM may be larger than memory.
+    DemStore dems(store_);
+    std::optional<DemCellSource> dem;
     if (surface_.dem) {
-      DemStore dems(store_);
       TB_ASSIGN_OR_RETURN(DemInfo info, dems.FindById(*surface_.dem));
-      TB_ASSIGN_OR_RETURN(dem, dems.ReadGrid(info));
+      dem.emplace(dems, std::move(info));
     }
     Tin& tin = loaded.tin;
     std::vector<std::optional<std::string>> stored_tags;
@@ -395,7 +397,8 @@ class SurfaceChecker {
     for (const TinTriangle& t : tin.triangles)
       stored_tags.push_back(t.tag == kNoTag ? std::nullopt
                                             : std::optional<std::string>(tin.tags[t.tag]));
-    const Paint paint = PaintFromFeatures(features, dem ? &*dem : nullptr, tin);
+    const Paint paint =
+        PaintFromFeatures(features, dem ? static_cast<CellSource*>(&*dem) : nullptr, tin);
     const auto tag_text = [](const std::optional<std::string>& tag) {
       return tag ? "'" + *tag + "'" : std::string("none");
     };
@@ -406,52 +409,54 @@ class SurfaceChecker {
             std::string("visible is ") + (tin.triangles[t].visible ? "1" : "0") +
                 " but the features and the DEM's data give " + (paint.visible[t] ? "1" : "0"));
       const std::optional<std::string> expected =
-          paint.tag[t] == kNoTag ? std::nullopt : std::optional<std::string>(tin.tags[paint.tag[t]]);
+          paint.tag[t] == kNoTag ? std::nullopt
+                                 : std::optional<std::string>(tin.tags[paint.tag[t]]);
       if (stored_tags[t] != expected)
         Add("wrong-tag", id,
             "tag is " + tag_text(stored_tags[t]) + " but the features give " + tag_text(expected));
     }
     if (dem && surface_.tolerance) CheckTolerance(tin, loaded.triangle_ids, paint, features, *dem);
-    return Status::Ok();
+    return dem ? dem->status() : Status::Ok();
   }
 
   // Invariant 7 over the cell centres each visible triangle covers, replace polygons excepted.
   // The slack covers the round-off of evaluating a plane from another vertex order.
   void CheckTolerance(const Tin& tin, const std::vector<int64_t>& ids, const Paint& paint,
-                      const std::vector<EditorFeature>& features, const Grid& dem) {
+                      const std::vector<EditorFeature>& features, CellSource& dem) {
     constexpr double kSlack = 1e-6;
     const double tolerance = *surface_.tolerance;
     const PolygonLocator replaced(ReplacePolygons(features));
-    const GridGeometry& g = dem.geometry;
+    const GridGeometry& g = dem.geometry();
     for (size_t t = 0; t < tin.triangles.size(); ++t) {
       if (!paint.visible[t]) continue;
       const TinTriangle& tri = tin.triangles[t];
-      const CellTriangle cells = ToCellSpace(g, tin.vertices[tri.v[0]], tin.vertices[tri.v[1]],
-                                             tin.vertices[tri.v[2]]);
+      const CellTriangle cells =
+          ToCellSpace(g, tin.vertices[tri.v[0]], tin.vertices[tri.v[1]], tin.vertices[tri.v[2]]);
       CellPlane plane;
       if (!PlaneOf(cells, &plane)) continue;
       double worst = tolerance + kSlack, worst_z = 0;
       int64_t worst_col = -1, worst_row = -1;
+      float worst_dem = 0;
       ForEachCellSpan(cells, g.width, g.height, [&](int64_t r, int64_t first, int64_t last) {
-        for (int64_t c = first; c <= last; ++c) {
-          if (!dem.IsValid(c, r)) continue;
+        dem.ForEachCell(r, first, last, [&](int64_t c, float value) {
+          if (std::isnan(value)) return;
           const double z = plane.At(static_cast<double>(c), static_cast<double>(r));
-          const double error = std::fabs(z - dem.At(c, r));
-          if (error <= worst) continue;
+          const double error = std::fabs(z - value);
+          if (error <= worst) return;
           if (!replaced.empty() &&
               replaced.Locate({g.CellCenterX(c), g.CellCenterY(r)}) != PointInPolygon::kOutside)
-            continue;
-          worst = error, worst_z = z, worst_col = c, worst_row = r;
-        }
+            return;
+          worst = error, worst_z = z, worst_col = c, worst_row = r, worst_dem = value;
+        });
       });
       if (worst_col < 0) continue;
       char text[200];
       std::snprintf(text, sizeof text,
                     "|TIN - DEM| = %.6g m at the cell centre %s (TIN %.6g, DEM %.6g) exceeds the "
                     "tolerance %.6g m",
-                    worst, FormatPoint({g.CellCenterX(worst_col), g.CellCenterY(worst_row)})
-                                   .c_str(),
-                    worst_z, static_cast<double>(dem.At(worst_col, worst_row)), tolerance);
+                    worst,
+                    FormatPoint({g.CellCenterX(worst_col), g.CellCenterY(worst_row)}).c_str(),
+                    worst_z, static_cast<double>(worst_dem), tolerance);
       Add("tolerance", ids[t], text);
     }
   }

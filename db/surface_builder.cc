@@ -7,6 +7,7 @@
 #include "core/tin/grid_triangulation.h"
 #include "core/tin/terrain_builder.h"
 #include "db/change_log.h"
+#include "db/dem_block_cache.h"
 #include "db/dem_cell_source.h"
 
 namespace tinbase {
@@ -38,7 +39,13 @@ Change BuildChange(const SurfaceInfo& surface, const Tin& tin) {
 Result<Tin> BuildGreedy(DemStore& dems, const DemInfo& dem, const SurfaceBuildOptions& options,
                         SurfaceInfo* spec, SurfaceBuildReport* report) {
   DemCellSource source(dems, dem);
-  TB_ASSIGN_OR_RETURN(Tin tin, BuildGreedyTin(source, options.greedy, &report->quality));
+  GreedyOptions greedy = options.greedy;
+  // A DEM the block cache cannot hold is refined tile by tile, so blocks are decoded a few
+  // times each rather than once per insertion that lands far from the last.
+  const double dem_bytes = static_cast<double>(dem.geometry.CellCount()) * sizeof(float);
+  if (dem_bytes > static_cast<double>(DemBlockCache::Instance().capacity()))
+    greedy.tile = dem.block_size;
+  TB_ASSIGN_OR_RETURN(Tin tin, BuildGreedyTin(source, greedy, &report->quality));
   spec->kind = SurfaceKind::kDelaunay;
   // A point budget may stop greedy early: record the tolerance the surface really keeps, so
   // invariant 7 is a promise and not a wish.

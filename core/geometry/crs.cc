@@ -1,8 +1,8 @@
 #include "core/geometry/crs.h"
 
-#include <GeographicLib/UTMUPS.hpp>
 #include <ogr_spatialref.h>
 
+#include <GeographicLib/UTMUPS.hpp>
 #include <cmath>
 
 namespace tinbase {
@@ -16,7 +16,10 @@ std::unique_ptr<OGRSpatialReference> NewSrs() {
 }  // namespace
 
 Crs::Crs(std::unique_ptr<OGRSpatialReference> srs) : srs_(std::move(srs)) {}
-Crs::Crs(const Crs& other) : srs_(NewSrs()) { *srs_ = *other.srs_; srs_->SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER); }
+Crs::Crs(const Crs& other) : srs_(NewSrs()) {
+  *srs_ = *other.srs_;
+  srs_->SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+}
 Crs& Crs::operator=(const Crs& other) {
   if (this != &other) {
     srs_ = NewSrs();
@@ -83,6 +86,18 @@ std::string Crs::Label() const {
 }
 
 bool Crs::IsGeographic() const { return srs_->IsGeographic() != 0; }
+
+double Crs::VerticalMetresPerUnit() const {
+  if (srs_->IsCompound()) {
+    const double vertical = srs_->GetTargetLinearUnits("VERT_CS", nullptr);
+    if (vertical > 0) return vertical;
+  }
+  if (srs_->IsProjected()) {
+    const double linear = srs_->GetLinearUnits(nullptr);
+    if (linear > 0) return linear;
+  }
+  return 1.0;
+}
 
 bool Crs::IsSame(const Crs& other) const {
   const char* options[] = {"IGNORE_DATA_AXIS_TO_SRS_AXIS_MAPPING=YES",

@@ -38,6 +38,10 @@ class Crs {
   // "EPSG:32632" when known, else the system's name.
   std::string Label() const;
   bool IsGeographic() const;
+  // Metres per unit of height: the vertical CRS's unit for a compound system, else (LAS and
+  // most height data without a vertical CRS give z in the horizontal unit) the projected linear
+  // unit; 1 for a geographic system.
+  double VerticalMetresPerUnit() const;
   // True when both describe the same system (ignoring axis-order and naming differences).
   bool IsSame(const Crs& other) const;
 

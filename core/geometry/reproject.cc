@@ -37,4 +37,10 @@ Status ReprojectXy(const Crs& from, const Crs& to, std::vector<TinVertex>& verti
   return Status::Ok();
 }
 
+void ConvertHeightUnits(const Crs& from, const Crs& to, std::vector<TinVertex>& vertices) {
+  const double factor = from.VerticalMetresPerUnit() / to.VerticalMetresPerUnit();
+  if (factor == 1.0) return;
+  for (TinVertex& v : vertices) v.z *= factor;
+}
+
 }  // namespace tinbase

@@ -55,6 +55,7 @@ Result<PointTin> BuildPointTin(const std::string& path, const PointTinOptions& o
   out.crs = target ? target : cloud.crs;
   if (target && cloud.crs && !cloud.crs->IsSame(*target)) {
     TB_RETURN_IF_ERROR(ReprojectXy(*cloud.crs, *target, vertices).WithContext(path));
+    ConvertHeightUnits(*cloud.crs, *target, vertices);
     report.reprojected_from = cloud.crs->Label();
   }
 

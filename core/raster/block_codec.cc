@@ -1,6 +1,7 @@
 #include "core/raster/block_codec.h"
 
 #include <blosc.h>
+#include <zlib.h>
 
 #include <array>
 #include <bit>
@@ -17,19 +18,17 @@ static_assert(std::endian::native == std::endian::little,
 constexpr int kBloscLevel = 5;  // zstd level 5: most of level 9's ratio at a fraction of its time
 constexpr size_t kCrcBytes = 4;
 
+// zlib's CRC-32 (the IEEE polynomial, as the table-driven loop this replaced): several times
+// faster, and the decode path checks 256 KiB per block.
 uint32_t Crc32(const uint8_t* data, size_t size) {
-  static const auto table = [] {
-    std::array<uint32_t, 256> t{};
-    for (uint32_t i = 0; i < 256; ++i) {
-      uint32_t c = i;
-      for (int k = 0; k < 8; ++k) c = (c & 1) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
-      t[i] = c;
-    }
-    return t;
-  }();
-  uint32_t crc = 0xFFFFFFFFu;
-  for (size_t i = 0; i < size; ++i) crc = table[(crc ^ data[i]) & 0xFF] ^ (crc >> 8);
-  return crc ^ 0xFFFFFFFFu;
+  uLong crc = crc32(0L, Z_NULL, 0);
+  while (size > 0) {
+    const uInt chunk = static_cast<uInt>(std::min<size_t>(size, 1u << 30));
+    crc = crc32(crc, data, chunk);
+    data += chunk;
+    size -= chunk;
+  }
+  return static_cast<uint32_t>(crc);
 }
 
 }  // namespace

@@ -71,6 +71,22 @@ Status ValidateGeometry(const GridGeometry& g) {
   return Status::Ok();
 }
 
+// Valid cells every 2 * tile cells, inside the border: with them the first faces span a few
+// tiles, not the whole grid, so refining a streamed DEM never scans a face larger than the
+// block cache (each such scan would decode every block under it again). They cost a few
+// points per 2 x 2 tiles where the terrain would not have needed them.
+void AddSeedLattice(CellSource& dem, int64_t tile, std::vector<TinVertex>* vertices) {
+  const GridGeometry& g = dem.geometry();
+  const int64_t step = 2 * tile;
+  for (int64_t r = step; r < g.height - 1; r += step) {
+    for (int64_t c = step; c < g.width - 1; c += step) {
+      const float z = dem.At(c, r);
+      if (!std::isnan(z))
+        vertices->push_back(TinVertex{g.CellCenterX(c), g.CellCenterY(r), z, VertexKind::kDem});
+    }
+  }
+}
+
 // The four grid corners (a corner on nodata takes the mean of its nearest valid cells), then
 // tolerance refinement over the whole grid. InvalidArgument when the grid has no valid cell.
 Result<Tin> BuildFromCorners(CellSource& dem, const GreedyOptions& options) {
@@ -87,11 +103,13 @@ Result<Tin> BuildFromCorners(CellSource& dem, const GreedyOptions& options) {
     }
     corners.push_back(TinVertex{g.CellCenterX(c), g.CellCenterY(r), z, VertexKind::kDem});
   }
+  if (options.tile > 0) AddSeedLattice(dem, options.tile, &corners);
   Cdt cdt;
-  cdt.InsertVertices(corners);  // distinct, so indices 0..3 in this order
+  cdt.InsertVertices(corners);  // distinct, so indices 0..3 are the corners in this order
   RefineOptions refine;
   refine.tolerance = options.tolerance;
   refine.max_points = options.max_points > 0 ? options.max_points - 4 : 0;
+  refine.tile = options.tile;
   if (options.max_points != 4) RefineToTolerance(cdt, dem, refine);
   return cdt.ToTin();
 }

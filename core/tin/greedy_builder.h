@@ -1,7 +1,8 @@
 // Greedy insertion: a terrain TIN from a grid DEM, to a vertical tolerance (papers 000/001;
 // Garland and Heckbert 1995, "Fast polygonal approximation of terrains and height fields").
 //
-// Starts from the grid's corners, keeps for every triangle its worst-approximated DEM sample
+// Starts from the grid's corners (with tiled passes, also a coarse lattice of cells, see
+// GreedyOptions::tile), keeps for every triangle its worst-approximated DEM sample
 // in a priority queue, and inserts the worst sample of all until every valid sample is within the
 // tolerance (or max_points is reached). Only the triangles an insertion creates are rescanned.
 // The result is a Delaunay triangulation of the chosen cell centres (CGAL). Nodata cells are not
@@ -21,6 +22,9 @@ namespace tinbase {
 struct GreedyOptions {
   double tolerance = 1.0;  // metres; > 0
   int64_t max_points = 0;  // 0: no limit
+  // 0: strict worst-first order; > 0: tiled passes (RefineOptions::tile), for a streamed DEM
+  // that does not fit the block cache.
+  int64_t tile = 0;
 };
 
 struct GreedyReport {

@@ -1,5 +1,6 @@
 #include "core/tin/tolerance_refiner.h"
 
+#include <algorithm>
 #include <cmath>
 #include <queue>
 #include <set>
@@ -15,40 +16,46 @@ namespace {
 class Refiner {
  public:
   Refiner(Cdt& cdt, CellSource& dem, const RefineOptions& options)
-      : cdt_(cdt), dem_(dem), geometry_(dem.geometry()), options_(options) {}
+      : cdt_(cdt), dem_(dem), geometry_(dem.geometry()), options_(options) {
+    if (options.tile > 0) {
+      tiles_across_ = (geometry_.width + options.tile - 1) / options.tile;
+      const int64_t tiles_down = (geometry_.height + options.tile - 1) / options.tile;
+      queues_.resize(static_cast<size_t>(std::max<int64_t>(1, tiles_across_ * tiles_down)));
+    } else {
+      queues_.resize(1);
+    }
+  }
 
-  std::vector<uint32_t> Run(const std::vector<Cdt::FaceRef>& region, RefineReport* report) {
+  std::vector<uint32_t> Run(std::vector<Cdt::FaceRef> region, RefineReport* report) {
+    if (options_.tile > 0) SortByTile(region);
     for (Cdt::FaceRef f : region) Scan(f);
-    std::vector<uint32_t> added;
-    std::vector<Cdt::FaceRef> incident;
     bool reached = true;
-    while (!queue_.empty()) {
-      const Candidate worst = queue_.top();
-      queue_.pop();
-      if (cdt_.FaceStamp(worst.face) != worst.stamp) continue;  // face changed since its scan
-      if (options_.max_points > 0 && static_cast<int64_t>(added.size()) >= options_.max_points) {
-        reached = false;
-        break;
+    if (options_.tile <= 0) {
+      reached = Drain(queues_[0], 0);
+    } else {
+      // Passes over the tiles in row order, each inserting what is worse than a level that
+      // falls by kPassFactor per pass down to the tolerance: the large faces of the first
+      // passes are few, and later passes stay inside a tile and its neighbours, so a streamed
+      // DEM is read nearly in order instead of wherever the worst sample of all happens to be.
+      constexpr double kPassFactor = 1.5;
+      double level = 0;
+      for (const auto& queue : queues_)
+        if (!queue.empty()) level = std::max(level, queue.top().error);
+      for (bool more = level > 0; more && reached;) {
+        level = std::max(options_.tolerance, level / kPassFactor);
+        for (auto& queue : queues_) {
+          reached = Drain(queue, level);
+          if (!reached) break;
+        }
+        more = level > options_.tolerance || std::any_of(queues_.begin(), queues_.end(),
+                                                         [](const Queue& q) { return !q.empty(); });
       }
-      const size_t before = cdt_.vertices().size();
-      const TinVertex v{geometry_.CellCenterX(worst.col), geometry_.CellCenterY(worst.row),
-                        dem_.At(worst.col, worst.row), VertexKind::kDem};
-      const uint32_t index = cdt_.InsertVertex(v, worst.face, &incident);
-      if (cdt_.vertices().size() == before) {
-        // The cell centre is already a vertex whose z is not the cell's (a ring vertex draped
-        // bilinearly, a replace level): the DEM cannot do better there, so stop asking.
-        blocked_.insert({worst.col, worst.row});
-        Scan(worst.face);
-        continue;
-      }
-      added.push_back(index);
-      for (Cdt::FaceRef f : incident) Scan(f);
     }
     if (report != nullptr) {
-      report->points_added = static_cast<int64_t>(added.size());
+      report->points_added = static_cast<int64_t>(added_.size());
       report->reached = reached;
     }
-    return added;
+    return std::move(added_);
   }
 
  private:
@@ -59,6 +66,59 @@ class Refiner {
     int64_t col, row;
     bool operator<(const Candidate& o) const { return error < o.error; }
   };
+  using Queue = std::priority_queue<Candidate>;
+
+  // Inserts the worst sample of `queue` while it is worse than `level` (0: until the queue is
+  // empty). False when max_points stopped it first.
+  bool Drain(Queue& queue, double level) {
+    while (!queue.empty() && queue.top().error > level) {
+      const Candidate worst = queue.top();
+      queue.pop();
+      if (cdt_.FaceStamp(worst.face) != worst.stamp) continue;  // face changed since its scan
+      if (options_.max_points > 0 && static_cast<int64_t>(added_.size()) >= options_.max_points)
+        return false;
+      const size_t before = cdt_.vertices().size();
+      const TinVertex v{geometry_.CellCenterX(worst.col), geometry_.CellCenterY(worst.row),
+                        dem_.At(worst.col, worst.row), VertexKind::kDem};
+      const uint32_t index = cdt_.InsertVertex(v, worst.face, &incident_);
+      if (cdt_.vertices().size() == before) {
+        // The cell centre is already a vertex whose z is not the cell's (a ring vertex draped
+        // bilinearly, a replace level): the DEM cannot do better there, so stop asking.
+        blocked_.insert({worst.col, worst.row});
+        Scan(worst.face);
+        continue;
+      }
+      added_.push_back(index);
+      for (Cdt::FaceRef f : incident_) Scan(f);
+    }
+    return true;
+  }
+
+  // Faces in the row order of the tiles holding their first vertex, so the first scan of a
+  // streamed DEM reads it in order.
+  void SortByTile(std::vector<Cdt::FaceRef>& faces) const {
+    std::vector<std::pair<int64_t, size_t>> keyed;
+    keyed.reserve(faces.size());
+    for (size_t i = 0; i < faces.size(); ++i) {
+      const TinVertex& v = cdt_.vertices()[cdt_.FaceVertices(faces[i])[0]];
+      const auto col = static_cast<int64_t>(
+          std::clamp<double>(geometry_.ColumnAt(v.x), 0, static_cast<double>(geometry_.width - 1)));
+      const auto row = static_cast<int64_t>(
+          std::clamp<double>(geometry_.RowAt(v.y), 0, static_cast<double>(geometry_.height - 1)));
+      keyed.emplace_back((row / options_.tile) * tiles_across_ + col / options_.tile, i);
+    }
+    std::sort(keyed.begin(), keyed.end());
+    std::vector<Cdt::FaceRef> sorted;
+    sorted.reserve(faces.size());
+    for (const auto& [key, i] : keyed) sorted.push_back(faces[i]);
+    faces = std::move(sorted);
+  }
+
+  Queue& QueueOf(int64_t col, int64_t row) {
+    if (options_.tile <= 0) return queues_[0];
+    return queues_[static_cast<size_t>((row / options_.tile) * tiles_across_ +
+                                       col / options_.tile)];
+  }
 
   // Gives the face a fresh stamp (invalidating its older queue entries) and queues its worst
   // sample if that is beyond the tolerance. Exclusions and blocked cells are tested only on a
@@ -86,7 +146,8 @@ class Refiner {
             worst_row = r;
           });
         });
-    if (worst_col >= 0) queue_.push(Candidate{worst, face, stamp, worst_col, worst_row});
+    if (worst_col >= 0)
+      QueueOf(worst_col, worst_row).push(Candidate{worst, face, stamp, worst_col, worst_row});
   }
 
   // The rasteriser's margin admits cell centres a rounding away from the face; the exact test
@@ -112,7 +173,10 @@ class Refiner {
   CellSource& dem_;
   const GridGeometry& geometry_;
   const RefineOptions& options_;
-  std::priority_queue<Candidate> queue_;
+  std::vector<Queue> queues_;  // one per tile, or one for the whole grid
+  int64_t tiles_across_ = 1;
+  std::vector<uint32_t> added_;
+  std::vector<Cdt::FaceRef> incident_;
   std::set<std::pair<int64_t, int64_t>> blocked_;
   uint64_t next_stamp_ = 1;  // 0 is a fresh face's stamp, never queued
 };

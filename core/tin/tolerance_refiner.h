@@ -33,6 +33,11 @@ struct RefineOptions {
   // and those insertions create (a point inserted on a boundary edge of the region also creates
   // faces beyond it). Null: every face.
   std::function<bool(const std::array<uint32_t, 3>& face)> in_region;
+  // 0: always insert the worst sample of all (Garland-Heckbert's order). > 0: insert in passes
+  // over tiles of tile x tile cells, each pass taking what is worse than a level that falls to
+  // the tolerance, so a DEM streamed from a store is read nearly in order; the same error bound,
+  // a slightly different (usually a little larger) point set.
+  int64_t tile = 0;
 };
 
 struct RefineReport {

@@ -1,6 +1,8 @@
 #include "tests/support/test_support.h"
 
+#include <sys/resource.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <array>
 #include <cstdio>
@@ -78,15 +80,28 @@ std::map<std::string, std::string> TableChecksums(const std::string& store_path)
   return sums;
 }
 
-CliResult RunCli(const std::string& args) {
+CliResult RunCli(const std::string& args, const std::string& env) {
   TempDir tmp;
   const std::string out_path = tmp.Path("out");
   const std::string err_path = tmp.Path("err");
-  const std::string command =
-      std::string(TINBASE_CLI) + " " + args + " >" + out_path + " 2>" + err_path + " </dev/null";
-  const int status = std::system(command.c_str());
+  const std::string command = env + " " + std::string(TINBASE_CLI) + " " + args + " >" + out_path +
+                              " 2>" + err_path + " </dev/null";
   CliResult result;
+  // fork + wait4 rather than std::system: wait4 reports the child's resource use, whose peak
+  // RSS covers the shell and the tinbase process it waited for (Linux counts reaped children).
+  const pid_t pid = fork();
+  if (pid == 0) {
+    execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  int status = 0;
+  struct rusage usage {};
+  if (pid < 0 || wait4(pid, &status, 0, &usage) != pid) {
+    result.exit_code = 128;
+    return result;
+  }
   result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128;
+  result.peak_rss_kib = usage.ru_maxrss;
   auto slurp = [](const std::string& path) {
     std::ifstream in(path);
     std::stringstream ss;

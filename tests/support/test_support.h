@@ -1,6 +1,7 @@
 // Helpers shared by the test suite: temporary stores, data paths, table checksums, running the CLI.
 #pragma once
 
+#include <cstdint>
 #include <map>
 #include <string>
 
@@ -32,8 +33,10 @@ struct CliResult {
   int exit_code = 0;
   std::string out;
   std::string err;
+  int64_t peak_rss_kib = 0;  // the most memory the command held resident at once
 };
-// Runs the tinbase binary with `args` (shell-quoted by the caller where needed).
-CliResult RunCli(const std::string& args);
+// Runs the tinbase binary with `args` (shell-quoted by the caller where needed), with `env`
+// ("NAME=value ...") added to its environment.
+CliResult RunCli(const std::string& args, const std::string& env = "");
 
 }  // namespace tinbase::testing

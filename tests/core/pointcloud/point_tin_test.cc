@@ -30,10 +30,9 @@ void ExpectValidDelaunay(const Tin& tin) {
 size_t CountClass(const std::string& relative, uint8_t c) {
   auto las = ReadLas(DataPath(relative));
   EXPECT_TRUE(las.ok());
-  return static_cast<size_t>(std::count_if(las->cloud.points.begin(), las->cloud.points.end(),
-                                           [c](const CloudPoint& p) {
-                                             return p.classification == c;
-                                           }));
+  return static_cast<size_t>(
+      std::count_if(las->cloud.points.begin(), las->cloud.points.end(),
+                    [c](const CloudPoint& p) { return p.classification == c; }));
 }
 
 TEST(PointTin, AutzenDefaultsToGround) {
@@ -70,10 +69,10 @@ TEST(PointTin, ExplicitClassesAndNoGroundClass) {
   ASSERT_TRUE(mvk.ok()) << mvk.status().ToString();
   const size_t ground = CountClass("las/mvk-thin.las", 2);
   EXPECT_EQ(mvk->report.selected, ground > 0 ? ground : 6280u);
-  EXPECT_EQ(mvk->report.classes, ground > 0 ? "ground (class 2)"
-                                            : "all points (no point has class 2)");
-  std::cout << "mvk-thin default selection: " << mvk->report.classes << ", "
-            << mvk->report.selected << " points\n";
+  EXPECT_EQ(mvk->report.classes,
+            ground > 0 ? "ground (class 2)" : "all points (no point has class 2)");
+  std::cout << "mvk-thin default selection: " << mvk->report.classes << ", " << mvk->report.selected
+            << " points\n";
   ExpectValidDelaunay(mvk->tin);
 }
 
@@ -86,6 +85,8 @@ TEST(PointTin, ReprojectsToTheTarget) {
   all.classes = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9};
   auto built = BuildPointTin(DataPath("las/4_6_crop.las"), all, *target);
   ASSERT_TRUE(built.ok()) << built.status().ToString();
+  auto in_feet = BuildPointTin(DataPath("las/4_6_crop.las"), all, std::nullopt);
+  ASSERT_TRUE(in_feet.ok()) << in_feet.status().ToString();
   EXPECT_EQ(built->report.reprojected_from, "EPSG:2903");
   ASSERT_TRUE(built->crs && built->crs->IsSame(*target));
   double xmin = INFINITY, xmax = -INFINITY, ymin = INFINITY, ymax = -INFINITY;
@@ -94,8 +95,16 @@ TEST(PointTin, ReprojectsToTheTarget) {
     xmax = std::max(xmax, v.x);
     ymin = std::min(ymin, v.y);
     ymax = std::max(ymax, v.y);
-    EXPECT_GT(v.z, 7000);  // z stays in feet: only x, y are reprojected
   }
+  // Heights follow into metres: EPSG:2903 is in US survey feet (1200 / 3937 m), UTM in metres.
+  ASSERT_EQ(built->tin.vertices.size(), in_feet->tin.vertices.size());
+  auto by_z = [](const TinVertex& a, const TinVertex& b) { return a.z < b.z; };
+  std::vector<TinVertex> metres = built->tin.vertices, feet = in_feet->tin.vertices;
+  std::sort(metres.begin(), metres.end(), by_z);
+  std::sort(feet.begin(), feet.end(), by_z);
+  for (size_t i = 0; i < metres.size(); ++i)
+    EXPECT_NEAR(metres[i].z, feet[i].z * 1200.0 / 3937.0, 1e-6) << i;
+  EXPECT_GT(feet.front().z, 7000);
   EXPECT_NEAR(xmax - xmin, 61, 2.5);
   EXPECT_NEAR(ymax - ymin, 61, 2.5);
   // Albuquerque area, UTM 13N.
@@ -133,7 +142,8 @@ TEST(PointTin, XyzFileHasNoCrsUnlessTheTargetGivesOne) {
     std::ofstream out(path);
     out << "x,y,z\n";
     for (int i = 0; i < 10; ++i) {
-      for (int j = 0; j < 10; ++j) out << i * 3 + (j % 2) * 0.5 << "," << j * 3 << "," << i + j << "\n";
+      for (int j = 0; j < 10; ++j)
+        out << i * 3 + (j % 2) * 0.5 << "," << j * 3 << "," << i + j << "\n";
     }
     out << "0,0,42\n";  // a duplicate of the first point
   }

@@ -153,6 +153,23 @@ TEST(GreedyBuilderTest, RandomTerrainsReproducibleBySeed) {
   }
 }
 
+// Tiled passes (for streamed DEMs) keep every promise of the strict order, with a point count
+// close to it; nodata holes and tiles that do not divide the grid included.
+TEST(GreedyBuilderTest, TiledPassesKeepTheBoundWithFewExtraPoints) {
+  Grid dem = MakeGrid(517, 389, Sines);
+  for (int64_t r = 100; r < 160; ++r)
+    for (int64_t c = 200; c < 290; ++c) dem.cells[static_cast<size_t>(r * 517 + c)] = kNaN;
+  for (double tolerance : {10.0, 1.0}) {
+    GreedyReport strict, tiled;
+    auto a = BuildGreedyTin(dem, {.tolerance = tolerance}, &strict);
+    auto b = BuildGreedyTin(dem, {.tolerance = tolerance, .tile = 64}, &tiled);
+    ASSERT_TRUE(a.ok() && b.ok());
+    ExpectValidGreedyTin(*b, dem, tolerance, tiled);
+    EXPECT_GE(tiled.points, strict.points * 95 / 100) << tolerance;
+    EXPECT_LE(tiled.points, strict.points * 115 / 100) << tolerance;
+  }
+}
+
 TEST(GreedyBuilderTest, MaxPointsHonoured) {
   const Grid dem = MakeGrid(200, 150, Sines);
   for (int64_t max_points : {4, 5, 37, 200}) {
