@@ -1,13 +1,18 @@
-// Kernels: `dem import` (rasters into the blocked DEM store) and `dem sample` (bilinear z).
+// Kernels: `dem import` (rasters into the blocked DEM store) and `dem sample` (bilinear or
+// nearest z at one point or at many).
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <fstream>
 #include <iostream>
+#include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "apps/tinbase/command.h"
 #include "apps/tinbase/output.h"
+#include "core/geometry/point_list.h"
 #include "db/dem_store.h"
 #include "db/surface_builder.h"
 
@@ -45,30 +50,68 @@ int RunImport(const ImportArgs& args) {
 }
 
 struct SampleArgs : ReadArgs {
-  double x = 0;
-  double y = 0;
+  std::vector<double> xy;   // one point on the command line
+  std::string points_file;  // or many, one per line ("-": standard input)
   std::string dem;
   bool nearest = false;
 };
 
+// The points of --points (core/geometry/point_list.h).
+Result<std::vector<Point2>> ReadPoints(const std::string& path) {
+  if (path == "-") return ReadPointList(std::cin, "<stdin>");
+  std::ifstream in(path);
+  if (!in) return Status::NotFound("cannot open the points file '" + path + "'");
+  return ReadPointList(in, path);
+}
+
+// Many points in one SampleMany call: "x y z" lines, z "nodata" where the DEM has none.
+int SampleMany(DemStore& dems, const DemInfo& dem, const SampleArgs& args) {
+  auto points = ReadPoints(args.points_file);
+  if (!points.ok()) return ReportError(points.status());
+  std::vector<double> xs, ys, zs(points->size());
+  for (const Point2& p : *points) {
+    xs.push_back(p.x);
+    ys.push_back(p.y);
+  }
+  const Status s = dems.SampleMany(dem, xs, ys, zs,
+                                   args.nearest ? DemSampling::kNearest : DemSampling::kBilinear);
+  if (!s.ok()) return ReportError(s);
+  if (args.json) {
+    nlohmann::json out = nlohmann::json::array();
+    for (size_t i = 0; i < zs.size(); ++i)
+      out.push_back({{"x", xs[i]}, {"y", ys[i]}, {"z", std::isnan(zs[i]) ? nlohmann::json(nullptr)
+                                                                           : nlohmann::json(zs[i])}});
+    std::cout << nlohmann::json{{"dem", dem.name}, {"points", out}}.dump() << "\n";
+    return kExitOk;
+  }
+  for (size_t i = 0; i < zs.size(); ++i)
+    std::cout << Num(xs[i], 12) << " " << Num(ys[i], 12) << " "
+              << (std::isnan(zs[i]) ? std::string("nodata") : Num(zs[i], 12)) << "\n";
+  return kExitOk;
+}
+
 int RunSample(const SampleArgs& args) {
+  if (args.points_file.empty() == args.xy.empty()) {
+    return ReportError(Status::InvalidArgument(
+        "dem sample: give either a point (X Y) or --points FILE, not " +
+        std::string(args.xy.empty() ? "neither" : "both")));
+  }
   auto store = Store::Open(args.store, Store::Access::kReadOnly);
   if (!store.ok()) return ReportError(store.status());
   DemStore dems(**store);
   auto dem = ResolveDem(dems, args.dem);
   if (!dem.ok()) return ReportError(dem.status());
-  auto z = dems.Sample(*dem, args.x, args.y,
-                       args.nearest ? DemSampling::kNearest : DemSampling::kBilinear);
+  if (!args.points_file.empty()) return SampleMany(dems, *dem, args);
+  const double x = args.xy[0], y = args.xy[1];
+  auto z = dems.Sample(*dem, x, y, args.nearest ? DemSampling::kNearest : DemSampling::kBilinear);
   if (!z.ok()) return ReportError(z.status());
   if (args.json) {
-    std::cout << nlohmann::json{{"dem", dem->name}, {"x", args.x}, {"y", args.y}, {"z", *z}}.dump()
-              << "\n";
+    std::cout << nlohmann::json{{"dem", dem->name}, {"x", x}, {"y", y}, {"z", *z}}.dump() << "\n";
   } else {
     std::cout << Num(*z, 12) << "\n";
   }
   return kExitOk;
 }
-
 
 // Stored blocks and compressed bytes per level, from the block table itself.
 struct LevelStats {
@@ -233,10 +276,14 @@ void RegisterDemCommands(CLI::App& app, int* exit_code) {
   clip->callback([=] { *exit_code = RunClip(*clip_args); });
 
   auto sample_args = std::make_shared<SampleArgs>();
-  CLI::App* sample = dem->add_subcommand("sample", "Bilinear elevation at a point (store CRS)");
+  CLI::App* sample = dem->add_subcommand(
+      "sample", "Bilinear elevation at a point or at many points (store CRS)");
   sample->add_option("store", sample_args->store, "Store file")->required();
-  sample->add_option("x", sample_args->x, "X in the store's CRS")->required();
-  sample->add_option("y", sample_args->y, "Y in the store's CRS")->required();
+  sample->add_option("xy", sample_args->xy, "X Y of one point in the store's CRS")
+      ->expected(2);
+  sample->add_option("--points", sample_args->points_file,
+                     "File of points, one 'x y' or 'x,y' per line ('-': standard input); prints "
+                     "'x y z' per point, z 'nodata' where there is none");
   sample->add_option("--dem", sample_args->dem, "DEM name (default: the only DEM)");
   sample->add_flag("--json", sample_args->json, "Print JSON");
   sample->add_flag("--nearest", sample_args->nearest, "The cell's value instead of bilinear");

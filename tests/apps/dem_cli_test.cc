@@ -1,9 +1,15 @@
-// `tinbase dem info|clip|sample --nearest|import --keep-first` end to end on a real SRTM tile.
+// `tinbase dem info|clip|sample [--nearest] [--points]|import --keep-first` end to end on a real SRTM tile.
 #include <gtest/gtest.h>
 
 #include <gdal_priv.h>
 
+#include <algorithm>
 #include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "db/dem_store.h"
 #include "tests/support/cli_support.h"
@@ -12,6 +18,7 @@
 namespace tinbase {
 namespace {
 
+using testing::CliResult;
 using testing::DataPath;
 using testing::ExpectRejected;
 using testing::Json;
@@ -116,6 +123,62 @@ TEST_F(DemCliTest, NearestSampleIsACellValue) {
   // The warped .hgt keeps bilinear values between cells; the nearest value is a stored cell,
   // never further than the terrain's local relief from the bilinear one.
   EXPECT_NEAR(z, bilinear["z"].get<double>(), 200.0);
+}
+
+// --points samples many points in one call: the same values as one point at a time (the library's
+// Sample), "nodata" off the DEM, in input order; bad lines are refused naming file and line.
+TEST_F(DemCliTest, ManyPointsInOneCall) {
+  auto info = Json(RunCli("dem info --json " + Quote(store_)));
+  const auto& b = info["bbox"];
+  const double x0 = b[0].get<double>(), y0 = b[1].get<double>();
+  const double w = b[2].get<double>() - x0, h = b[3].get<double>() - y0;
+  std::vector<std::pair<double, double>> points;
+  for (int i = 0; i < 300; ++i)
+    points.emplace_back(x0 + w * ((i * 37 % 101) / 100.0), y0 + h * ((i * 53 % 97) / 96.0));
+  points.emplace_back(x0 - 1000, y0);  // off the DEM
+  const std::string file = dir_.Path("points.csv");
+  {
+    std::ofstream out(file);
+    out << "x,y,label\n# a comment, then a blank line\n\n";
+    for (const auto& [x, y] : points) out << std::setprecision(17) << x << "," << y << ",p\n";
+  }
+  auto store = Store::Open(store_, Store::Access::kReadOnly);
+  ASSERT_TRUE(store.ok());
+  DemStore dems(**store);
+  auto dem = dems.Find("N43E007");
+  ASSERT_TRUE(dem.ok()) << dem.status().ToString();
+  for (const bool nearest : {false, true}) {
+    auto j = Json(RunCli("dem sample --json " + std::string(nearest ? "--nearest " : "") +
+                         Quote(store_) + " --points " + Quote(file)));
+    ASSERT_EQ(j["points"].size(), points.size());
+    for (size_t i = 0; i < points.size(); ++i) {
+      const auto& p = j["points"][i];
+      EXPECT_EQ(p["x"].get<double>(), points[i].first);
+      auto z = dems.Sample(*dem, points[i].first, points[i].second,
+                           nearest ? DemSampling::kNearest : DemSampling::kBilinear);
+      if (z.ok())
+        EXPECT_DOUBLE_EQ(p["z"].get<double>(), *z) << i;
+      else
+        EXPECT_TRUE(p["z"].is_null()) << i << " " << z.status().ToString();
+    }
+    EXPECT_TRUE(j["points"].back()["z"].is_null());
+  }
+  CliResult text = RunCli("dem sample " + Quote(store_) + " --points " + Quote(file));
+  ASSERT_EQ(text.exit_code, 0) << text.err;
+  EXPECT_EQ(std::count(text.out.begin(), text.out.end(), '\n'),
+            static_cast<std::ptrdiff_t>(points.size()));
+  EXPECT_NE(text.out.find(" nodata\n"), std::string::npos);
+
+  const std::string bad = dir_.Path("bad.txt");
+  std::ofstream(bad) << "1 2\n3 4\n5 north\n";
+  ExpectRejected(store_, "dem sample " + Quote(store_) + " --points " + Quote(bad),
+                 "bad.txt:3: 'north' is not a number");
+  std::ofstream(bad) << "1 2\n7\n";
+  ExpectRejected(store_, "dem sample " + Quote(store_) + " --points " + Quote(bad),
+                 "bad.txt:2: expected 'x y' or 'x,y'");
+  ExpectRejected(store_, "dem sample " + Quote(store_) + " --points " + Quote(dir_.Path("none")),
+                 "cannot open the points file");
+  ExpectRejected(store_, "dem sample " + Quote(store_), "either a point (X Y) or --points");
 }
 
 }  // namespace
