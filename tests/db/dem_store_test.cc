@@ -6,20 +6,26 @@
 #include <gdal_priv.h>
 #include <gdal_utils.h>
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
+#include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <limits>
 #include <random>
 #include <set>
+#include <thread>
 
 #include "core/raster/gdal_raster.h"
 #include "db/migrations.h"
 #include "db/sqlite/sqlite_db.h"
 #include "db/store.h"
 #include "tests/support/test_support.h"
+#include "tests/support/tin_fixtures.h"
 
 namespace tinbase {
 namespace {
@@ -475,16 +481,18 @@ TEST(DemStore, Migration0003FillsTheBlockAnchorFromTheFirstSource) {
   {
     auto db = SqliteDb::Open(path, SqliteDb::Mode::kCreate);
     ASSERT_TRUE(db.ok());
-    ASSERT_TRUE((*db)->Exec("PRAGMA application_id = " + std::to_string(kTinbaseApplicationId)).ok());
+    ASSERT_TRUE(
+        (*db)->Exec("PRAGMA application_id = " + std::to_string(kTinbaseApplicationId)).ok());
     ASSERT_TRUE(MigrateSqlite(**db, 2).ok());
     // Grid corner (1000, 9000), 10 m cells: the first sheet's origin (1500.0000001, 8200) is
     // 50 columns east and 80 rows south of it.
-    ASSERT_TRUE((*db)->Exec("INSERT INTO dems(id, name, crs_wkt, origin_x, origin_y, cell_x, "
-                            "cell_y, width, height, block_size, levels, sources) VALUES "
-                            "(1, 'a', '', 1000, 9000, 10, -10, 100, 100, 32, 3, "
-                            "'[{\"origin_x\": 1500.0000001, \"origin_y\": 8200}, "
-                            "{\"origin_x\": 1000, \"origin_y\": 9000}]'), "
-                            "(2, 'b', '', 0, 0, 1, -1, 5, 5, 32, 1, '[]')")
+    ASSERT_TRUE((*db)
+                    ->Exec("INSERT INTO dems(id, name, crs_wkt, origin_x, origin_y, cell_x, "
+                           "cell_y, width, height, block_size, levels, sources) VALUES "
+                           "(1, 'a', '', 1000, 9000, 10, -10, 100, 100, 32, 3, "
+                           "'[{\"origin_x\": 1500.0000001, \"origin_y\": 8200}, "
+                           "{\"origin_x\": 1000, \"origin_y\": 9000}]'), "
+                           "(2, 'b', '', 0, 0, 1, -1, 5, 5, 32, 1, '[]')")
                     .ok());
   }
   auto store = Store::Open(path);
@@ -1058,6 +1066,132 @@ TEST(DemClip, WritesTheWindowLikeGdalTranslate) {
   auto bad = dems.Clip(dem, box, 1000, dir.Path("no/such/dir/x.tif"));
   EXPECT_EQ(bad.status().code(), StatusCode::kIOError);
   EXPECT_NE(bad.status().message().find(dir.Path("no/such/dir/x.tif")), std::string::npos);
+}
+
+// ---- Atomicity of imports: an error after any block write, and kill -9 mid-import.
+
+// Block writes (level 0 and overviews) that importing `files` into `name` makes on `store`.
+int64_t CountBlockWrites(Store& store, const std::vector<std::string>& files,
+                         const std::string& name) {
+  int64_t writes = 0;
+  DemImportOptions options = Options(name, 32);
+  options.after_block_write = [&](int64_t n) {
+    writes = n;
+    return Status::Ok();
+  };
+  EXPECT_TRUE(DemStore(store).Import(files, options).ok());
+  return writes;
+}
+
+// The failure hook fails the import after block write k, for k from the first write to the last
+// (every few, to stay quick), both creating a DEM and extending one with overviews: the import
+// returns the error, the tables are as before, the store checks clean and reads as before.
+TEST_F(Mosaic, ErrorAfterAnyBlockWriteLeavesTheStoreAsItWas) {
+  const std::vector<std::string> first = {paths_["nw"], paths_["ne"]};
+  const std::vector<std::string> second = {paths_["sw"], paths_["se"]};
+  for (const bool extend : {false, true}) {
+    SCOPED_TRACE(extend ? "extending a DEM" : "creating a DEM");
+    TempDir dir;
+    auto counting = MakeStore(dir, "", "count.tinbase");
+    if (extend) CountBlockWrites(*counting, first, "v");
+    const int64_t total = CountBlockWrites(*counting, extend ? second : first, "v");
+    ASSERT_GT(total, 10);
+
+    auto store = MakeStore(dir, "");
+    DemStore dems(*store);
+    if (extend) {
+      ASSERT_TRUE(dems.Import(first, Options("v", 32)).ok());
+    }
+    const auto before = TableChecksums(store->path());
+    std::optional<Grid> grid_before;
+    if (extend) grid_before = *dems.ReadGrid(*dems.Find("v"));
+    std::vector<int64_t> failing_writes;
+    for (int64_t k = 1; k < total; k += std::max<int64_t>(1, total / 12))
+      failing_writes.push_back(k);
+    failing_writes.push_back(total);
+    for (const int64_t k : failing_writes) {
+      SCOPED_TRACE("failing after block write " + std::to_string(k) + " of " +
+                   std::to_string(total));
+      DemImportOptions options = Options("v", 32);
+      options.after_block_write = [k](int64_t n) {
+        return n == k ? Status::IOError("injected failure") : Status::Ok();
+      };
+      auto report = dems.Import(extend ? second : first, options);
+      ASSERT_FALSE(report.ok());
+      EXPECT_NE(report.status().message().find("injected failure"), std::string::npos);
+      EXPECT_EQ(TableChecksums(store->path()), before);
+      testing::ExpectStoreIntact(*store, /*full=*/true);
+      if (extend) {
+        auto dem = dems.Find("v");
+        ASSERT_TRUE(dem.ok());
+        EXPECT_EQ(CountDifferences(*dems.ReadGrid(*dem), *grid_before), 0);
+      } else {
+        EXPECT_EQ(dems.Find("v").status().code(), StatusCode::kNotFound);
+      }
+      if (HasFailure()) return;
+    }
+  }
+}
+
+// A child process imports two versions of the same sheet over each other, endlessly, and is
+// killed with SIGKILL at random moments: afterwards the store checks clean and the DEM is one
+// version or the other in every cell, never a mix of a half-written import.
+TEST_F(Mosaic, KillNineMidImportLeavesWholeImportsOnly) {
+  Grid raised = original_;
+  for (float& z : raised.cells) z += 100;
+  const std::string raised_path = dir_.Path("raised.tif");
+  WriteGrid(raised_path, raised, original_.crs_wkt);
+  const std::string original_path = DataPath("dem/elev_vinschgau.tif");
+  auto store = MakeStore(dir_, "");
+  ASSERT_TRUE(DemStore(*store).Import({original_path}, Options("v", 32)).ok());
+  const std::string path = store->path();
+  store.reset();
+
+  std::mt19937 rng(20261122);
+  std::uniform_int_distribution<int> delay_ms(5, 150);
+  std::set<std::string> seen;
+  for (int round = 0; round < 12; ++round) {
+    const pid_t child = fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+      auto s = Store::Open(path);
+      if (!s.ok()) _exit(2);
+      DemStore dems(**s);
+      for (int i = 0;; ++i)
+        if (!dems.Import({i % 2 ? original_path : raised_path}, Options("v", 32)).ok()) _exit(3);
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms(rng)));
+    ASSERT_EQ(kill(child, SIGKILL), 0);
+    int status = 0;
+    ASSERT_EQ(waitpid(child, &status, 0), child);
+    ASSERT_TRUE(WIFSIGNALED(status)) << "the importing child stopped by itself: " << status;
+
+    auto reopened = Store::Open(path);
+    ASSERT_TRUE(reopened.ok()) << reopened.status().ToString();
+    testing::ExpectStoreIntact(**reopened, /*full=*/true);
+    DemStore dems(**reopened);
+    auto dem = dems.Find("v");
+    ASSERT_TRUE(dem.ok());
+    auto grid = dems.ReadGrid(*dem);
+    ASSERT_TRUE(grid.ok()) << grid.status().ToString();
+    const auto differing = [&](const Grid& expected) {
+      int64_t n = 0;
+      for (size_t i = 0; i < expected.cells.size(); ++i) {
+        const float a = grid->cells[i], b = expected.cells[i];
+        n += !(a == b || (std::isnan(a) && std::isnan(b)));
+      }
+      return n;
+    };
+    ASSERT_EQ(grid->cells.size(), original_.cells.size());
+    const int64_t as_original = differing(original_);
+    const int64_t as_raised = differing(raised);
+    EXPECT_TRUE(as_original == 0 || as_raised == 0)
+        << "round " << round << ": " << as_original << " cells differ from the original and "
+        << as_raised << " from the raised sheet";
+    seen.insert(as_original == 0 ? "original" : "raised");
+    if (HasFailure()) break;
+  }
+  EXPECT_EQ(seen.size(), 2u) << "the kills should land after both kinds of import";
 }
 
 }  // namespace
