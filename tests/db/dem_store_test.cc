@@ -443,6 +443,44 @@ TEST_F(BadInput, BlockSizeNotAPowerOfTwo) {
                 "block size 100 is not a power of two", Options("", 100));
 }
 
+// The first `keep` bytes of a real GeoTIFF: the header and directory survive, the cells do not.
+TEST_F(BadInput, TruncatedGeoTiff) {
+  const std::string source = DataPath("dem/elev_vinschgau.tif");
+  const std::string path = dir_.Path("truncated.tif");
+  std::filesystem::copy_file(source, path);
+  std::filesystem::resize_file(path, std::filesystem::file_size(source) / 2);
+  ExpectRefused({path}, StatusCode::kIOError, path + ": cannot read cells");
+}
+
+// Garbage over the compressed cells of a real GeoTIFF, the header intact.
+TEST_F(BadInput, CorruptCellsInGeoTiff) {
+  const std::string path = dir_.Path("corrupt.tif");
+  const char* argv[] = {"-co", "COMPRESS=DEFLATE", nullptr};
+  GDALTranslateOptions* options = GDALTranslateOptionsNew(const_cast<char**>(argv), nullptr);
+  GDALDatasetH copy =
+      GDALTranslate(path.c_str(), GDALOpen(DataPath("dem/elev_vinschgau.tif").c_str(), GA_ReadOnly),
+                    options, nullptr);
+  GDALTranslateOptionsFree(options);
+  ASSERT_NE(copy, nullptr);
+  GDALClose(copy);
+  const auto size = std::filesystem::file_size(path);
+  std::fstream file(path, std::ios::in | std::ios::out | std::ios::binary);
+  file.seekp(static_cast<std::streamoff>(size / 2));
+  for (int i = 0; i < 4096; ++i) file.put(static_cast<char>(i * 131 % 251));
+  file.close();
+  ExpectRefused({path}, StatusCode::kIOError, path + ": cannot read cells");
+}
+
+TEST_F(BadInput, UnknownCrs) {
+  const std::string path = dir_.Path("local.tif");
+  const double gt[6] = {500000, 30, 0, 5200000, 0, -30};
+  WriteTiff(
+      path,
+      R"(LOCAL_CS["mine site grid",UNIT["metre",1],AXIS["Easting",EAST],AXIS["Northing",NORTH]])",
+      gt);
+  ExpectRefused({path}, StatusCode::kInvalidArgument, path + ": cannot warp onto EPSG:32632");
+}
+
 TEST_F(BadInput, NoFiles) { ExpectRefused({}, StatusCode::kInvalidArgument, "no files"); }
 
 TEST_F(BadInput, SecondOfTwoFilesIsBad) {
@@ -1192,6 +1230,49 @@ TEST_F(Mosaic, KillNineMidImportLeavesWholeImportsOnly) {
     if (HasFailure()) break;
   }
   EXPECT_EQ(seen.size(), 2u) << "the kills should land after both kinds of import";
+}
+
+// NaN cells in a raster that declares no nodata value are nodata all the same: sampled as
+// "no data", read back as NaN, and a block holding nothing else is not stored.
+TEST(DemStore, NaNCellsWithoutDeclaredNodataAreNodata) {
+  EnsureGdalRegistered();
+  TempDir dir;
+  Grid grid;
+  grid.geometry = GridGeometry{500000, 5200000, 10, -10, 64, 64};
+  grid.cells.resize(64 * 64);
+  for (int r = 0; r < 64; ++r)
+    for (int c = 0; c < 64; ++c)
+      grid.cells[r * 64 + c] = (r < 32 && c < 32) || (r == 40 && c == 50)
+                                   ? std::numeric_limits<float>::quiet_NaN()
+                                   : static_cast<float>(100 + r + c);
+  const std::string path = dir.Path("nan.tif");
+  OGRSpatialReference srs;
+  srs.importFromEPSG(32632);
+  char* wkt = nullptr;
+  srs.exportToWkt(&wkt);
+  WriteGrid(path, grid, wkt);
+  CPLFree(wkt);
+  {
+    GDALDataset* ds = GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_UPDATE);
+    ASSERT_NE(ds, nullptr);
+    ds->GetRasterBand(1)->DeleteNoDataValue();
+    int has_nodata = 1;
+    ds->GetRasterBand(1)->GetNoDataValue(&has_nodata);
+    EXPECT_FALSE(has_nodata);
+    GDALClose(ds);
+  }
+  auto store = MakeStore(dir, "");
+  DemStore dems(*store);
+  auto report = dems.Import({path}, Options("nan", 32));
+  ASSERT_TRUE(report.ok()) << report.status().ToString();
+  EXPECT_EQ(report->blocks_written, 3);  // the north-west block is all NaN
+  auto stored = dems.ReadGrid(report->dem);
+  ASSERT_TRUE(stored.ok());
+  EXPECT_EQ(CountDifferences(*stored, grid), 0);
+  const double x = grid.geometry.CellCenterX(50), y = grid.geometry.CellCenterY(40);
+  auto z = dems.Sample(report->dem, x, y, DemSampling::kNearest);
+  EXPECT_EQ(z.status().code(), StatusCode::kNotFound) << z.status().ToString();
+  EXPECT_NE(z.status().message().find("no data"), std::string::npos) << z.status().message();
 }
 
 }  // namespace
