@@ -1,0 +1,384 @@
+// tin_bench: tinbase's terrain TIN builders side by side with their peers (npm delatin and
+// @mapbox/martini, run by bench/peers/run_peers.mjs; CGAL's bulk Delaunay), every result's true
+// error measured here with the same code (CompareTinToGrid). Driven by scripts/bench-tin.sh.
+//
+//   tin_bench export --size N --out DIR        generated N x N terrain -> DIR/terrain.{f32,tif}
+//   tin_bench export --real FILE --size N ...  an N x N window of a real DEM instead
+//   tin_bench measure --dir DIR --errors E,... tinbase's builders + the peers' meshes in DIR
+//   tin_bench delaunay --points N              CGAL alone against points -> store
+#include <gdal_priv.h>
+#include <ogr_spatialref.h>
+#include <sys/resource.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iostream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "core/geometry/cdt.h"
+#include "core/raster/gdal_raster.h"
+#include "core/tin/edge_collapse.h"
+#include "core/tin/greedy_builder.h"
+#include "core/tin/grid_triangulation.h"
+#include "core/tin/rtin_builder.h"
+#include "core/tin/tin_raster.h"
+#include "core/tin/vip_builder.h"
+#include "db/dem_store.h"
+#include "db/point_import.h"
+#include "db/surface_builder.h"
+
+namespace tinbase {
+namespace {
+
+double Seconds(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+template <typename Fn>
+double Time(Fn&& fn) {
+  const auto start = std::chrono::steady_clock::now();
+  fn();
+  return Seconds(start);
+}
+
+// Value noise: a lattice of random heights every `period` cells, smoothly interpolated.
+class ValueNoise {
+ public:
+  ValueNoise(int64_t size, int64_t period, uint32_t seed) : period_(period), n_(size / period + 2) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> unit(-1, 1);
+    lattice_.resize(static_cast<size_t>(n_ * n_));
+    for (double& v : lattice_) v = unit(rng);
+  }
+  double At(int64_t col, int64_t row) const {
+    const double x = static_cast<double>(col) / period_, y = static_cast<double>(row) / period_;
+    const auto i = static_cast<int64_t>(x), j = static_cast<int64_t>(y);
+    const double fx = Smooth(x - i), fy = Smooth(y - j);
+    const auto v = [&](int64_t a, int64_t b) { return lattice_[static_cast<size_t>(b * n_ + a)]; };
+    return (v(i, j) * (1 - fx) + v(i + 1, j) * fx) * (1 - fy) +
+           (v(i, j + 1) * (1 - fx) + v(i + 1, j + 1) * fx) * fy;
+  }
+
+ private:
+  static double Smooth(double t) { return t * t * (3 - 2 * t); }
+  int64_t period_;
+  int64_t n_;
+  std::vector<double> lattice_;
+};
+
+// The generated terrain: 1 m cells, octaves of value noise from 1024 cells down to 2 with the
+// amplitude halving each octave (a fractal surface of dimension ~2.0, like eroded hills), ~0 to
+// 1500 m, plus a ridge line; the same for every size (a larger one extends a smaller one).
+Grid GeneratedTerrain(int64_t size) {
+  Grid grid;
+  grid.geometry = GridGeometry{500000, 5200000, 1, -1, size, size};
+  grid.cells.assign(static_cast<size_t>(size * size), 0);
+  double amplitude = 600;
+  uint32_t seed = 1;
+  for (int64_t period = 1024; period >= 2; period /= 2, amplitude /= 2, ++seed) {
+    const ValueNoise noise(std::max<int64_t>(size, 4097), period, seed);
+    for (int64_t r = 0; r < size; ++r)
+      for (int64_t c = 0; c < size; ++c)
+        grid.cells[static_cast<size_t>(r * size + c)] +=
+            static_cast<float>(amplitude * noise.At(c, r));
+  }
+  for (int64_t r = 0; r < size; ++r)
+    for (int64_t c = 0; c < size; ++c)
+      grid.cells[static_cast<size_t>(r * size + c)] +=
+          static_cast<float>(700 - 0.1 * std::abs(static_cast<double>(c - r)));
+  return grid;
+}
+
+// An N x N window of a real DEM from its top-left corner, geometry reset to 1-unit cells; voids
+// take the value of the nearest valid cell to their left on the row (peers cannot take NaN).
+Result<Grid> RealWindow(const std::string& path, int64_t size) {
+  TB_ASSIGN_OR_RETURN(GdalRaster raster, GdalRaster::Open(path));
+  TB_ASSIGN_OR_RETURN(Grid full, raster.Read());
+  size = std::min({size, full.geometry.width, full.geometry.height});
+  Grid grid;
+  grid.geometry = GridGeometry{500000, 5200000, 1, -1, size, size};
+  for (int64_t r = 0; r < size; ++r) {
+    float last = 0;
+    for (int64_t c = 0; c < size; ++c) {
+      float v = full.At(c, r);
+      if (std::isnan(v)) v = last;
+      grid.cells.push_back(v);
+      last = v;
+    }
+  }
+  return grid;
+}
+
+Grid LoadTerrain(const std::string& dir) {
+  std::ifstream meta_in(dir + "/terrain.json");
+  const auto meta = nlohmann::json::parse(meta_in);
+  Grid grid;
+  const int64_t w = meta["width"], h = meta["height"];
+  grid.geometry = GridGeometry{500000, 5200000, 1, -1, w, h};
+  grid.cells.resize(static_cast<size_t>(w * h));
+  std::ifstream in(dir + "/terrain.f32", std::ios::binary);
+  in.read(reinterpret_cast<char*>(grid.cells.data()),
+          static_cast<std::streamsize>(grid.cells.size() * sizeof(float)));
+  return grid;
+}
+
+int Export(const std::string& real, int64_t size, const std::string& out) {
+  std::filesystem::create_directories(out);
+  Grid grid;
+  if (real.empty()) {
+    grid = GeneratedTerrain(size);
+  } else {
+    auto window = RealWindow(real, size);
+    if (!window.ok()) {
+      std::cerr << window.status().ToString() << "\n";
+      return 1;
+    }
+    grid = std::move(window).value();
+  }
+  std::ofstream(out + "/terrain.f32", std::ios::binary)
+      .write(reinterpret_cast<const char*>(grid.cells.data()),
+             static_cast<std::streamsize>(grid.cells.size() * sizeof(float)));
+  std::ofstream(out + "/terrain.json") << nlohmann::json{
+      {"width", grid.geometry.width},
+      {"height", grid.geometry.height},
+      {"source",
+       real.empty() ? "generated" : real}}.dump();
+  // The same cells as a GeoTIFF in a projected CRS, for the store path (dem import).
+  OGRSpatialReference srs;
+  srs.importFromEPSG(32632);
+  char* wkt = nullptr;
+  srs.exportToWkt(&wkt);
+  grid.crs_wkt = wkt;
+  CPLFree(wkt);
+  const Status s = WriteGeoTiff(grid, out + "/terrain.tif");
+  if (!s.ok()) std::cerr << s.ToString() << "\n";
+  return s.ok() ? 0 : 1;
+}
+
+// A peer's mesh (grid coordinates) as a Tin on `grid`, z the cell values.
+Tin ReadMesh(const std::string& path, const Grid& grid) {
+  std::ifstream in(path, std::ios::binary);
+  uint32_t counts[2] = {0, 0};
+  in.read(reinterpret_cast<char*>(counts), sizeof counts);
+  std::vector<uint32_t> xy(2 * counts[0]), tri(3 * counts[1]);
+  in.read(reinterpret_cast<char*>(xy.data()), static_cast<std::streamsize>(xy.size() * 4));
+  in.read(reinterpret_cast<char*>(tri.data()), static_cast<std::streamsize>(tri.size() * 4));
+  Tin tin;
+  const GridGeometry& g = grid.geometry;
+  for (size_t i = 0; i < counts[0]; ++i) {
+    const int64_t c = xy[2 * i], r = xy[2 * i + 1];
+    tin.vertices.push_back(
+        TinVertex{g.CellCenterX(c), g.CellCenterY(r), grid.At(c, r), VertexKind::kDem});
+  }
+  for (size_t t = 0; t < counts[1]; ++t) {
+    TinTriangle triangle;
+    triangle.v = {tri[3 * t], tri[3 * t + 1], tri[3 * t + 2]};
+    tin.triangles.push_back(triangle);
+  }
+  return tin;
+}
+
+struct Row {
+  std::string method;
+  double error = 0;  // the nominal max error (tolerance, threshold) asked for
+  int64_t triangles = 0;
+  double max_error = 0, rms_error = 0;  // measured here against every cell
+  double seconds = 0;
+};
+
+void Print(const Row& r, std::ostream& csv) {
+  std::printf("| %-14s | %5g | %9lld | %8.3f | %7.3f | %8.3f |\n", r.method.c_str(), r.error,
+              static_cast<long long>(r.triangles), r.max_error, r.rms_error, r.seconds);
+  csv << r.method << "," << r.error << "," << r.triangles << "," << r.max_error << ","
+      << r.rms_error << "," << r.seconds << "\n";
+}
+
+Row Measured(const std::string& method, double error, const Tin& tin, const Grid& grid,
+             double seconds) {
+  const TinGridError e = CompareTinToGrid(tin, grid);
+  return Row{method,      error,       static_cast<int64_t>(tin.triangles.size()),
+             e.max_error, e.rms_error, seconds};
+}
+
+// Greedy through the store, as `tinbase tin build` runs it: build (streaming the DEM) + write.
+Row GreedyWithStore(const std::string& dir, double tolerance) {
+  const std::string path = dir + "/bench.tinbase";
+  std::filesystem::remove(path);
+  std::filesystem::remove(path + "-wal");
+  auto store = Store::Create(path, "");
+  Row row{"greedy+store", tolerance};
+  if (!store.ok() || !DemStore(**store).Import({dir + "/terrain.tif"}, {}).ok()) return row;
+  SurfaceBuildOptions options;
+  options.surface = "s";
+  options.greedy.tolerance = tolerance;
+  auto report = BuildSurfaceFromDem(**store, options);
+  if (!report.ok()) {
+    std::cerr << report.status().ToString() << "\n";
+    return row;
+  }
+  row.triangles = report->triangles;
+  row.max_error = report->quality.max_error;
+  row.rms_error = report->quality.rms_error;
+  row.seconds = report->build_seconds + report->write_seconds;
+  return row;
+}
+
+int Measure(const std::string& dir, const std::vector<double>& errors, bool all_methods,
+            bool store) {
+  const Grid grid = LoadTerrain(dir);
+  std::map<std::pair<std::string, double>, double> peer_seconds;
+  std::ifstream peers(dir + "/peers.jsonl");
+  for (std::string line; std::getline(peers, line);) {
+    const auto j = nlohmann::json::parse(line);
+    peer_seconds[{j["peer"], j["error"]}] = j["seconds"];
+  }
+  std::ofstream csv(dir + "/results.csv");
+  csv << "method,error,triangles,max_error,rms_error,seconds\n";
+  std::printf("| method         | error | triangles | true max |     RMS |  seconds |\n");
+  std::printf("|---|---|---|---|---|---|\n");
+  for (double e : errors) {
+    Tin greedy;
+    const double greedy_s = Time([&] { greedy = *BuildGreedyTin(grid, {.tolerance = e}); });
+    Print(Measured("greedy", e, greedy, grid, greedy_s), csv);
+    if (store) Print(GreedyWithStore(dir, e), csv);
+    Tin rtin;
+    const double rtin_s = Time([&] { rtin = *BuildRtinTin(grid, {.tolerance = e}); });
+    Print(Measured("rtin", e, rtin, grid, rtin_s), csv);
+    for (const std::string peer : {"delatin", "martini"}) {
+      std::ostringstream name;
+      name << dir << "/" << peer << "_" << e << ".mesh";
+      if (!std::filesystem::exists(name.str()) || !peer_seconds.count({peer, e})) continue;
+      const Row row = Measured(peer, e, ReadMesh(name.str(), grid), grid, peer_seconds[{peer, e}]);
+      Print(row, csv);
+      if (std::string(peer) == "delatin") {
+        // tinbase greedy held to the error delatin really kept: triangles at equal true error.
+        Tin same;
+        const double s = Time([&] { same = *BuildGreedyTin(grid, {.tolerance = row.max_error}); });
+        Print(Measured("greedy@delatin", e, same, grid, s), csv);
+      }
+    }
+    if (all_methods) {
+      Tin vip;
+      const double vip_s = Time([&] { vip = *BuildVipTin(grid, {.threshold = e}); });
+      Print(Measured("vip", e, vip, grid, vip_s), csv);
+      Tin collapsed;
+      const double collapse_s = Time([&] {
+        collapsed = *CollapseToFaceBudget(GridTriangulation(grid),
+                                          {.faces = static_cast<int64_t>(greedy.triangles.size())},
+                                          nullptr, &grid);
+      });
+      Print(Measured("collapse", e, collapsed, grid, collapse_s), csv);
+    }
+    std::fflush(stdout);
+  }
+  return 0;
+}
+
+int64_t PeakRssKib() {
+  struct rusage usage {};
+  getrusage(RUSAGE_SELF, &usage);
+  return usage.ru_maxrss;
+}
+
+// LiDAR-like points: uniform random x, y over a square at ~1 point per m^2, z a smooth terrain.
+std::vector<TinVertex> LidarLikePoints(int64_t n) {
+  std::mt19937_64 rng(7);
+  const double side = std::sqrt(static_cast<double>(n));
+  std::uniform_real_distribution<double> u(0, side);
+  std::vector<TinVertex> points;
+  points.reserve(static_cast<size_t>(n));
+  for (int64_t i = 0; i < n; ++i) {
+    const double x = u(rng), y = u(rng);
+    points.push_back(TinVertex{500000 + x, 5200000 + y,
+                               300 + 40 * std::sin(x / 90) * std::cos(y / 70), VertexKind::kLidar});
+  }
+  return points;
+}
+
+int Delaunay(int64_t n, const std::string& dir) {
+  const std::vector<TinVertex> points = LidarLikePoints(n);
+  // CGAL alone: the ceiling (spatially sorted bulk insertion, tinbase's Cdt adapter adds only
+  // each vertex's index).
+  double cgal_s = 0;
+  {
+    Cdt cdt;
+    cgal_s = Time([&] { cdt.InsertVertices(points); });
+  }
+  // tinbase: an XYZ file to a checked-in store surface, as `tinbase points import` does it.
+  std::filesystem::create_directories(dir);
+  const std::string xyz = dir + "/points.xyz", path = dir + "/points.tinbase";
+  {
+    std::ofstream out(xyz);
+    out.precision(12);
+    for (const TinVertex& p : points) out << p.x << " " << p.y << " " << p.z << "\n";
+  }
+  std::filesystem::remove(path);
+  std::filesystem::remove(path + "-wal");
+  auto store = Store::Create(path, "EPSG:32632");
+  if (!store.ok()) return 1;
+  PointImportOptions options;
+  options.file = xyz;
+  options.surface = "lidar";
+  Result<PointImportReport> report = Status::Ok();
+  const double store_s = Time([&] { report = ImportPoints(**store, options); });
+  if (!report.ok()) {
+    std::cerr << report.status().ToString() << "\n";
+    return 1;
+  }
+  store->reset();
+  const auto bytes =
+      std::filesystem::file_size(path) +
+      (std::filesystem::exists(path + "-wal") ? std::filesystem::file_size(path + "-wal") : 0);
+  std::printf("| %lld | %.0f | %.0f | %.2f | %.0f | %lld |\n", static_cast<long long>(n),
+              n / cgal_s, n / store_s, cgal_s / store_s, static_cast<double>(bytes) / n,
+              static_cast<long long>(PeakRssKib() / 1024));
+  return 0;
+}
+
+std::vector<double> ParseList(const std::string& text) {
+  std::vector<double> out;
+  std::stringstream in(text);
+  for (std::string item; std::getline(in, item, ',');) out.push_back(std::stod(item));
+  return out;
+}
+
+}  // namespace
+}  // namespace tinbase
+
+int main(int argc, char** argv) {
+  GDALAllRegister();
+  CLI::App app{"tinbase TIN builder benchmark"};
+  app.require_subcommand(1);
+  int64_t size = 1025, points = 1000000;
+  std::string out, real, dir, errors = "0.5,1,5,20";
+  bool all = false, store = false;
+  int rc = 0;
+  CLI::App* exp = app.add_subcommand("export", "Write a terrain for the peers and tinbase");
+  exp->add_option("--size", size);
+  exp->add_option("--real", real, "Window of this real DEM instead of the generated terrain");
+  exp->add_option("--out", out)->required();
+  exp->callback([&] { rc = tinbase::Export(real, size, out); });
+  CLI::App* measure = app.add_subcommand("measure", "tinbase's builders and the peers' meshes");
+  measure->add_option("--dir", dir)->required();
+  measure->add_option("--errors", errors);
+  measure->add_flag("--all", all, "Also VIP (threshold = error) and collapse (greedy's faces)");
+  measure->add_flag("--store", store, "Also greedy through a store: build + write");
+  measure->callback([&] { rc = tinbase::Measure(dir, tinbase::ParseList(errors), all, store); });
+  CLI::App* delaunay = app.add_subcommand("delaunay", "CGAL alone against points -> store");
+  delaunay->add_option("--points", points);
+  delaunay->add_option("--dir", dir)->required();
+  delaunay->callback([&] { rc = tinbase::Delaunay(points, dir); });
+  CLI11_PARSE(app, argc, argv);
+  return rc;
+}
