@@ -100,18 +100,19 @@ Grid GeneratedTerrain(int64_t size) {
   return grid;
 }
 
-// An N x N window of a real DEM from its top-left corner, geometry reset to 1-unit cells; voids
+// An N x N window of a real DEM from row 0 and column col0, geometry reset to 1-unit cells; voids
 // take the value of the nearest valid cell to their left on the row (peers cannot take NaN).
-Result<Grid> RealWindow(const std::string& path, int64_t size) {
+Result<Grid> RealWindow(const std::string& path, int64_t size, int64_t col0) {
   TB_ASSIGN_OR_RETURN(GdalRaster raster, GdalRaster::Open(path));
   TB_ASSIGN_OR_RETURN(Grid full, raster.Read());
-  size = std::min({size, full.geometry.width, full.geometry.height});
+  col0 = std::clamp<int64_t>(col0, 0, full.geometry.width - 1);
+  size = std::min({size, full.geometry.width - col0, full.geometry.height});
   Grid grid;
   grid.geometry = GridGeometry{500000, 5200000, 1, -1, size, size};
   for (int64_t r = 0; r < size; ++r) {
     float last = 0;
     for (int64_t c = 0; c < size; ++c) {
-      float v = full.At(c, r);
+      float v = full.At(col0 + c, r);
       if (std::isnan(v)) v = last;
       grid.cells.push_back(v);
       last = v;
@@ -133,13 +134,13 @@ Grid LoadTerrain(const std::string& dir) {
   return grid;
 }
 
-int Export(const std::string& real, int64_t size, const std::string& out) {
+int Export(const std::string& real, int64_t size, int64_t col0, const std::string& out) {
   std::filesystem::create_directories(out);
   Grid grid;
   if (real.empty()) {
     grid = GeneratedTerrain(size);
   } else {
-    auto window = RealWindow(real, size);
+    auto window = RealWindow(real, size, col0);
     if (!window.ok()) {
       std::cerr << window.status().ToString() << "\n";
       return 1;
@@ -360,15 +361,16 @@ int main(int argc, char** argv) {
   GDALAllRegister();
   CLI::App app{"tinbase TIN builder benchmark"};
   app.require_subcommand(1);
-  int64_t size = 1025, points = 1000000;
+  int64_t size = 1025, points = 1000000, col0 = 0;
   std::string out, real, dir, errors = "0.5,1,5,20";
   bool all = false, store = false;
   int rc = 0;
   CLI::App* exp = app.add_subcommand("export", "Write a terrain for the peers and tinbase");
   exp->add_option("--size", size);
   exp->add_option("--real", real, "Window of this real DEM instead of the generated terrain");
+  exp->add_option("--col", col0, "First column of the real DEM's window (rows start at 0)");
   exp->add_option("--out", out)->required();
-  exp->callback([&] { rc = tinbase::Export(real, size, out); });
+  exp->callback([&] { rc = tinbase::Export(real, size, col0, out); });
   CLI::App* measure = app.add_subcommand("measure", "tinbase's builders and the peers' meshes");
   measure->add_option("--dir", dir)->required();
   measure->add_option("--errors", errors);
