@@ -103,6 +103,7 @@ CREATE TABLE constraints(
   CHECK (va < vb)
 );
 CREATE INDEX constraints_surface ON constraints(surface, va, vb);
+CREATE INDEX constraints_feature ON constraints(feature);
 
 CREATE TABLE changes(
   tx      INTEGER PRIMARY KEY,
