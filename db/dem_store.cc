@@ -782,11 +782,12 @@ Result<Grid> DemStore::Impl::ReadCells(const DemInfo& dem, int level, const Cell
   TB_RETURN_IF_ERROR(VisitBlocks(dem, level, range, [&](const DemBlock& block) {
     const int64_t col0 = lv.block_col0 + block.bx * b;  // the block's first cell in the level
     const int64_t row0 = lv.block_row0 + block.by * b;
+    // Row by row, the part of each block row inside the window in one copy.
+    const int64_t c_lo = std::max(col0, range.col_lo), c_hi = std::min(col0 + b - 1, range.col_hi);
     for (int64_t r = std::max(row0, range.row_lo); r <= std::min(row0 + b - 1, range.row_hi); ++r)
-      for (int64_t c = std::max(col0, range.col_lo); c <= std::min(col0 + b - 1, range.col_hi); ++c)
-        grid.cells[static_cast<size_t>((r - range.row_lo) * grid.geometry.width + c -
-                                       range.col_lo)] =
-            (*block.cells)[static_cast<size_t>((r - row0) * b + (c - col0))];
+      std::copy_n(block.cells->data() + (r - row0) * b + (c_lo - col0), c_hi - c_lo + 1,
+                  grid.cells.data() + (r - range.row_lo) * grid.geometry.width +
+                      (c_lo - range.col_lo));
     return Status::Ok();
   }));
   return grid;
