@@ -132,6 +132,15 @@ double TinbaseWindows(DemStore& dems, const DemInfo& dem, const std::vector<Wind
 double GdalWindows(const std::string& tif, const std::vector<Window>& windows, bool cold) {
   std::vector<float> buffer(256 * 256);
   GDALDataset* ds = GDALDataset::Open(tif.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY);
+  // Warm: one untimed pass over the same windows first, in the same dataset (its block cache
+  // lives as long as the dataset).
+  for (const Window& w : windows) {
+    if (cold) break;
+    if (ds->GetRasterBand(1)->RasterIO(GF_Read, static_cast<int>(w.col), static_cast<int>(w.row),
+                                       256, 256, buffer.data(), 256, 256, GDT_Float32, 0, 0,
+                                       nullptr) != CE_None)
+      return 0;
+  }
   const auto start = std::chrono::steady_clock::now();
   for (const Window& w : windows) {
     if (cold) ds->FlushCache(false);
@@ -180,8 +189,7 @@ int Run(const std::string& real, int64_t size, const std::string& dir) {
   DemBlockCache::Instance().SetCapacity(size_t{2} << 30);
   GDALSetCacheMax64(int64_t{2} << 30);
   const std::vector<Window> windows = RandomWindows(dem->geometry, 300);
-  TinbaseWindows(dems, *dem, windows, false);  // warm both caches
-  GdalWindows(tif, windows, false);
+  TinbaseWindows(dems, *dem, windows, false);  // warm tinbase's cache (GDAL warms its own)
   std::printf(
       "%s: %lld x %lld cells\n\n| measure | tinbase | GDAL (ZSTD GeoTIFF) | ratio | goal |\n",
       real.empty() ? "generated" : real.c_str(), static_cast<long long>(dem->geometry.width),

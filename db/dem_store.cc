@@ -721,9 +721,12 @@ Status DemStore::Impl::VisitBlocks(const DemInfo& dem, int level, const CellRang
   DemBlockCache& cache = DemBlockCache::Instance();
   const DemLevel lv = LevelOf(dem, level);
   const int64_t b = dem.block_size;
-  // Not a cached statement: `fn` may itself read blocks, which would reset a shared one.
+  // Not a cached statement: `fn` may itself read blocks, which would reset a shared one. It
+  // reads the block extents only (the covering index dem_blocks_extent): a block's compressed
+  // cells are fetched on a cache miss alone, since reading past them costs a walk over every
+  // overflow page of the blob.
   TB_ASSIGN_OR_RETURN(auto stmt,
-                      store.db().Prepare("SELECT bx, by, zmin, zmax, codec, data FROM dem_blocks "
+                      store.db().Prepare("SELECT bx, by, zmin, zmax FROM dem_blocks "
                                          "WHERE dem = ? AND level = ? AND bx BETWEEN ? AND ? "
                                          "AND by BETWEEN ? AND ? ORDER BY by, bx"));
   stmt->Bind(1, dem.id).Bind(2, static_cast<int64_t>(level));
@@ -747,19 +750,11 @@ Status DemStore::Impl::VisitBlocks(const DemInfo& dem, int level, const CellRang
         static_cast<double>(lv.block_row0 + block.by * b) * lv.geometry.cell_y;
     block.geometry.width = b;
     block.geometry.height = b;
-    // The blob is fetched (and decoded) only on a cache miss.
     const DemBlockKey key{token, dem.id, level, block.bx, block.by};
     Block cells;
     if (!cache.Lookup(key, &cells) || !cells) {
-      size_t size = 0;
-      const uint8_t* data = stmt->ColumnBlob(5, &size);
-      auto decoded = DecodeBlock(static_cast<int>(stmt->ColumnInt(4)), std::span(data, size),
-                                 static_cast<size_t>(b * b));
-      if (!decoded.ok())
-        return decoded.status().WithContext(
-            "DEM " + Quoted(dem.name) + ", level " + std::to_string(level) + " block (" +
-            std::to_string(block.bx) + ", " + std::to_string(block.by) + ")");
-      cells = std::make_shared<const std::vector<float>>(std::move(decoded).value());
+      TB_ASSIGN_OR_RETURN(cells, LoadBlock(dem, level, block.bx, block.by));
+      if (!cells) return Status::Corruption("DEM " + Quoted(dem.name) + " block vanished");
       cache.Insert(key, cells);
     }
     block.cells = cells.get();

@@ -35,6 +35,8 @@ CREATE TABLE dem_blocks(
   zmax  REAL,
   PRIMARY KEY (dem, level, bx, by)
 ) WITHOUT ROWID;
+CREATE INDEX dem_blocks_extent ON dem_blocks(dem, level, by, bx, zmin, zmax);
+
 CREATE TABLE surfaces(
   id             INTEGER PRIMARY KEY,
   name           TEXT NOT NULL UNIQUE,
