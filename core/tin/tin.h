@@ -50,7 +50,8 @@ struct Tin {
 
 // Recomputes every TinTriangle::n from the vertex indices alone: two triangles are neighbours
 // when they share an edge in opposite directions. Returns false if an edge is used by more than
-// two triangles or twice in the same direction (the input is then not a valid triangulation).
+// two triangles or twice in the same direction, or a vertex index is out of range (the input is
+// then not a valid triangulation). Linear time.
 bool LinkNeighbours(Tin& tin);
 
 }  // namespace tinbase
