@@ -114,37 +114,21 @@ Result<Tin> BuildFromCorners(CellSource& dem, const GreedyOptions& options) {
   return cdt.ToTin();
 }
 
-// Triangle indices ordered by the tile of cells holding their centroid, tiles row by row, so
-// a pass over them reads a streamed DEM's blocks a few at a time instead of at random. 256
-// cells is the DEM store's default block; any size near it gives the locality.
-std::vector<size_t> InTileOrder(const GridGeometry& g, const Tin& tin) {
-  constexpr double kTile = 256;
-  std::vector<std::pair<int64_t, size_t>> keyed;
-  keyed.reserve(tin.triangles.size());
-  const int64_t tiles_across = static_cast<int64_t>(std::ceil(g.width / kTile)) + 1;
-  for (size_t t = 0; t < tin.triangles.size(); ++t) {
-    const auto& v = tin.triangles[t].v;
-    const double x = (tin.vertices[v[0]].x + tin.vertices[v[1]].x + tin.vertices[v[2]].x) / 3;
-    const double y = (tin.vertices[v[0]].y + tin.vertices[v[1]].y + tin.vertices[v[2]].y) / 3;
-    const auto tx = static_cast<int64_t>(std::max(0.0, std::floor(g.ColumnAt(x) / kTile)));
-    const auto ty = static_cast<int64_t>(std::max(0.0, std::floor(g.RowAt(y) / kTile)));
-    keyed.emplace_back(ty * tiles_across + tx, t);
-  }
-  std::sort(keyed.begin(), keyed.end());
-  std::vector<size_t> order;
-  order.reserve(keyed.size());
-  for (const auto& [key, t] : keyed) order.push_back(t);
-  return order;
-}
-
 // Sets every triangle's visibility (on data or not) and measures the errors over every valid
 // cell, each counted once.
 void PaintAndMeasure(CellSource& dem, Tin& tin, GreedyReport* report) {
   const GridGeometry& g = dem.geometry();
-  std::vector<bool> seen(static_cast<size_t>(g.CellCount()), false);
+  // A cell on an edge is covered by both triangles: count it once. Only when measuring.
+  std::vector<bool> seen(report != nullptr ? static_cast<size_t>(g.CellCount()) : 0, false);
   double max_error = 0, sum_sq = 0;
   int64_t count = 0;
-  for (size_t index : InTileOrder(g, tin)) {
+  // 256 cells: the DEM store's default block; any size near it gives the locality.
+  const auto centroid = [&](size_t t) {
+    const auto& v = tin.triangles[t].v;
+    return std::pair{(tin.vertices[v[0]].x + tin.vertices[v[1]].x + tin.vertices[v[2]].x) / 3,
+                     (tin.vertices[v[0]].y + tin.vertices[v[1]].y + tin.vertices[v[2]].y) / 3};
+  };
+  for (size_t index : InTileOrder(g, 256, tin.triangles.size(), centroid)) {
     TinTriangle& t = tin.triangles[index];
     t.visible = TriangleOnData(dem, tin, t);
     if (report == nullptr) continue;

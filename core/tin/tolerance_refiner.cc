@@ -97,20 +97,14 @@ class Refiner {
   // Faces in the row order of the tiles holding their first vertex, so the first scan of a
   // streamed DEM reads it in order.
   void SortByTile(std::vector<Cdt::FaceRef>& faces) const {
-    std::vector<std::pair<int64_t, size_t>> keyed;
-    keyed.reserve(faces.size());
-    for (size_t i = 0; i < faces.size(); ++i) {
+    const auto first_vertex = [&](size_t i) {
       const TinVertex& v = cdt_.vertices()[cdt_.FaceVertices(faces[i])[0]];
-      const auto col = static_cast<int64_t>(
-          std::clamp<double>(geometry_.ColumnAt(v.x), 0, static_cast<double>(geometry_.width - 1)));
-      const auto row = static_cast<int64_t>(
-          std::clamp<double>(geometry_.RowAt(v.y), 0, static_cast<double>(geometry_.height - 1)));
-      keyed.emplace_back((row / options_.tile) * tiles_across_ + col / options_.tile, i);
-    }
-    std::sort(keyed.begin(), keyed.end());
+      return std::pair{v.x, v.y};
+    };
     std::vector<Cdt::FaceRef> sorted;
     sorted.reserve(faces.size());
-    for (const auto& [key, i] : keyed) sorted.push_back(faces[i]);
+    for (size_t i : InTileOrder(geometry_, options_.tile, faces.size(), first_vertex))
+      sorted.push_back(faces[i]);
     faces = std::move(sorted);
   }
 
