@@ -11,6 +11,7 @@
 #include <random>
 #include <set>
 #include <span>
+#include <thread>
 
 #include "core/raster/bilinear.h"
 #include "core/raster/block_codec.h"
@@ -104,6 +105,12 @@ Result<CellRange> CellsIn(const GridGeometry& g, const DemBox& box, const std::s
   return r;
 }
 
+// The blocks of a level a cell range touches.
+struct BlockRange {
+  int64_t bx_lo, bx_hi, by_lo, by_hi;
+  int64_t Count() const { return (bx_hi - bx_lo + 1) * (by_hi - by_lo + 1); }
+};
+
 // The parent cells of four child blocks (nullptr: not stored): each the mean of the valid cells of
 // the 2 x 2 below it. children[dy * 2 + dx] is child (2 bx + dx, 2 by + dy).
 std::vector<float> Downsample(const std::vector<float>* const children[4], int64_t b) {
@@ -181,9 +188,35 @@ struct DemStore::Impl {
   // The DEM of the row `where` selects after `bind` has bound its parameters, if any.
   Result<std::optional<DemInfo>> FindWhere(const std::string& where,
                                            const std::function<void(Statement&)>& bind);
+  // A stored block as a window read lists it; `cells` is filled by LoadCells.
+  struct StoredBlock {
+    int64_t bx = 0, by = 0;
+    float zmin = 0, zmax = 0;
+    Block cells;
+  };
+
   Result<Block> LoadBlock(const DemInfo& dem, int level, int64_t bx, int64_t by);
   // Through the thread's front cache and the process-wide cache; loads and caches on a miss.
-  Result<Block> CachedBlock(const DemInfo& dem, int level, int64_t bx, int64_t by);
+  // The slot returned is owned by the front cache: valid until this thread's next lookup.
+  Result<const Block*> FrontBlock(const DemInfo& dem, int level, int64_t bx, int64_t by);
+  Result<Block> CachedBlock(const DemInfo& dem, int level, int64_t bx, int64_t by) {
+    TB_ASSIGN_OR_RETURN(const Block* block, FrontBlock(dem, level, bx, by));
+    return *block;
+  }
+  // The stored blocks of `level` in block columns [bx_lo, bx_hi] and rows [by_lo, by_hi], row by
+  // row from the north west, with their extents but no cells.
+  Result<std::vector<StoredBlock>> ListBlocks(const DemInfo& dem, int level, int64_t bx_lo,
+                                              int64_t bx_hi, int64_t by_lo, int64_t by_hi);
+  // The window's blocks from the process-wide cache alone (no SQL): true when every block
+  // position of `br` is cached, either as a block or as known to hold none.
+  bool CachedWindow(const DemInfo& dem, int level, const BlockRange& br,
+                    std::vector<StoredBlock>* blocks);
+  // Caches the positions of `br` that `stored` (ListBlocks' answer) lacks as holding no block.
+  void CacheAbsent(const DemInfo& dem, int level, const BlockRange& br,
+                   const std::vector<StoredBlock>& stored);
+  // Sets `cells` of every block in `blocks` from the process-wide cache, fetching and decoding
+  // the misses (on two threads when there are several) and caching them.
+  Status LoadCells(const DemInfo& dem, int level, std::span<StoredBlock> blocks);
   // Reads the store's cache token (a process-local one when the store has none yet).
   Status RefreshToken();
 
@@ -197,7 +230,8 @@ struct DemStore::Impl {
   // the DEM did not have before (from `old_levels` on) are computed whole.
   Status UpdateOverviews(const DemInfo& dem, int old_levels,
                          std::set<std::pair<int64_t, int64_t>> touched, DemImportReport* report);
-  Result<Grid> ReadCells(const DemInfo& dem, int level, const CellRange& range);
+  // Into `grid`, reusing its memory.
+  Status ReadCells(const DemInfo& dem, int level, const CellRange& range, Grid* grid);
   Status VisitBlocks(const DemInfo& dem, int level, const CellRange& range,
                      const std::function<Status(const DemBlock&)>& fn);
 
@@ -215,25 +249,38 @@ struct DemStore::Impl {
 
 namespace {
 
-// A fresh random cache token, never 0 (0 means "not read yet").
+// A fresh random cache token, never 0 (0 means "not read yet"). Drawn from the OS each time:
+// a generator seeded once would hand a forked child the parent's next tokens, and two stores
+// with one token share cache entries.
 uint64_t NewToken() {
-  thread_local std::mt19937_64 rng{std::random_device{}() ^
-                                   (static_cast<uint64_t>(std::random_device{}()) << 32)};
+  std::random_device os;
   uint64_t t = 0;
-  while (t == 0) t = rng();
+  while (t == 0) t = os() ^ (static_cast<uint64_t>(os()) << 32);
   return t;
 }
 
-// The last blocks this thread sampled, so a warm sample takes neither the cache's lock nor SQL.
-// It holds at most kFrontSize blocks per thread beyond the process-wide cache's limit.
+// The blocks this thread used last, direct-mapped by block position (an 8 x 8 neighbourhood of
+// blocks never collides), so a warm sample takes no lock, no SQL and no reference count. It holds
+// at most kFrontBytes (and at least kMinFrontSlots blocks) per thread beyond the process-wide
+// cache's limit.
 struct FrontEntry {
   DemBlockKey key;
   DemBlockCache::Block block;
   bool used = false;
 };
-constexpr size_t kFrontSize = 8;
-thread_local std::array<FrontEntry, kFrontSize> t_front;
-thread_local size_t t_front_next = 0;
+constexpr size_t kMaxFrontSlots = 64;
+constexpr size_t kMinFrontSlots = 4;
+constexpr size_t kFrontBytes = size_t{16} << 20;
+thread_local std::array<FrontEntry, kMaxFrontSlots> t_front;
+
+FrontEntry& FrontSlot(const DemBlockKey& key, int block_size) {
+  const size_t block_bytes = static_cast<size_t>(block_size) * block_size * sizeof(float);
+  const size_t slots =
+      std::clamp(std::bit_floor(kFrontBytes / block_bytes), kMinFrontSlots, kMaxFrontSlots);
+  const int side_bits = (std::countr_zero(slots) + 1) / 2;  // 8 x 8 for 64 slots
+  const auto index = static_cast<size_t>(key.bx + (key.by << side_bits) + key.level * 7);
+  return t_front[index & (slots - 1)];
+}
 
 }  // namespace
 
@@ -252,14 +299,18 @@ Status DemStore::Impl::RefreshToken() {
 class DemStore::Impl::CellReader {
  public:
   CellReader(Impl& impl, const DemInfo& dem, int level)
-      : impl_(impl), dem_(dem), level_(level), shift_(std::countr_zero(
-                                                   static_cast<unsigned>(dem.block_size))),
+      : impl_(impl),
+        dem_(dem),
+        level_(level),
+        shift_(std::countr_zero(static_cast<unsigned>(dem.block_size))),
         mask_(dem.block_size - 1) {
     const DemLevel lv = LevelOf(dem, level);
     col0_ = lv.block_col0;
     row0_ = lv.block_row0;
   }
 
+  // REQUIRES: no other block lookup on this thread while the reader is in use (the cells it
+  // points at belong to the thread's front cache).
   float operator()(int64_t col, int64_t row) {
     const int64_t c = col - col0_;
     const int64_t r = row - row0_;
@@ -276,18 +327,16 @@ class DemStore::Impl::CellReader {
 
  private:
   void Switch(int64_t bx, int64_t by) {
-    auto block = impl_.CachedBlock(dem_, level_, bx, by);
+    auto block = impl_.FrontBlock(dem_, level_, bx, by);
     if (!block.ok()) {
       if (status_.ok()) status_ = block.status();
       bx_ = by_ = std::numeric_limits<int64_t>::min();
-      held_.reset();
       cells_ = nullptr;
       return;
     }
     bx_ = bx;
     by_ = by;
-    held_ = std::move(block).value();
-    cells_ = held_ ? held_->data() : nullptr;
+    cells_ = **block ? (**block)->data() : nullptr;
   }
 
   Impl& impl_;
@@ -299,7 +348,6 @@ class DemStore::Impl::CellReader {
   int64_t row0_ = 0;
   int64_t bx_ = std::numeric_limits<int64_t>::min();
   int64_t by_ = std::numeric_limits<int64_t>::min();
-  Block held_;
   const float* cells_ = nullptr;
   Status status_;
 };
@@ -338,20 +386,20 @@ Result<DemStore::Impl::Block> DemStore::Impl::LoadBlock(const DemInfo& dem, int 
   return Block(std::make_shared<const std::vector<float>>(std::move(cells).value()));
 }
 
-Result<DemStore::Impl::Block> DemStore::Impl::CachedBlock(const DemInfo& dem, int level, int64_t bx,
-                                                          int64_t by) {
+Result<const DemStore::Impl::Block*> DemStore::Impl::FrontBlock(const DemInfo& dem, int level,
+                                                                int64_t bx, int64_t by) {
   if (token == 0) TB_RETURN_IF_ERROR(RefreshToken());
   const DemBlockKey key{token, dem.id, level, bx, by};
-  for (const FrontEntry& e : t_front)
-    if (e.used && e.key == key) return e.block;
+  FrontEntry& slot = FrontSlot(key, dem.block_size);
+  if (slot.used && slot.key == key) return &slot.block;
   Block block;
   DemBlockCache& cache = DemBlockCache::Instance();
   if (!cache.Lookup(key, &block)) {
     TB_ASSIGN_OR_RETURN(block, LoadBlock(dem, level, bx, by));
     cache.Insert(key, block);
   }
-  t_front[t_front_next++ % kFrontSize] = FrontEntry{key, block, true};
-  return block;
+  slot = FrontEntry{key, std::move(block), true};
+  return &slot.block;
 }
 
 Result<Crs> DemStore::Impl::StoreCrsFor(const GdalRaster& first) {
@@ -385,13 +433,13 @@ Status DemStore::Impl::WriteBlock(const DemInfo& dem, int level, int64_t bx, int
     TB_RETURN_IF_ERROR(del->Run());
     return AfterBlockWrite();
   }
-  const std::vector<uint8_t> bytes = EncodeBlock(cells);
+  const std::vector<uint8_t> bytes = EncodeBlock(cells, dem.block_size);
   TB_ASSIGN_OR_RETURN(Statement * stmt,
                       store.db().Cached("INSERT OR REPLACE INTO dem_blocks"
                                         "(dem, level, bx, by, codec, data, zmin, zmax) "
                                         "VALUES (?, ?, ?, ?, ?, ?, ?, ?)"));
   stmt->Bind(1, dem.id).Bind(2, static_cast<int64_t>(level)).Bind(3, bx).Bind(4, by);
-  stmt->Bind(5, static_cast<int64_t>(BlockCodec::kBloscZstd));
+  stmt->Bind(5, static_cast<int64_t>(BlockCodec::kPlanarBloscZstd));
   stmt->BindBlob(6, bytes.data(), bytes.size());
   stmt->Bind(7, static_cast<double>(zmin)).Bind(8, static_cast<double>(zmax));
   TB_RETURN_IF_ERROR(stmt->Run());
@@ -673,10 +721,10 @@ namespace {
 template <typename CellFn>
 double SampleNearest(const GridGeometry& g, double x, double y, CellFn&& cell) {
   if (!g.Contains(x, y)) return std::numeric_limits<double>::quiet_NaN();
-  const int64_t col = std::min(static_cast<int64_t>(std::floor((x - g.origin_x) / g.cell_x)),
-                               g.width - 1);
-  const int64_t row = std::min(static_cast<int64_t>(std::floor((y - g.origin_y) / g.cell_y)),
-                               g.height - 1);
+  const int64_t col =
+      std::min(static_cast<int64_t>(std::floor((x - g.origin_x) / g.cell_x)), g.width - 1);
+  const int64_t row =
+      std::min(static_cast<int64_t>(std::floor((y - g.origin_y) / g.cell_y)), g.height - 1);
   return cell(std::max<int64_t>(col, 0), std::max<int64_t>(row, 0));
 }
 
@@ -700,8 +748,7 @@ Result<double> DemStore::Sample(const DemInfo& dem, double x, double y, DemSampl
 }
 
 Status DemStore::SampleMany(const DemInfo& dem, std::span<const double> xs,
-                            std::span<const double> ys, std::span<double> out,
-                            DemSampling method) {
+                            std::span<const double> ys, std::span<double> out, DemSampling method) {
   if (xs.size() != ys.size() || xs.size() != out.size())
     return Status::InvalidArgument("SampleMany on DEM " + Quoted(dem.name) + ": " +
                                    std::to_string(xs.size()) + " x, " + std::to_string(ys.size()) +
@@ -715,77 +762,196 @@ Status DemStore::SampleMany(const DemInfo& dem, std::span<const double> xs,
   return Status::Ok();
 }
 
-Status DemStore::Impl::VisitBlocks(const DemInfo& dem, int level, const CellRange& range,
-                                   const std::function<Status(const DemBlock&)>& fn) {
-  if (token == 0) TB_RETURN_IF_ERROR(RefreshToken());
-  DemBlockCache& cache = DemBlockCache::Instance();
-  const DemLevel lv = LevelOf(dem, level);
-  const int64_t b = dem.block_size;
-  // Not a cached statement: `fn` may itself read blocks, which would reset a shared one. It
-  // reads the block extents only (the covering index dem_blocks_extent): a block's compressed
-  // cells are fetched on a cache miss alone, since reading past them costs a walk over every
-  // overflow page of the blob.
-  TB_ASSIGN_OR_RETURN(auto stmt,
-                      store.db().Prepare("SELECT bx, by, zmin, zmax FROM dem_blocks "
-                                         "WHERE dem = ? AND level = ? AND bx BETWEEN ? AND ? "
-                                         "AND by BETWEEN ? AND ? ORDER BY by, bx"));
+Result<std::vector<DemStore::Impl::StoredBlock>> DemStore::Impl::ListBlocks(
+    const DemInfo& dem, int level, int64_t bx_lo, int64_t bx_hi, int64_t by_lo, int64_t by_hi) {
+  // The block extents alone, from the covering index dem_blocks_extent: reading a row's zmin
+  // past its blob would walk every overflow page of the blob.
+  TB_ASSIGN_OR_RETURN(Statement * stmt,
+                      store.db().Cached("SELECT bx, by, zmin, zmax FROM dem_blocks "
+                                        "WHERE dem = ? AND level = ? AND bx BETWEEN ? AND ? "
+                                        "AND by BETWEEN ? AND ? ORDER BY by, bx"));
   stmt->Bind(1, dem.id).Bind(2, static_cast<int64_t>(level));
-  stmt->Bind(3, FloorDiv(range.col_lo - lv.block_col0, b));
-  stmt->Bind(4, FloorDiv(range.col_hi - lv.block_col0, b));
-  stmt->Bind(5, FloorDiv(range.row_lo - lv.block_row0, b));
-  stmt->Bind(6, FloorDiv(range.row_hi - lv.block_row0, b));
+  stmt->Bind(3, bx_lo).Bind(4, bx_hi).Bind(5, by_lo).Bind(6, by_hi);
+  std::vector<StoredBlock> out;
   for (;;) {
-    TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
-    if (!row) return Status::Ok();
-    DemBlock block;
-    block.level = level;
-    block.bx = stmt->ColumnInt(0);
-    block.by = stmt->ColumnInt(1);
-    block.zmin = static_cast<float>(stmt->ColumnDouble(2));
-    block.zmax = static_cast<float>(stmt->ColumnDouble(3));
-    block.geometry = lv.geometry;
-    block.geometry.origin_x +=
-        static_cast<double>(lv.block_col0 + block.bx * b) * lv.geometry.cell_x;
-    block.geometry.origin_y +=
-        static_cast<double>(lv.block_row0 + block.by * b) * lv.geometry.cell_y;
-    block.geometry.width = b;
-    block.geometry.height = b;
-    const DemBlockKey key{token, dem.id, level, block.bx, block.by};
-    Block cells;
-    if (!cache.Lookup(key, &cells) || !cells) {
-      TB_ASSIGN_OR_RETURN(cells, LoadBlock(dem, level, block.bx, block.by));
-      if (!cells) return Status::Corruption("DEM " + Quoted(dem.name) + " block vanished");
-      cache.Insert(key, cells);
+    auto row = stmt->Step();
+    if (!row.ok() || !*row) {
+      stmt->Reset();  // before returning: callers read blocks, which may use this statement
+      TB_RETURN_IF_ERROR(row.status());
+      return out;
     }
-    block.cells = cells.get();
-    TB_RETURN_IF_ERROR(fn(block));
+    out.push_back(StoredBlock{stmt->ColumnInt(0), stmt->ColumnInt(1),
+                              static_cast<float>(stmt->ColumnDouble(2)),
+                              static_cast<float>(stmt->ColumnDouble(3)), nullptr});
   }
 }
 
-Result<Grid> DemStore::Impl::ReadCells(const DemInfo& dem, int level, const CellRange& range) {
+Status DemStore::Impl::LoadCells(const DemInfo& dem, int level, std::span<StoredBlock> blocks) {
+  if (token == 0) TB_RETURN_IF_ERROR(RefreshToken());
+  DemBlockCache& cache = DemBlockCache::Instance();
+  struct Miss {
+    StoredBlock* block = nullptr;
+    int codec = 0;
+    std::vector<uint8_t> bytes;
+    Status status;
+  };
+  std::vector<Miss> misses;
+  for (StoredBlock& block : blocks) {
+    const DemBlockKey key{token, dem.id, level, block.bx, block.by};
+    if (cache.Lookup(key, &block.cells) && block.cells) continue;
+    TB_ASSIGN_OR_RETURN(Statement * stmt,
+                        store.db().Cached("SELECT codec, data FROM dem_blocks "
+                                          "WHERE dem = ? AND level = ? AND bx = ? AND by = ?"));
+    stmt->Bind(1, dem.id).Bind(2, static_cast<int64_t>(level)).Bind(3, block.bx).Bind(4, block.by);
+    auto row = stmt->Step();
+    Miss miss;
+    miss.block = &block;
+    if (row.ok() && *row) {
+      size_t size = 0;
+      const uint8_t* data = stmt->ColumnBlob(1, &size);
+      miss.codec = static_cast<int>(stmt->ColumnInt(0));
+      miss.bytes.assign(data, data + size);
+    }
+    stmt->Reset();
+    TB_RETURN_IF_ERROR(row.status());
+    if (!*row) return Status::Corruption("DEM " + Quoted(dem.name) + " block vanished");
+    misses.push_back(std::move(miss));
+  }
+  const size_t cells = static_cast<size_t>(dem.block_size) * dem.block_size;
+  const auto decode = [&](size_t first) {
+    for (size_t i = first; i < misses.size(); i += 2) {
+      auto out = std::make_shared<std::vector<float>>(cells);
+      misses[i].status = DecodeBlockInto(misses[i].codec, misses[i].bytes, *out);
+      misses[i].block->cells = std::move(out);
+    }
+  };
+  // Decoding dominates a cold read: the second core takes every other block.
+  std::thread helper;
+  if (misses.size() >= 2) helper = std::thread(decode, 1);
+  decode(0);
+  if (helper.joinable()) helper.join();
+  for (size_t i = 0; i < misses.size(); ++i) {
+    StoredBlock& block = *misses[i].block;
+    if (!misses[i].status.ok())
+      return misses[i].status.WithContext(
+          "DEM " + Quoted(dem.name) + ", level " + std::to_string(level) + " block (" +
+          std::to_string(block.bx) + ", " + std::to_string(block.by) + ")");
+    cache.Insert(DemBlockKey{token, dem.id, level, block.bx, block.by}, block.cells);
+  }
+  return Status::Ok();
+}
+
+namespace {
+
+BlockRange BlocksOf(const DemLevel& lv, int64_t b, const CellRange& range) {
+  return BlockRange{
+      FloorDiv(range.col_lo - lv.block_col0, b), FloorDiv(range.col_hi - lv.block_col0, b),
+      FloorDiv(range.row_lo - lv.block_row0, b), FloorDiv(range.row_hi - lv.block_row0, b)};
+}
+
+// ForEachBlock decodes and hands out this many blocks at a time, so a visit over a whole DEM
+// holds a bounded number of blocks.
+constexpr size_t kVisitBatch = 16;
+
+}  // namespace
+
+bool DemStore::Impl::CachedWindow(const DemInfo& dem, int level, const BlockRange& br,
+                                  std::vector<StoredBlock>* blocks) {
+  if (token == 0) return false;
+  DemBlockCache& cache = DemBlockCache::Instance();
+  for (int64_t by = br.by_lo; by <= br.by_hi; ++by)
+    for (int64_t bx = br.bx_lo; bx <= br.bx_hi; ++bx) {
+      Block cells;
+      if (!cache.Lookup(DemBlockKey{token, dem.id, level, bx, by}, &cells)) return false;
+      if (cells) blocks->push_back(StoredBlock{bx, by, 0, 0, std::move(cells)});
+    }
+  return true;
+}
+
+void DemStore::Impl::CacheAbsent(const DemInfo& dem, int level, const BlockRange& br,
+                                 const std::vector<StoredBlock>& stored) {
+  if (static_cast<int64_t>(stored.size()) == br.Count()) return;
+  std::set<std::pair<int64_t, int64_t>> present;
+  for (const StoredBlock& block : stored) present.emplace(block.bx, block.by);
+  DemBlockCache& cache = DemBlockCache::Instance();
+  for (int64_t by = br.by_lo; by <= br.by_hi; ++by)
+    for (int64_t bx = br.bx_lo; bx <= br.bx_hi; ++bx)
+      if (!present.contains({bx, by}))
+        cache.Insert(DemBlockKey{token, dem.id, level, bx, by}, nullptr);
+}
+
+Status DemStore::Impl::VisitBlocks(const DemInfo& dem, int level, const CellRange& range,
+                                   const std::function<Status(const DemBlock&)>& fn) {
   const DemLevel lv = LevelOf(dem, level);
-  Grid grid;
-  grid.geometry = lv.geometry;
-  grid.geometry.origin_x += static_cast<double>(range.col_lo) * lv.geometry.cell_x;
-  grid.geometry.origin_y += static_cast<double>(range.row_lo) * lv.geometry.cell_y;
-  grid.geometry.width = range.col_hi - range.col_lo + 1;
-  grid.geometry.height = range.row_hi - range.row_lo + 1;
-  grid.crs_wkt = dem.crs_wkt;
-  grid.source_nodata = dem.nodata;
-  grid.cells.assign(static_cast<size_t>(grid.geometry.CellCount()), kNaN);
   const int64_t b = dem.block_size;
-  TB_RETURN_IF_ERROR(VisitBlocks(dem, level, range, [&](const DemBlock& block) {
-    const int64_t col0 = lv.block_col0 + block.bx * b;  // the block's first cell in the level
-    const int64_t row0 = lv.block_row0 + block.by * b;
-    // Row by row, the part of each block row inside the window in one copy.
-    const int64_t c_lo = std::max(col0, range.col_lo), c_hi = std::min(col0 + b - 1, range.col_hi);
-    for (int64_t r = std::max(row0, range.row_lo); r <= std::min(row0 + b - 1, range.row_hi); ++r)
-      std::copy_n(block.cells->data() + (r - row0) * b + (c_lo - col0), c_hi - c_lo + 1,
-                  grid.cells.data() + (r - range.row_lo) * grid.geometry.width +
-                      (c_lo - range.col_lo));
-    return Status::Ok();
-  }));
-  return grid;
+  const BlockRange br = BlocksOf(lv, b, range);
+  TB_ASSIGN_OR_RETURN(std::vector<StoredBlock> blocks,
+                      ListBlocks(dem, level, br.bx_lo, br.bx_hi, br.by_lo, br.by_hi));
+  for (size_t first = 0; first < blocks.size(); first += kVisitBatch) {
+    const std::span<StoredBlock> batch =
+        std::span(blocks).subspan(first, std::min(kVisitBatch, blocks.size() - first));
+    TB_RETURN_IF_ERROR(LoadCells(dem, level, batch));
+    for (StoredBlock& stored : batch) {
+      DemBlock block;
+      block.level = level;
+      block.bx = stored.bx;
+      block.by = stored.by;
+      block.zmin = stored.zmin;
+      block.zmax = stored.zmax;
+      block.geometry = lv.geometry;
+      block.geometry.origin_x +=
+          static_cast<double>(lv.block_col0 + block.bx * b) * lv.geometry.cell_x;
+      block.geometry.origin_y +=
+          static_cast<double>(lv.block_row0 + block.by * b) * lv.geometry.cell_y;
+      block.geometry.width = b;
+      block.geometry.height = b;
+      block.cells = stored.cells.get();
+      TB_RETURN_IF_ERROR(fn(block));
+      stored.cells.reset();
+    }
+  }
+  return Status::Ok();
+}
+
+Status DemStore::Impl::ReadCells(const DemInfo& dem, int level, const CellRange& range,
+                                 Grid* grid) {
+  const DemLevel lv = LevelOf(dem, level);
+  grid->geometry = lv.geometry;
+  grid->geometry.origin_x += static_cast<double>(range.col_lo) * lv.geometry.cell_x;
+  grid->geometry.origin_y += static_cast<double>(range.row_lo) * lv.geometry.cell_y;
+  grid->geometry.width = range.col_hi - range.col_lo + 1;
+  grid->geometry.height = range.row_hi - range.row_lo + 1;
+  grid->crs_wkt = dem.crs_wkt;
+  grid->source_nodata = dem.nodata;
+  const int64_t b = dem.block_size;
+  const BlockRange br = BlocksOf(lv, b, range);
+  std::vector<StoredBlock> blocks;
+  if (!CachedWindow(dem, level, br, &blocks)) {
+    TB_ASSIGN_OR_RETURN(blocks, ListBlocks(dem, level, br.bx_lo, br.bx_hi, br.by_lo, br.by_hi));
+    CacheAbsent(dem, level, br, blocks);
+  }
+  grid->cells.resize(static_cast<size_t>(grid->geometry.CellCount()));
+  // Only cells no stored block covers are nodata: when every block is there, none.
+  if (static_cast<int64_t>(blocks.size()) < br.Count())
+    std::fill(grid->cells.begin(), grid->cells.end(), kNaN);
+  for (size_t first = 0; first < blocks.size(); first += kVisitBatch) {
+    const std::span<StoredBlock> batch =
+        std::span(blocks).subspan(first, std::min(kVisitBatch, blocks.size() - first));
+    TB_RETURN_IF_ERROR(LoadCells(dem, level, batch));
+    for (StoredBlock& block : batch) {
+      const int64_t col0 = lv.block_col0 + block.bx * b;  // the block's first cell in the level
+      const int64_t row0 = lv.block_row0 + block.by * b;
+      // Row by row, the part of each block row inside the window in one copy.
+      const int64_t c_lo = std::max(col0, range.col_lo);
+      const int64_t c_hi = std::min(col0 + b - 1, range.col_hi);
+      for (int64_t r = std::max(row0, range.row_lo); r <= std::min(row0 + b - 1, range.row_hi); ++r)
+        std::copy_n(
+            block.cells->data() + (r - row0) * b + (c_lo - col0), c_hi - c_lo + 1,
+            grid->cells.data() + (r - range.row_lo) * grid->geometry.width + (c_lo - range.col_lo));
+      block.cells.reset();
+    }
+  }
+  return Status::Ok();
 }
 
 namespace {
@@ -798,21 +964,29 @@ Status CheckLevel(const DemInfo& dem, int level) {
 }
 }  // namespace
 
-Result<std::shared_ptr<const std::vector<float>>> DemStore::ReadBlock(const DemInfo& dem,
-                                                                       int level, int64_t bx,
-                                                                       int64_t by) {
+Result<std::shared_ptr<const std::vector<float>>> DemStore::ReadBlock(const DemInfo& dem, int level,
+                                                                      int64_t bx, int64_t by) {
   TB_RETURN_IF_ERROR(CheckLevel(dem, level));
   return impl_->CachedBlock(dem, level, bx, by);
 }
 
 Result<Grid> DemStore::ReadGrid(const DemInfo& dem) {
-  return impl_->ReadCells(dem, 0, CellRange{0, dem.geometry.width - 1, 0, dem.geometry.height - 1});
+  Grid grid;
+  TB_RETURN_IF_ERROR(impl_->ReadCells(
+      dem, 0, CellRange{0, dem.geometry.width - 1, 0, dem.geometry.height - 1}, &grid));
+  return grid;
 }
 
 Result<Grid> DemStore::ReadWindow(const DemInfo& dem, const DemBox& box, int level) {
+  Grid grid;
+  TB_RETURN_IF_ERROR(ReadWindow(dem, box, level, &grid));
+  return grid;
+}
+
+Status DemStore::ReadWindow(const DemInfo& dem, const DemBox& box, int level, Grid* out) {
   TB_RETURN_IF_ERROR(CheckLevel(dem, level));
   TB_ASSIGN_OR_RETURN(CellRange range, CellsIn(LevelOf(dem, level).geometry, box, dem.name));
-  return impl_->ReadCells(dem, level, range);
+  return impl_->ReadCells(dem, level, range, out);
 }
 
 Status DemStore::ForEachBlock(const DemInfo& dem, const DemBox& box, int level,
@@ -831,7 +1005,8 @@ Result<DemClip> DemStore::Clip(const DemInfo& dem, const DemBox& box, int64_t ma
     const int64_t cells = (range.col_hi - range.col_lo + 1) * (range.row_hi - range.row_lo + 1);
     if (cells <= max_cells || level + 1 >= dem.levels) break;
   }
-  TB_ASSIGN_OR_RETURN(Grid grid, impl_->ReadCells(dem, level, range));
+  Grid grid;
+  TB_RETURN_IF_ERROR(impl_->ReadCells(dem, level, range, &grid));
   TB_RETURN_IF_ERROR(WriteGeoTiff(grid, path));
   return DemClip{level, grid.geometry};
 }

@@ -5,8 +5,9 @@
 // GDAL (bilinear). A store without a CRS adopts the first DEM's: a projected CRS as is, a
 // geographic one replaced by the UTM zone of the raster's centre (GeographicLib). Sampling, window
 // reads and ForEachBlock read only the blocks they need, through the process-wide cache of decoded
-// blocks (db/dem_block_cache.h) with, for sampling, a small per-thread front cache of the last
-// blocks used, so a warm sample takes no lock and no SQL. Every import gives the store a new cache
+// blocks (db/dem_block_cache.h) with, for sampling, a per-thread front cache of the blocks used
+// last (direct-mapped by position), so a warm sample takes no lock and no SQL; a warm window read
+// finds its blocks in the cache without SQL, and a cold one decodes them on two threads. Every import gives the store a new cache
 // token (meta `dem_cache_token`), so no block it replaced is served again from the cache; a
 // DemStore picks up another process's import when it next looks a DEM up (Find, FindById, List).
 // Several files imported into one DEM are sheets of a mosaic on one grid.
@@ -156,6 +157,8 @@ class DemStore {
   // InvalidArgument naming the DEM when the level does not exist or the box is empty, not finite
   // or does not overlap the DEM.
   Result<Grid> ReadWindow(const DemInfo& dem, const DemBox& box, int level = 0);
+  // The same into `out`, reusing its memory (for callers reading window after window).
+  Status ReadWindow(const DemInfo& dem, const DemBox& box, int level, Grid* out);
   // Calls `fn` for every stored block of `level` that intersects `box`, row by row from the north
   // west; blocks without data are not stored and not visited. Stops at and returns the first
   // error of `fn`; errors as ReadWindow.

@@ -33,6 +33,13 @@ class Store {
   static Result<std::unique_ptr<Store>> Open(const std::string& path,
                                              Access access = Access::kReadWrite);
 
+  // How much of a store file each connection opened after this call reads through a memory map
+  // (SQLite's mmap_size; default kDefaultMemoryMapBytes, 0 = none). The map saves a system call
+  // per page of every DEM block read; its pages are file cache the kernel may drop at will, but
+  // they count as the process's resident memory. Process-wide; safe from any thread.
+  static void SetMemoryMapLimit(int64_t bytes);
+  static constexpr int64_t kDefaultMemoryMapBytes = int64_t{1} << 30;
+
   // Starts the single write transaction; Busy if another writer holds the store for too long.
   Result<std::unique_ptr<WriteTransaction>> BeginWrite();
 

@@ -4,10 +4,12 @@
 #include <cstdint>
 #include <cstdlib>
 #include <iostream>
+#include <optional>
 #include <string>
 
 #include "apps/tinbase/command.h"
 #include "db/dem_block_cache.h"
+#include "db/store.h"
 
 namespace tinbase::cli {
 
@@ -18,19 +20,27 @@ int ReportError(const Status& status) {
 
 namespace {
 
-// TINBASE_DEM_CACHE_MIB sets the memory limit of the process-wide DEM block cache (default
-// 256 MiB), like GDAL_CACHEMAX for GDAL: a builder streaming a DEM larger than memory holds at
-// most this much of it decoded.
-Status ApplyDemCacheLimit() {
-  const char* text = std::getenv("TINBASE_DEM_CACHE_MIB");
-  if (text == nullptr || *text == '\0') return Status::Ok();
+// A whole number of MiB from the environment variable `name`; nullopt when it is not set.
+Result<std::optional<int64_t>> MibFromEnv(const char* name) {
+  const char* text = std::getenv(name);
+  if (text == nullptr || *text == '\0') return std::optional<int64_t>();
   char* end = nullptr;
   const long long mib = std::strtoll(text, &end, 10);
   if (*end != '\0' || mib < 0 || mib > (int64_t{1} << 30))
-    return Status::InvalidArgument(std::string("TINBASE_DEM_CACHE_MIB must be a whole number of "
-                                               "MiB (0 or more), got '") +
-                                   text + "'");
-  DemBlockCache::Instance().SetCapacity(static_cast<size_t>(mib) << 20);
+    return Status::InvalidArgument(
+        std::string(name) + " must be a whole number of MiB (0 or more), got '" + text + "'");
+  return std::optional<int64_t>(int64_t{mib} << 20);
+}
+
+// TINBASE_DEM_CACHE_MIB sets the memory limit of the process-wide DEM block cache (default
+// 256 MiB), like GDAL_CACHEMAX for GDAL: a builder streaming a DEM larger than memory holds at
+// most this much of it decoded. TINBASE_MMAP_MIB sets how much of a store file is read through a
+// memory map (default 1024; 0: none), whose pages count as resident memory.
+Status ApplyMemoryLimits() {
+  TB_ASSIGN_OR_RETURN(std::optional<int64_t> cache, MibFromEnv("TINBASE_DEM_CACHE_MIB"));
+  if (cache) DemBlockCache::Instance().SetCapacity(static_cast<size_t>(*cache));
+  TB_ASSIGN_OR_RETURN(std::optional<int64_t> map, MibFromEnv("TINBASE_MMAP_MIB"));
+  if (map) Store::SetMemoryMapLimit(*map);
   return Status::Ok();
 }
 
@@ -39,7 +49,7 @@ Status ApplyDemCacheLimit() {
 }  // namespace tinbase::cli
 
 int main(int argc, char** argv) {
-  if (tinbase::Status s = tinbase::cli::ApplyDemCacheLimit(); !s.ok())
+  if (tinbase::Status s = tinbase::cli::ApplyMemoryLimits(); !s.ok())
     return tinbase::cli::ReportError(s);
   GDALAllRegister();
   CPLSetErrorHandler(CPLQuietErrorHandler);  // GDAL's errors reach users through Status messages
