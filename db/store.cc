@@ -22,6 +22,11 @@ Status ConfigureConnection(SqliteDb& db) {
 
 }  // namespace
 
+Store::Store(std::unique_ptr<SqliteDb> db, int version, Access access)
+    : db_(std::move(db)), schema_version_(version) {
+  if (access == Access::kReadWrite) checkpointer_ = std::make_unique<WalCheckpointer>(*db_);
+}
+
 void Store::SetMemoryMapLimit(int64_t bytes) { g_memory_map_bytes = std::max<int64_t>(bytes, 0); }
 
 Result<std::unique_ptr<Store>> Store::Create(const std::string& path, const std::string& crs_text) {
@@ -35,7 +40,7 @@ Result<std::unique_ptr<Store>> Store::Create(const std::string& path, const std:
   if (status.ok())
     status = db->Exec("PRAGMA application_id = " + std::to_string(kTinbaseApplicationId));
   if (status.ok()) status = MigrateSqlite(*db, LatestSchemaVersion());
-  std::unique_ptr<Store> store(new Store(std::move(db), LatestSchemaVersion()));
+  std::unique_ptr<Store> store(new Store(std::move(db), LatestSchemaVersion(), Access::kReadWrite));
   if (status.ok() && crs) {
     auto tx = store->BeginWrite();
     status = tx.ok() ? store->SetCrs(*crs) : tx.status();
@@ -67,7 +72,7 @@ Result<std::unique_ptr<Store>> Store::Open(const std::string& path, Access acces
                                      " and needs migrating: open it read-write once");
     TB_RETURN_IF_ERROR(MigrateSqlite(*db, LatestSchemaVersion()).WithContext(path));
   }
-  return std::unique_ptr<Store>(new Store(std::move(db), LatestSchemaVersion()));
+  return std::unique_ptr<Store>(new Store(std::move(db), LatestSchemaVersion(), access));
 }
 
 Result<std::unique_ptr<WriteTransaction>> Store::BeginWrite() {

@@ -1,7 +1,8 @@
 // Store: one tinbase store (an SQLite file), the only way into its tables.
 //
-// A Store owns one connection. Create() makes a new store from the migrations; Open() checks that
-// the file is a tinbase store, refuses one made by a newer tinbase and migrates an older one
+// A Store owns one connection (and, when it may write, a WalCheckpointer that keeps log
+// checkpoints out of its commits). Create() makes a new store from the migrations; Open() checks
+// that the file is a tinbase store, refuses one made by a newer tinbase and migrates an older one
 // forward. Every write goes through a WriteTransaction (BEGIN IMMEDIATE: one writer at a time,
 // readers keep their WAL snapshot), which rolls back in its destructor unless committed.
 // Thread-safety: one Store per thread; several processes may open the same file.
@@ -14,6 +15,7 @@
 #include "core/base/status.h"
 #include "core/geometry/crs.h"
 #include "db/sqlite/sqlite_db.h"
+#include "db/sqlite/wal_checkpointer.h"
 
 namespace tinbase {
 
@@ -56,8 +58,10 @@ class Store {
   SqliteDb& db() { return *db_; }
 
  private:
-  Store(std::unique_ptr<SqliteDb> db, int version) : db_(std::move(db)), schema_version_(version) {}
+  Store(std::unique_ptr<SqliteDb> db, int version, Access access);
   std::unique_ptr<SqliteDb> db_;
+  // After db_: destroyed first, while the connection it hooks is still open.
+  std::unique_ptr<WalCheckpointer> checkpointer_;
   int schema_version_;
 };
 
