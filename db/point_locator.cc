@@ -52,6 +52,15 @@ class WalkReader {
     return t;
   }
 
+  Result<bool> Exists(int64_t triangle) {
+    TB_ASSIGN_OR_RETURN(Statement * stmt,
+                        db_.Cached("SELECT 1 FROM triangles WHERE id = ? AND surface = ?"));
+    stmt->Bind(1, triangle).Bind(2, surface_.id);
+    TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
+    stmt->Reset();
+    return row;
+  }
+
   Result<WalkVertex> Vertex(int64_t id) {
     if (auto it = vertices_.find(id); it != vertices_.end()) return it->second;
     TB_ASSIGN_OR_RETURN(Statement * stmt,
@@ -124,74 +133,111 @@ std::string PointText(double x, double y) {
 
 }  // namespace
 
-Result<Location> LocatePoint(Store& store, const SurfaceInfo& surface, double x, double y) {
-  TB_ASSIGN_OR_RETURN(auto snapshot, SnapshotUnlessInTransaction(store));
-  SurfaceStore surfaces(store);
-  WalkReader reader(store, surface);
-  const Point2 p{x, y};
+class PointLocator::Walker {
+ public:
+  Walker(Store& store, const SurfaceInfo& surface)
+      : store_(store), surface_(surface), surfaces_(store), reader_(store, surface) {}
 
-  // Seeded by the point, so a query repeats exactly (and a failure reproduces).
-  std::minstd_rand rng(
-      static_cast<uint32_t>(std::bit_cast<uint64_t>(x) * 31 ^ std::bit_cast<uint64_t>(y)) | 1u);
-  TB_ASSIGN_OR_RETURN(int64_t current, JumpStart(surfaces, surface, x, y));
-  std::optional<int64_t> came_from;
-  // On a valid triangulation the walk ends with probability 1 (Devillers, Pion, Teillaud,
-  // "Walking in a triangulation"); broken links can make it cycle, so give up eventually.
-  int64_t step_limit = int64_t{1} << 16;
-  bool limit_checked = false;
-  Location location;
-  for (;;) {
-    ++location.steps;
-    if (location.steps > step_limit) {
-      if (limit_checked)
-        return Status::Corruption(reader.Where() + ": the walk to " + PointText(x, y) +
-                                  " does not end; run tinbase check");
-      TB_ASSIGN_OR_RETURN(SurfaceCounts counts, surfaces.Count(surface));
-      step_limit = std::max(step_limit, 4 * counts.triangles + 16);
-      limit_checked = true;
-    }
-    TB_ASSIGN_OR_RETURN(WalkTriangle tri, reader.Triangle(current));
-    std::array<WalkVertex, 3> corner;
-    for (int i = 0; i < 3; ++i) {
-      TB_ASSIGN_OR_RETURN(corner[i], reader.Vertex(tri.v[i]));
-    }
-    // Test the edges from a random one; the edge we came through has p on its inner side
-    // (it was strictly outside it from the other triangle), so it needs no test.
-    const int first = static_cast<int>(rng() % 3);
-    std::optional<int> exit_edge;
-    for (int k = 0; k < 3 && !exit_edge; ++k) {
-      const int i = (first + k) % 3;
-      if (came_from && tri.n[i] == came_from) continue;
-      if (Orientation(corner[(i + 1) % 3].p, corner[(i + 2) % 3].p, p) < 0) exit_edge = i;
-    }
-    if (!exit_edge) {
-      // The skipped edge holds p inside only if the links are symmetric; check, so broken links
-      // give an error rather than a wrong triangle.
-      for (int i = 0; i < 3; ++i) {
-        if (came_from && tri.n[i] == came_from &&
-            Orientation(corner[(i + 1) % 3].p, corner[(i + 2) % 3].p, p) < 0)
-          return Status::Corruption(reader.Where() + ": triangle " + std::to_string(current) +
-                                    " and its neighbour " + std::to_string(*came_from) +
-                                    " do not share the edge they link across; run tinbase check");
-      }
-      location.triangle = current;
-      location.z = InterpolateZ(corner, x, y);
-      break;
-    }
-    const std::optional<int64_t> next = tri.n[*exit_edge];
-    // Strictly beyond a boundary edge is outside because domains are convex: builders
-    // triangulate the hull or the DEM's rectangle, and clip/erase hide triangles rather than
-    // remove them. (On a non-convex domain a point across a notch would be called outside.)
-    if (!next)
-      return Status::NotFound("point " + PointText(x, y) + " is outside surface '" + surface.name +
-                              "'");
-    came_from = current;
-    current = *next;
+  Result<Location> Locate(double x, double y) {
+    TB_ASSIGN_OR_RETURN(auto snapshot, SnapshotUnlessInTransaction(store_));
+    TB_ASSIGN_OR_RETURN(int64_t start, Start(x, y));
+    TB_ASSIGN_OR_RETURN(Location location, Walk(start, x, y));
+    last_ = location.triangle;
+    TB_ASSIGN_OR_RETURN(StoredTriangle found, surfaces_.Triangle(surface_, location.triangle));
+    location.visible = found.visible;
+    location.tag = found.tag;
+    return location;
   }
-  TB_ASSIGN_OR_RETURN(StoredTriangle found, surfaces.Triangle(surface, location.triangle));
-  location.visible = found.visible;
-  location.tag = found.tag;
-  return location;
+
+ private:
+  // Where the previous walk ended, while that triangle still exists; else a jump.
+  Result<int64_t> Start(double x, double y) {
+    if (last_) {
+      TB_ASSIGN_OR_RETURN(bool exists, reader_.Exists(*last_));
+      if (exists) return *last_;
+    }
+    return JumpStart(surfaces_, surface_, x, y);
+  }
+
+  Result<Location> Walk(int64_t current, double x, double y) {
+    const Point2 p{x, y};
+    // Seeded by the point, so a query repeats exactly (and a failure reproduces).
+    std::minstd_rand rng(
+        static_cast<uint32_t>(std::bit_cast<uint64_t>(x) * 31 ^ std::bit_cast<uint64_t>(y)) | 1u);
+    std::optional<int64_t> came_from;
+    // On a valid triangulation the walk ends with probability 1 (Devillers, Pion, Teillaud,
+    // "Walking in a triangulation"); broken links can make it cycle, so give up eventually.
+    int64_t step_limit = int64_t{1} << 16;
+    bool limit_checked = false;
+    Location location;
+    for (;;) {
+      ++location.steps;
+      if (location.steps > step_limit) {
+        if (limit_checked)
+          return Status::Corruption(reader_.Where() + ": the walk to " + PointText(x, y) +
+                                    " does not end; run tinbase check");
+        TB_ASSIGN_OR_RETURN(SurfaceCounts counts, surfaces_.Count(surface_));
+        step_limit = std::max(step_limit, 4 * counts.triangles + 16);
+        limit_checked = true;
+      }
+      TB_ASSIGN_OR_RETURN(WalkTriangle tri, reader_.Triangle(current));
+      std::array<WalkVertex, 3> corner;
+      for (int i = 0; i < 3; ++i) {
+        TB_ASSIGN_OR_RETURN(corner[i], reader_.Vertex(tri.v[i]));
+      }
+      // Test the edges from a random one; the edge we came through has p on its inner side
+      // (it was strictly outside it from the other triangle), so it needs no test.
+      const int first = static_cast<int>(rng() % 3);
+      std::optional<int> exit_edge;
+      for (int k = 0; k < 3 && !exit_edge; ++k) {
+        const int i = (first + k) % 3;
+        if (came_from && tri.n[i] == came_from) continue;
+        if (Orientation(corner[(i + 1) % 3].p, corner[(i + 2) % 3].p, p) < 0) exit_edge = i;
+      }
+      if (!exit_edge) {
+        // The skipped edge holds p inside only if the links are symmetric; check, so broken
+        // links give an error rather than a wrong triangle.
+        for (int i = 0; i < 3; ++i) {
+          if (came_from && tri.n[i] == came_from &&
+              Orientation(corner[(i + 1) % 3].p, corner[(i + 2) % 3].p, p) < 0)
+            return Status::Corruption(reader_.Where() + ": triangle " + std::to_string(current) +
+                                      " and its neighbour " + std::to_string(*came_from) +
+                                      " do not share the edge they link across; run tinbase "
+                                      "check");
+        }
+        location.triangle = current;
+        location.z = InterpolateZ(corner, x, y);
+        return location;
+      }
+      const std::optional<int64_t> next = tri.n[*exit_edge];
+      // Strictly beyond a boundary edge is outside because domains are convex: builders
+      // triangulate the hull or the DEM's rectangle, and clip/erase hide triangles rather than
+      // remove them. (On a non-convex domain a point across a notch would be called outside.)
+      if (!next)
+        return Status::NotFound("point " + PointText(x, y) + " is outside surface '" +
+                                surface_.name + "'");
+      came_from = current;
+      current = *next;
+    }
+  }
+
+  Store& store_;
+  const SurfaceInfo& surface_;
+  SurfaceStore surfaces_;
+  WalkReader reader_;
+  std::optional<int64_t> last_;
+};
+
+PointLocator::PointLocator(Store& store, const SurfaceInfo& surface)
+    : walker_(std::make_unique<Walker>(store, surface)) {}
+
+PointLocator::~PointLocator() = default;
+
+Result<Location> PointLocator::Locate(double x, double y) { return walker_->Locate(x, y); }
+
+Result<Location> LocatePoint(Store& store, const SurfaceInfo& surface, double x, double y) {
+  PointLocator locator(store, surface);
+  return locator.Locate(x, y);
 }
 
 }  // namespace tinbase

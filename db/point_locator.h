@@ -4,10 +4,13 @@
 // whose centroid block is the point's (or the nearest non-empty block around it), then walk across
 // the edge the point lies beyond, choosing among candidate edges at random (Devillers' remembering
 // stochastic walk) so the walk terminates on non-Delaunay surfaces too. Reads O(walk length)
-// rows, never the whole surface, all in one read snapshot. Thread-safety: one per Store.
+// rows, never the whole surface, all in one read snapshot. PointLocator locates many points in a
+// row, each walk starting where the last one ended: points along a ring are then a few steps
+// apart instead of a jump and a walk each. Thread-safety: one per Store.
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -30,5 +33,24 @@ struct Location {
 // no triangle holds it; Corruption when the rows the walk reads are inconsistent (CheckStore
 // tells which). Works inside a WriteTransaction too (then reads what it has written).
 Result<Location> LocatePoint(Store& store, const SurfaceInfo& surface, double x, double y);
+
+// LocatePoint for a sequence of points of one surface. It remembers the rows it read (the last
+// triangle and the vertices), so the surface must not change while it is in use: hold a
+// ReadSnapshot or a WriteTransaction around the calls (and make a new locator after writing), or
+// answers may mix the states before and after another writer's commit.
+class PointLocator {
+ public:
+  PointLocator(Store& store, const SurfaceInfo& surface);
+  ~PointLocator();
+  PointLocator(const PointLocator&) = delete;
+  PointLocator& operator=(const PointLocator&) = delete;
+
+  // As LocatePoint.
+  Result<Location> Locate(double x, double y);
+
+ private:
+  class Walker;
+  std::unique_ptr<Walker> walker_;
+};
 
 }  // namespace tinbase

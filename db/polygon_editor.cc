@@ -70,13 +70,16 @@ Result<std::vector<EditorFeature>> ReadFeatures(const PolygonAddOptions& o, cons
 Status DrapeFeature(Store& store, const SurfaceInfo& surface, const EditorFeature& f,
                     const ElevationFn& elevation, const DrapeOptions& base,
                     std::vector<EditPolyline>* out) {
+  // One snapshot for the feature, so the locator may walk on from point to point.
+  TB_ASSIGN_OR_RETURN(auto snapshot, SnapshotUnlessInTransaction(store));
+  PointLocator locator(store, surface);
   const auto add = [&](const std::vector<Point2>& points, bool closed,
                        const std::string& where) -> Status {
     // The input vertices name themselves in messages; points added between two of them lie on
     // the segment, inside the surface when both ends are (surfaces from the builders are convex;
     // the engine locates every point again and refuses any outside).
     for (size_t i = 0; i < points.size(); ++i) {
-      auto located = LocatePoint(store, surface, points[i].x, points[i].y);
+      auto located = locator.Locate(points[i].x, points[i].y);
       if (located.ok()) continue;
       if (located.status().code() != StatusCode::kNotFound) return located.status();
       return Status::InvalidArgument(f.label + ", " + where + ", vertex " + std::to_string(i) +

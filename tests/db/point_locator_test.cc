@@ -6,6 +6,7 @@
 #include <rapidcheck/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <random>
 
 #include "core/geometry/predicates.h"
@@ -239,6 +240,37 @@ TEST_F(PointLocatorTest, WorksInsideAWriteTransaction) {
   ASSERT_TRUE(tx.ok());
   ExpectAgreesWithBruteForce({605000, 5105000});
   ASSERT_TRUE((*tx)->Commit().ok());
+}
+
+TEST_F(PointLocatorTest, LocatorWalksOnFromThePreviousPoint) {
+  // An ellipse of closely spaced points reaching beyond the surface on the east: each walk starts
+  // where the last ended (or jumps again after a point outside), and every answer is right.
+  Create("terrain", SurfaceKind::kDelaunay,
+         testing::RandomDelaunayTin({.points = 3000, .seed = 22, .ring = true}));
+  const BruteForce brute(loaded_);
+  PointLocator locator(*store_, info_);
+  int64_t steps = 0, inside = 0, outside = 0;
+  for (int k = 0; k < 2000; ++k) {
+    const double a = 2 * M_PI * k / 2000;
+    const Point2 p{605500 + 5500 * std::cos(a), 5105000 + 3000 * std::sin(a)};
+    const std::vector<size_t> holders = brute.Containing(p);
+    auto located = locator.Locate(p.x, p.y);
+    if (holders.empty()) {
+      ASSERT_EQ(located.status().code(), StatusCode::kNotFound) << located.status().ToString();
+      ++outside;
+      continue;
+    }
+    ASSERT_TRUE(located.ok()) << located.status().ToString();
+    EXPECT_NE(std::find(holders.begin(), holders.end(), brute.IndexOf(located->triangle)),
+              holders.end());
+    EXPECT_NEAR(located->z, static_cast<double>(brute.Z(holders.front(), p)), 1e-6);
+    steps += located->steps;
+    ++inside;
+  }
+  ASSERT_GT(inside, 1000);
+  EXPECT_GT(outside, 100);
+  // ~17 m between points, triangles ~130 m across: most walks stay in the triangle they start in.
+  EXPECT_LT(static_cast<double>(steps) / static_cast<double>(inside), 3.0);
 }
 
 TEST_F(PointLocatorTest, BrokenLinksAreCorruptionNotAWrongAnswer) {
