@@ -20,6 +20,7 @@
 
 #include "core/geometry/cdt.h"
 #include "core/raster/gdal_raster.h"
+#include "core/vector/polygon_source.h"
 #include "db/dem_store.h"
 #include "db/polygon_editor.h"
 #include "db/surface_builder.h"
@@ -156,9 +157,181 @@ void BM_RebuildCdt1e6(benchmark::State& state) {
 }
 BENCHMARK(BM_RebuildCdt1e6)->Unit(benchmark::kMillisecond)->Iterations(3);
 
+// The global alternative with its writes: that CDT from scratch, stored as a new surface in a new
+// store file and committed (what replacing the surface would cost).
+void BM_RebuildStored1e6(benchmark::State& state) {
+  auto source = Store::Open(BuildStore(708), Store::Access::kReadOnly);
+  if (!source.ok()) std::abort();
+  SurfaceStore surfaces(**source);
+  auto loaded = surfaces.Load(*surfaces.Find("terrain"));
+  if (!loaded.ok()) std::abort();
+  const std::string path = BenchDir() + "/rebuilt.tinbase";
+  for (auto _ : state) {
+    state.PauseTiming();
+    for (const char* suffix : {"", "-wal", "-shm"}) std::filesystem::remove(path + suffix);
+    state.ResumeTiming();
+    Cdt cdt;
+    const auto index = cdt.InsertVertices(loaded->tin.vertices);
+    for (const auto& [a, b] : loaded->tin.constraints) cdt.InsertConstraint(index[a], index[b]);
+    const Tin tin = cdt.ToTin();
+    auto store = Store::Create(path, "EPSG:32632");
+    if (!store.ok()) std::abort();
+    auto tx = (*store)->BeginWrite();
+    if (!tx.ok()) std::abort();
+    SurfaceInfo spec;
+    spec.name = "terrain";
+    spec.method = "rebuild";
+    if (!SurfaceStore(**store).Create(spec, tin).ok() || !(*tx)->Commit().ok()) std::abort();
+  }
+  for (const char* suffix : {"", "-wal", "-shm"}) std::filesystem::remove(path + suffix);
+}
+BENCHMARK(BM_RebuildStored1e6)->Unit(benchmark::kMillisecond)->Iterations(3);
+
 // Paper 000, Table 1: one polygon of ~6000 segments over 300 x 300 DEM points, all kept.
 void BM_PaperTable1(benchmark::State& state) { InsertAndUndo(state, 300, 6000, 140); }
 BENCHMARK(BM_PaperTable1)->Unit(benchmark::kMillisecond);
+
+// --- bulk loading a geological map -----------------------------------------------------------
+
+// A store over the real Hamersley DEM (197 x 204 cells of ~344 m) with a greedy surface at 2 m.
+std::string HamersleyStore() {
+  const std::string path = BenchDir() + "/hamersley.tinbase";
+  if (std::filesystem::exists(path)) return path;
+  auto store = Store::Create(path, "");
+  if (!store.ok()) std::abort();
+  DemStore dems(**store);
+  if (!dems.Import({std::string(TINBASE_DATA_DIR) + "/geology/hamersley/dtm_rp.tif"}, {}).ok())
+    std::abort();
+  SurfaceBuildOptions o;
+  o.surface = "terrain";
+  o.greedy.tolerance = 2;
+  if (!BuildSurfaceFromDem(**store, o).ok()) std::abort();
+  return path;
+}
+
+// The maps: the real Hamersley geology (61 polygons), and a 1000+ polygon map with the shape of
+// one: the DEM's 40 m elevation bands as single polygons (gdal_contour -p, clipped one cell inside
+// the DEM's cell centres, exploded), which tile the area with shared boundaries, islands and
+// holes as map units do. No real map of 1000+ polygons over a DEM we ship is in ../shared/data.
+struct MapCase {
+  std::string file;
+  std::string tag_field;
+};
+MapCase Map(int64_t which) {
+  const std::string dtm = std::string(TINBASE_DATA_DIR) + "/geology/hamersley/dtm_rp.tif";
+  if (which == 0)
+    return {std::string(TINBASE_DATA_DIR) + "/geology/hamersley/geology.geojson", "code"};
+  const std::string bands = BenchDir() + "/hamersley_bands.geojson";
+  if (!std::filesystem::exists(bands)) {
+    auto store = Store::Open(HamersleyStore(), Store::Access::kReadOnly);
+    if (!store.ok()) std::abort();
+    auto dems = DemStore(**store).List();
+    if (!dems.ok() || dems->empty()) std::abort();
+    const GridGeometry& g = dems->front().geometry;
+    const double inset = 1.5 * g.cell_x;  // half a cell to the centres, one more inside
+    const std::string clip =
+        std::to_string(g.MinX() + inset) + " " + std::to_string(g.MinY() + inset) + " " +
+        std::to_string(g.MaxX() - inset) + " " + std::to_string(g.MaxY() - inset);
+    const std::string gpkg = BenchDir() + "/hamersley_bands.gpkg";
+    std::filesystem::remove(gpkg);
+    const std::string command = "gdal_contour -q -p -i 40 -amin zmin " + dtm + " " + gpkg +
+                                " && ogr2ogr -explodecollections -clipsrc " + clip +
+                                " -nlt POLYGON -f GeoJSON " + bands + " " + gpkg;
+    if (std::system(command.c_str()) != 0) std::abort();
+  }
+  return {bands, "zmin"};
+}
+
+// A fresh copy of the Hamersley store for one load.
+std::unique_ptr<Store> FreshHamersleyCopy() {
+  const std::string copy = BenchDir() + "/map_load.tinbase";
+  for (const char* suffix : {"", "-wal", "-shm"}) std::filesystem::remove(copy + suffix);
+  std::filesystem::copy_file(HamersleyStore(), copy);
+  auto store = Store::Open(copy);
+  if (!store.ok()) std::abort();
+  return std::move(*store);
+}
+
+void LoadMap(benchmark::State& state, bool each) {
+  const MapCase map = Map(state.range(0));
+  PolygonAddReport report;
+  for (auto _ : state) {
+    state.PauseTiming();
+    auto store = FreshHamersleyCopy();
+    state.ResumeTiming();
+    PolygonAddOptions o;
+    o.surface = "terrain";
+    o.file = map.file;
+    o.mode = "fill";
+    o.tag_field = map.tag_field;
+    o.each = each;
+    o.repair = true;  // clipping the bands left a few holes outside their shells
+    auto added = AddPolygons(*store, o);
+    if (!added.ok()) {
+      state.SkipWithError(added.status().ToString().c_str());
+      return;
+    }
+    report = *added;
+  }
+  state.counters["features"] = static_cast<double>(report.features);
+  state.counters["failed"] = static_cast<double>(report.failures.size());
+  state.counters["ring_vertices"] = static_cast<double>(report.ring_vertices);
+}
+
+// Feature by feature, one transaction each (`polygon add --each`).
+void BM_MapEach(benchmark::State& state) { LoadMap(state, true); }
+BENCHMARK(BM_MapEach)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(1);
+
+// The whole map in one transaction.
+void BM_MapOneTransaction(benchmark::State& state) { LoadMap(state, false); }
+BENCHMARK(BM_MapOneTransaction)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(1);
+
+// The from-scratch alternative: one CGAL CDT of the surface's vertices and every ring of the map
+// (ring vertices as read, not draped or densified; no refinement to the tolerance, no paint, no
+// store writes: a lower bound for any global rebuild).
+void BM_MapCdtFromScratch(benchmark::State& state) {
+  const MapCase map = Map(state.range(0));
+  auto store = Store::Open(HamersleyStore(), Store::Access::kReadOnly);
+  if (!store.ok()) std::abort();
+  SurfaceStore surfaces(**store);
+  auto loaded = surfaces.Load(*surfaces.Find("terrain"));
+  auto crs = (*store)->GetCrs();
+  if (!loaded.ok() || !crs.ok() || !*crs) std::abort();
+  VectorSourceOptions source;
+  source.tag_field = map.tag_field;
+  source.target_crs = **crs;
+  source.repair = true;
+  auto features = ReadPolygonFeatures(map.file, source);
+  if (!features.ok()) std::abort();
+  std::vector<std::vector<Point2>> rings;
+  for (const auto& feature : *features)
+    for (const Polygon& polygon : feature.polygons) {
+      rings.push_back(polygon.shell);
+      rings.insert(rings.end(), polygon.holes.begin(), polygon.holes.end());
+    }
+  // All ring points in one batch (spatially sorted by CGAL), then every ring segment.
+  std::vector<TinVertex> points;
+  for (const auto& ring : rings)
+    for (const Point2& p : ring) points.push_back({p.x, p.y, 0});
+  for (auto _ : state) {
+    Cdt cdt;
+    cdt.InsertVertices(loaded->tin.vertices);
+    const std::vector<uint32_t> ids = cdt.InsertVertices(points);
+    size_t first = 0;
+    for (const auto& ring : rings) {
+      for (size_t i = 0; i < ring.size(); ++i) {
+        const uint32_t a = ids[first + i], b = ids[first + (i + 1) % ring.size()];
+        if (a != b) cdt.InsertConstraint(a, b);
+      }
+      first += ring.size();
+    }
+    benchmark::DoNotOptimize(cdt.FaceCount());
+  }
+  const auto ring_vertices = static_cast<int64_t>(points.size());
+  state.counters["features"] = static_cast<double>(features->size());
+  state.counters["ring_vertices"] = static_cast<double>(ring_vertices);
+}
+BENCHMARK(BM_MapCdtFromScratch)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(3);
 
 }  // namespace
 }  // namespace tinbase

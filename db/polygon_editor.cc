@@ -30,8 +30,11 @@ Status CheckModeOptions(const PolygonAddOptions& o) {
   return Status::Ok();
 }
 
-Result<std::vector<EditorFeature>> ReadFeatures(const PolygonAddOptions& o, const Crs& crs) {
+// With `rejected`, invalid features are listed there and skipped (see VectorSourceOptions).
+Result<std::vector<EditorFeature>> ReadFeatures(const PolygonAddOptions& o, const Crs& crs,
+                                                std::vector<std::string>* rejected = nullptr) {
   VectorSourceOptions source;
+  source.rejected = rejected;
   source.layer = o.layer;
   source.where = o.where;
   source.tag_field = o.tag_field;
@@ -243,7 +246,12 @@ Result<PolygonAddReport> AddPolygons(Store& store, const PolygonAddOptions& opti
   TB_RETURN_IF_ERROR(CheckModeOptions(options));
   TB_ASSIGN_OR_RETURN(SurfaceInfo surface, SurfaceStore(store).Find(options.surface));
   TB_ASSIGN_OR_RETURN(auto session, OpenSession(store, surface));
-  TB_ASSIGN_OR_RETURN(std::vector<EditorFeature> features, ReadFeatures(options, *session->crs));
+  PolygonAddReport total;
+  TB_ASSIGN_OR_RETURN(
+      std::vector<EditorFeature> features,
+      ReadFeatures(options, *session->crs, options.each ? &total.failures : nullptr));
+  if (features.empty() && !total.failures.empty())
+    return Status::InvalidArgument("no valid feature to add; the first: " + total.failures[0]);
   if (features.empty()) return Status::InvalidArgument(options.file + ": no features to add");
   if (!options.each) {
     std::vector<NewFeature> prepared;
@@ -253,7 +261,6 @@ Result<PolygonAddReport> AddPolygons(Store& store, const PolygonAddOptions& opti
     }
     return ApplyEdit(*session, std::move(prepared), {}, "polygon add", options.fault_hook);
   }
-  PolygonAddReport total;
   for (EditorFeature& f : features) {
     const std::string label = f.label;
     auto one = [&]() -> Result<PolygonAddReport> {

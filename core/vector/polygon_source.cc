@@ -202,8 +202,12 @@ Status ForEachFeature(
   open.layer->ResetReading();
   for (auto& feature : *open.layer) {
     const int64_t fid = feature->GetFID() != OGRNullFID ? feature->GetFID() : index;
-    TB_RETURN_IF_ERROR(visit(*feature, fid, open.name + " feature " + std::to_string(fid)));
+    Status visited = visit(*feature, fid, open.name + " feature " + std::to_string(fid));
     ++index;
+    if (visited.ok()) continue;
+    if (options.rejected == nullptr || visited.code() != StatusCode::kInvalidArgument)
+      return visited;
+    options.rejected->push_back(visited.message());
   }
   if (index == 0) {
     std::string msg = open.name + ": no features in layer '" + open.layer->GetName() + "'";

@@ -33,6 +33,10 @@ struct VectorSourceOptions {
   // polygonal parts of its result, so self-intersecting rings become valid polygons instead of
   // errors.
   bool repair = false;
+  // When set, a feature whose geometry is invalid (InvalidArgument) is listed here as
+  // "label: message" and skipped, and the read goes on (`polygon add --each`); unset, the first
+  // invalid feature fails the read. Errors of the source itself fail it either way.
+  std::vector<std::string>* rejected = nullptr;
 };
 
 struct PolygonFeature {

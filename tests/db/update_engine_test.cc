@@ -380,6 +380,37 @@ TEST_F(UpdateEngineTest, EachCommitsFeatureByFeature) {
   testing::ExpectStoreIntact(*store_, /*full=*/true);
 }
 
+TEST_F(UpdateEngineTest, EachReportsInvalidFeaturesAndAddsTheOthers) {
+  // Feature 1 is a bow tie: without --each it fails the whole file; with --each it is reported,
+  // naming the feature and ring, and features 0 and 2 are added.
+  const double d = 3 * kCell;
+  const PointList bow_tie = {{kCx - d, kCy - d},
+                             {kCx + d, kCy + d},
+                             {kCx + d, kCy - d},
+                             {kCx - d, kCy + d},
+                             {kCx - d, kCy - d}};
+  PolygonAddOptions o;
+  o.surface = "terrain";
+  o.mode = "fill";
+  o.tag = "unit";
+  o.file = WritePolygons(dir_, "three.geojson",
+                         {{Ngon(kCx - 12 * kCell, kCy, 4 * kCell, 12)},
+                          {bow_tie},
+                          {Ngon(kCx + 12 * kCell, kCy, 4 * kCell, 12)}});
+  auto whole = AddPolygons(*store_, o);
+  ASSERT_EQ(whole.status().code(), StatusCode::kInvalidArgument);
+  EXPECT_EQ(Int("SELECT count(*) FROM features"), 0);
+  o.each = true;
+  auto report = AddPolygons(*store_, o);
+  ASSERT_TRUE(report.ok()) << report.status().ToString();
+  EXPECT_EQ(report->features, 2);
+  ASSERT_EQ(report->failures.size(), 1u);
+  EXPECT_NE(report->failures[0].find("feature 1, ring 0"), std::string::npos)
+      << report->failures[0];
+  EXPECT_EQ(Int("SELECT count(*) FROM features"), 2);
+  testing::ExpectStoreIntact(*store_, /*full=*/true);
+}
+
 // Fault injection: fail the Nth write step, N = 1, 2, ... until the insert succeeds; every failed
 // attempt leaves the store byte-for-byte as it was and intact.
 TEST_F(UpdateEngineTest, FailureAtEveryWriteStepRollsBack) {
