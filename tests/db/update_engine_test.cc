@@ -340,13 +340,17 @@ TEST_F(UpdateEngineTest, BadInputLeavesTheStoreUnchanged) {
   EXPECT_EQ(testing::TableChecksums(dir_.Path("s.tinbase")), before);
 }
 
+// A self-intersecting ring (a figure of eight) of half-width d around the centre.
+PointList BowTie(double d) {
+  return {{kCx - d, kCy - d},
+          {kCx + d, kCy + d},
+          {kCx + d, kCy - d},
+          {kCx - d, kCy + d},
+          {kCx - d, kCy - d}};
+}
+
 TEST_F(UpdateEngineTest, RepairTurnsABowTieIntoTwoPolygons) {
-  const double d = 5 * kCell;
-  const PointList bow_tie = {{kCx - d, kCy - d},
-                             {kCx + d, kCy + d},
-                             {kCx + d, kCy - d},
-                             {kCx - d, kCy + d},
-                             {kCx - d, kCy - d}};
+  const PointList bow_tie = BowTie(5 * kCell);
   PolygonAddOptions o;
   o.surface = "terrain";
   o.mode = "fill";
@@ -383,12 +387,7 @@ TEST_F(UpdateEngineTest, EachCommitsFeatureByFeature) {
 TEST_F(UpdateEngineTest, EachReportsInvalidFeaturesAndAddsTheOthers) {
   // Feature 1 is a bow tie: without --each it fails the whole file; with --each it is reported,
   // naming the feature and ring, and features 0 and 2 are added.
-  const double d = 3 * kCell;
-  const PointList bow_tie = {{kCx - d, kCy - d},
-                             {kCx + d, kCy + d},
-                             {kCx + d, kCy - d},
-                             {kCx - d, kCy + d},
-                             {kCx - d, kCy - d}};
+  const PointList bow_tie = BowTie(3 * kCell);
   PolygonAddOptions o;
   o.surface = "terrain";
   o.mode = "fill";
