@@ -509,11 +509,52 @@ class Edit {
             }
           }
         }
+        if (!snapped) {
+          TB_ASSIGN_OR_RETURN(snapped, SnapOntoConstraint(t, snap, p));
+        }
         buckets[{bx, by}].push_back({p.x, p.y});
         located_.back().push_back(t);
       }
     }
     return Status::Ok();
+  }
+
+  // Moves `p` onto a kept constrained edge closer than `snap` (of triangle `t` or a neighbour, not
+  // near its ends, not on the domain boundary) and records that the edge is to be split there:
+  // left where it was, p would sit a hair beside the edge and make a sliver (or a crossing a
+  // hair away from it). Both triangles of the edge join R, so the split stays inside it. The
+  // projection lies on the edge only up to round-off, which the writer's walk along split
+  // constraints allows for.
+  Result<bool> SnapOntoConstraint(int64_t t, double snap, TinVertex& p) {
+    TB_ASSIGN_OR_RETURN(const MeshTriangle* holding, mesh_.Triangle(t));
+    std::vector<int64_t> candidates{t};
+    for (const std::optional<int64_t>& n : holding->n)
+      if (n) candidates.push_back(*n);
+    for (int64_t c : candidates) {
+      TB_ASSIGN_OR_RETURN(const MeshTriangle* tri, mesh_.Triangle(c));
+      const MeshTriangle here = *tri;
+      for (int i = 0; i < 3; ++i) {
+        if (!here.n[i]) continue;
+        const int64_t a = here.v[(i + 1) % 3], b = here.v[(i + 2) % 3];
+        if (removed_edges_.count(Key(a, b))) continue;
+        TB_ASSIGN_OR_RETURN(const std::vector<int64_t>* owners, mesh_.Owners(a, b));
+        if (owners->empty()) continue;
+        TB_ASSIGN_OR_RETURN(const Point2 pa, mesh_.At(a));
+        TB_ASSIGN_OR_RETURN(const Point2 pb, mesh_.At(b));
+        const double dx = pb.x - pa.x, dy = pb.y - pa.y, len = std::hypot(dx, dy);
+        if (len == 0) continue;
+        const double along = ((p.x - pa.x) * dx + (p.y - pa.y) * dy) / (len * len);
+        const double off = std::fabs((p.x - pa.x) * dy - (p.y - pa.y) * dx) / len;
+        const double ends = snap / len;
+        if (along <= ends || along >= 1 - ends || off > snap) continue;
+        p.x = pa.x + along * dx, p.y = pa.y + along * dy;
+        splits_[Key(a, b)].push_back({a < b ? along : 1 - along, Point2{p.x, p.y}});
+        AddToRegion(c);
+        AddToRegion(*here.n[i]);
+        return true;
+      }
+    }
+    return false;
   }
 
   // Every triangle a new segment touches (closed: a segment through a vertex takes its fan),
@@ -737,7 +778,7 @@ class Edit {
         const std::set<int64_t> removing(edit_.remove.begin(), edit_.remove.end());
         for (int64_t f : *owners)
           if (!removing.count(f)) kept.push_back(f);
-        cdt.InsertConstraint(local.at(e.first), local.at(e.second));
+        InsertSplitConstraint(cdt, e, local, patch);
         patch.old_constraints.push_back({e, kept});
       }
     }
@@ -791,6 +832,31 @@ class Edit {
     patch.inside = ClassifyInside(patch.tin, outline_local);
     local_ = std::move(local);
     return patch;
+  }
+
+  // Kept constraint e, through the new points snapped onto it (SnapOntoConstraint) in order.
+  void InsertSplitConstraint(Cdt& cdt, const Edge& e,
+                             const std::unordered_map<int64_t, uint32_t>& local,
+                             const LocalPatch& patch) {
+    std::vector<uint32_t> chain{local.at(e.first)};
+    if (auto it = splits_.find(e); it != splits_.end()) {
+      std::vector<std::pair<double, Point2>> points = it->second;
+      std::sort(points.begin(), points.end(),
+                [](const auto& l, const auto& r) { return l.first < r.first; });
+      for (const auto& [along, p] : points)
+        if (auto index = LocalIndexOfNewPoint(p, patch)) chain.push_back(*index);
+    }
+    chain.push_back(local.at(e.second));
+    for (size_t i = 0; i + 1 < chain.size(); ++i)
+      if (chain[i] != chain[i + 1]) cdt.InsertConstraint(chain[i], chain[i + 1]);
+  }
+
+  // The local index of the polyline point at exactly `p`, if any.
+  std::optional<uint32_t> LocalIndexOfNewPoint(const Point2& p, const LocalPatch& patch) const {
+    for (size_t l = 0; l < lines_.size(); ++l)
+      for (size_t i = 0; i < lines_[l].points.size(); ++i)
+        if (lines_[l].points[i].x == p.x && lines_[l].points[i].y == p.y) return patch.lines[l][i];
+    return std::nullopt;
   }
 
   // The outer triangles that must join R: across an outline edge that the patch no longer has
@@ -1201,6 +1267,8 @@ class Edit {
   std::unordered_set<int64_t> region_;  // R
   std::vector<int64_t> order_;          // R in the order found
   std::set<Edge> removed_edges_;
+  // Kept constraints that new points snapped onto: (position along min -> max id, point).
+  std::map<Edge, std::vector<std::pair<double, Point2>>> splits_;
   std::set<int64_t> dropped_;
   std::vector<Point2> new_points_;
   std::vector<TinVertex> carried_;  // refinement points of earlier rounds

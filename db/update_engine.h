@@ -43,8 +43,9 @@ struct EditPolyline {
 
 // A new point closer than kSnapCells DEM cells to an existing vertex (of the triangle holding it)
 // or to an earlier point of the same edit is moved onto it, and an existing vertex that close to
-// a new segment (not its ends) becomes a point of the segment. A new point near an existing
-// constraint but not on it is not moved: CGAL inserts it as it is (a short edge, not an error).
+// a new segment (not its ends) becomes a point of the segment. A new point that close to a kept
+// constrained edge (away from its ends and off the domain boundary) is moved onto it, and the
+// edge is split there for every feature that owns it.
 inline constexpr double kSnapCells = 1e-3;
 
 struct LocalEdit {

@@ -307,6 +307,55 @@ TEST_F(UpdateEngineTest, RegressionReaddRingAlongEarlierCrossing) {
   AddChecked(files[2], "fill");  // failed the full check before the fix
 }
 
+// A ring vertex a hair (0.3 snap distances) beside an earlier ring's constrained edge lands on
+// that edge, which is split there for its owner, instead of leaving a sliver beside it.
+TEST_F(UpdateEngineTest, PointNearAnExistingConstraintSnapsOntoIt) {
+  const PolygonAddReport a =
+      AddChecked(WritePolygons(dir_, "a.geojson", {{Ngon(kCx, kCy, 10 * kCell, 12)}}), "fill");
+  auto longest = store_->db().Prepare(
+      "SELECT c.va, c.vb, p.x, p.y, q.x, q.y FROM constraints c JOIN vertices p ON p.id = c.va "
+      "JOIN vertices q ON q.id = c.vb WHERE c.feature = ? "
+      "ORDER BY (q.x - p.x) * (q.x - p.x) + (q.y - p.y) * (q.y - p.y) DESC LIMIT 1");
+  ASSERT_TRUE(longest.ok());
+  Statement* edge = longest->get();
+  edge->Bind(1, a.first_feature_id);
+  ASSERT_TRUE(*edge->Step());
+  const int64_t va = edge->ColumnInt(0), vb = edge->ColumnInt(1);
+  const double mx = (edge->ColumnDouble(2) + edge->ColumnDouble(4)) / 2;
+  const double my = (edge->ColumnDouble(3) + edge->ColumnDouble(5)) / 2;
+  edge->Reset();
+  // Outward from a's centre, and along the edge.
+  const double ox = (mx - kCx) / std::hypot(mx - kCx, my - kCy);
+  const double oy = (my - kCy) / std::hypot(mx - kCx, my - kCy);
+  const double px = mx + ox * 0.3 * kSnapCells * kCell, py = my + oy * 0.3 * kSnapCells * kCell;
+  const PointList b = {{px, py},
+                       {px + 4 * kCell * ox + 2 * kCell * oy, py + 4 * kCell * oy - 2 * kCell * ox},
+                       {px + 4 * kCell * ox - 2 * kCell * oy, py + 4 * kCell * oy + 2 * kCell * ox},
+                       {px, py}};
+  const PolygonAddReport added = AddChecked(WritePolygons(dir_, "b.geojson", {{b}}), "fill");
+
+  EXPECT_EQ(Int("SELECT count(*) FROM constraints WHERE va = " + std::to_string(va) +
+                " AND vb = " + std::to_string(vb)),
+            0)
+      << "the edge the point snapped onto is still whole";
+  std::ostringstream on_edge;
+  on_edge.precision(17);
+  on_edge << "SELECT id FROM vertices WHERE abs(x - " << mx << ") < 1e-6 AND abs(y - " << my
+          << ") < 1e-6";
+  const int64_t split = Int(on_edge.str());
+  ASSERT_GT(split, 0) << "no vertex on the edge where b's vertex was";
+  for (int64_t end : {va, vb}) {
+    const std::string piece =
+        "SELECT count(*) FROM constraints WHERE va = " + std::to_string(std::min(end, split)) +
+        " AND vb = " + std::to_string(std::max(end, split));
+    EXPECT_EQ(Int(piece + " AND feature = " + std::to_string(a.first_feature_id)), 1);
+  }
+  EXPECT_GE(Int("SELECT count(*) FROM constraints WHERE feature = " +
+                std::to_string(added.first_feature_id) + " AND (va = " + std::to_string(split) +
+                " OR vb = " + std::to_string(split) + ")"),
+            2);
+}
+
 TEST_F(UpdateEngineTest, BadInputLeavesTheStoreUnchanged) {
   store_.reset();
   const auto before = testing::TableChecksums(dir_.Path("s.tinbase"));
