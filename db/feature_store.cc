@@ -148,14 +148,20 @@ Paint PaintFromFeatures(const std::vector<EditorFeature>& features, const Grid* 
 
 Paint PaintFromFeatures(const std::vector<EditorFeature>& features, CellSource* dem, Tin& tin) {
   tin.tags.clear();
+  Box reach;  // no feature outside it can hold a centroid or vertex of `tin`
+  for (const TinVertex& v : tin.vertices) reach.Add(Point2{v.x, v.y});
   std::map<std::string, int32_t> tag_index;
   std::vector<PaintedFeature> painted;
   for (const EditorFeature& f : features) {
     if (IsBreakline(f.mode)) continue;
     auto mode = ParsePaintMode(f.mode);
     if (!mode.ok()) continue;  // the schema's CHECK allows only the known modes
+    // A feature away from `tin` paints nothing of it, but a clip feature anywhere still means
+    // that clipping is on: it stays, with no polygons.
+    const bool near = BoxOf(f).Meets(reach);
+    if (!near && *mode != PaintMode::kClip) continue;
     PaintedFeature p;
-    p.polygons = f.polygons;
+    if (near) p.polygons = f.polygons;
     p.mode = *mode;
     p.level = f.level.value_or(0);
     if (f.tag) {

@@ -50,6 +50,9 @@ struct Box {
     Add(Point2{b.min_x, b.min_y}), Add(Point2{b.max_x, b.max_y});
   }
   bool empty() const { return !(min_x <= max_x); }
+  bool Meets(const Box& b) const {
+    return min_x <= b.max_x && b.min_x <= max_x && min_y <= b.max_y && b.min_y <= max_y;
+  }
   bool Contains(const Point2& p) const {
     return p.x >= min_x && p.x <= max_x && p.y >= min_y && p.y <= max_y;
   }

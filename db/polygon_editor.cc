@@ -117,6 +117,12 @@ struct SurfaceSession {
   std::optional<Crs> crs;
   DrapeOptions drape;
   ElevationFn elevation;
+  // The surface's features as they are after change `features_tx`: a load feature by feature
+  // (`--each`) hands them from one transaction to the next instead of reading and parsing them
+  // all again for every feature. Valid only while no other change came between (change numbers
+  // are consecutive); -1 when not known.
+  std::vector<EditorFeature> features;
+  int64_t features_tx = -1;
 };
 
 Result<std::unique_ptr<SurfaceSession>> OpenSession(Store& store, const SurfaceInfo& surface) {
@@ -159,12 +165,18 @@ Result<PolygonAddReport> ApplyEdit(SurfaceSession& session, std::vector<NewFeatu
                                    const FaultHook& hook) {
   Store& store = session.store;
   TB_ASSIGN_OR_RETURN(auto tx, store.BeginWrite());
-  TB_ASSIGN_OR_RETURN(std::vector<EditorFeature> existing, LoadFeatures(store, session.surface));
   Change change;
   change.surface = session.surface.id;
   change.action = action;
   PolygonAddReport report;
   TB_ASSIGN_OR_RETURN(report.tx, AppendChange(store, change));
+  std::vector<EditorFeature> existing;
+  if (session.features_tx >= 0 && report.tx == session.features_tx + 1) {
+    existing = std::move(session.features);
+  } else {
+    TB_ASSIGN_OR_RETURN(existing, LoadFeatures(store, session.surface));
+  }
+  session.features_tx = -1;  // until this edit commits
 
   // Clip polygons act as one union over the whole surface: adding or removing one can hide or
   // show triangles anywhere, so the paint area is then the whole DEM.
@@ -216,6 +228,8 @@ Result<PolygonAddReport> ApplyEdit(SurfaceSession& session, std::vector<NewFeatu
   update->Bind(4, box.min_x).Bind(5, box.min_y).Bind(6, box.max_x).Bind(7, box.max_y);
   TB_RETURN_IF_ERROR(update->Bind(8, report.tx).Run());
   TB_RETURN_IF_ERROR(tx->Commit());
+  session.features = std::move(edit.features);
+  session.features_tx = report.tx;
 
   report.features = static_cast<int64_t>(added.size());
   report.removed = result.removed;

@@ -65,7 +65,9 @@ Paint ComputePaint(const Tin& tin, const std::vector<PaintedFeature>& features) 
     assert(feature.tag == kNoTag ||
            (feature.tag >= 0 && static_cast<size_t>(feature.tag) < tin.tags.size()));
     const PolygonLocator locator(feature.polygons);
-    const std::vector<uint8_t> inside = InsideTriangles(tin, centroids, locator);
+    const std::vector<uint8_t> inside = feature.polygons.empty()
+                                            ? std::vector<uint8_t>(n, 0)
+                                            : InsideTriangles(tin, centroids, locator);
     switch (feature.mode) {
       case PaintMode::kClip:
         if (in_clip.empty()) in_clip.assign(n, 0);

@@ -433,6 +433,34 @@ TEST_F(UpdateEngineTest, EachCommitsFeatureByFeature) {
   testing::ExpectStoreIntact(*store_, /*full=*/true);
 }
 
+// `--each` hands the surface's features from one transaction to the next; a feature whose
+// transaction fails (here the third) must not linger in them: the paint of the later, overlapping
+// features is then checked against the stored features by the full check.
+TEST_F(UpdateEngineTest, EachForgetsTheFeatureOfAFailedTransaction) {
+  PolygonAddOptions o;
+  o.surface = "terrain";
+  o.mode = "fill";
+  o.tag_field = "unit";
+  o.each = true;
+  std::vector<std::vector<PointList>> rings;
+  for (int k = 0; k < 5; ++k) rings.push_back({Ngon(kCx + k * 2 * kCell, kCy, 5 * kCell, 14)});
+  o.file = WritePolygons(dir_, "five.geojson", rings);
+  int edits = 0;
+  o.fault_hook = [&edits](int step) {
+    if (step == 1) ++edits;
+    return edits == 3 && step == 1 ? Status::IOError("injected failure in the third edit")
+                                   : Status::Ok();
+  };
+  auto report = AddPolygons(*store_, o);
+  ASSERT_TRUE(report.ok()) << report.status().ToString();
+  EXPECT_EQ(report->features, 4);
+  ASSERT_EQ(report->failures.size(), 1u);
+  EXPECT_NE(report->failures[0].find("injected failure"), std::string::npos) << report->failures[0];
+  EXPECT_EQ(Int("SELECT count(*) FROM features"), 4);
+  EXPECT_EQ(Int("SELECT count(*) FROM features WHERE name = 'u2'"), 0);
+  testing::ExpectStoreIntact(*store_, /*full=*/true);
+}
+
 TEST_F(UpdateEngineTest, EachReportsInvalidFeaturesAndAddsTheOthers) {
   // Feature 1 is a bow tie: without --each it fails the whole file; with --each it is reported,
   // naming the feature and ring, and features 0 and 2 are added.
