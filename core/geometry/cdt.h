@@ -39,8 +39,8 @@ struct CdtFaceRef {
 // A vertex's Voronoi cell, read off the dual of the triangulation (paper 003 measures local
 // point density by it).
 struct VoronoiCell {
-  bool bounded = false;   // false for a vertex on the convex hull: its cell is unbounded
-  double area = 0;        // plan area of the cell when bounded, else 0
+  bool bounded = false;              // false for a vertex on the convex hull: its cell is unbounded
+  double area = 0;                   // plan area of the cell when bounded, else 0
   std::vector<uint32_t> neighbours;  // vertices sharing a triangulation edge, counter-clockwise
 };
 
@@ -63,9 +63,11 @@ class Cdt {
   std::vector<uint32_t> InsertVertices(const std::vector<TinVertex>& points);
 
   // Inserts one vertex, locating it by walking from `hint` (a face near the point; a default
-  // FaceRef starts anywhere). Returns its index (an existing one on a duplicate x, y). When
-  // `incident` is not null it receives the finite faces around the vertex, which after a
-  // Delaunay insertion are exactly the faces that insertion created or changed.
+  // FaceRef starts anywhere). Returns its index (an existing one on a duplicate x, y). Where the
+  // new vertex is co-circular with an edge's two apices, the diagonal that was there is kept
+  // (either is Delaunay; see KeepCocircularDiagonals in cdt.cc). When `incident` is not null it
+  // receives the finite faces the insertion created or changed: those around the vertex, and
+  // those across an edge kept that way.
   uint32_t InsertVertex(const TinVertex& point, FaceRef hint = {},
                         std::vector<FaceRef>* incident = nullptr);
 
