@@ -62,6 +62,7 @@ class RtinBuilder {
     while (span_ < std::max(width_, height_) - 1) span_ *= 2;
     side_ = span_ + 1;
     errors_.assign(static_cast<size_t>(side_) * static_cast<size_t>(side_), 0.0f);
+    own_bounds_.assign(errors_.size(), 0.0f);
   }
 
   Tin Build(RtinReport* report) {
@@ -89,6 +90,10 @@ class RtinBuilder {
   float& ErrorAt(Cell c) {
     return errors_[static_cast<size_t>(c.row) * static_cast<size_t>(side_) +
                    static_cast<size_t>(c.col)];
+  }
+  float& OwnBoundAt(Cell c) {
+    return own_bounds_[static_cast<size_t>(c.row) * static_cast<size_t>(side_) +
+                       static_cast<size_t>(c.col)];
   }
 
   bool OnLattice(Cell c) const {
@@ -139,17 +144,56 @@ class RtinBuilder {
   }
 
   // A diamond's error: the worst of its (one or two) triangles' own errors and of its child
-  // diamonds'. Only triangles whose apex is on the lattice exist.
+  // diamonds'. Only triangles whose apex is on the lattice exist. Select only asks whether it
+  // exceeds the tolerance, so the stored value is exact only where that needs it: it is above
+  // the tolerance exactly when the true error is, and when not above it is an upper bound of it.
   void SetDiamondError(Cell centre, const std::array<TreeTriangle, 2>& pair) {
     float error = 0;
+    float own = 0;  // its triangles' own errors (or bounds) alone
     for (const TreeTriangle& t : pair) {
       if (!OnLattice(t.apex)) continue;
-      error = std::max(error, RoundUpToFloat(OwnError(t)));
+      float children = 0;      // the child diamonds' errors
+      float children_own = 0;  // bounds on the child triangles' own errors
+      bool has_children = false;
       Cell child;
-      if (LatticeMidpoint(t.apex, t.a, &child)) error = std::max(error, ErrorAt(child));
-      if (LatticeMidpoint(t.b, t.apex, &child)) error = std::max(error, ErrorAt(child));
+      for (const auto& [p, q] : {std::pair{t.apex, t.a}, std::pair{t.b, t.apex}}) {
+        if (!LatticeMidpoint(p, q, &child)) continue;
+        children = std::max(children, ErrorAt(child));
+        children_own = std::max(children_own, OwnBoundAt(child));
+        has_children = true;
+      }
+      error = std::max(error, children);
+      if (children > tolerance_) continue;  // the diamond splits whatever t's own error is
+      const float t_own =
+          RoundUpToFloat(has_children ? OwnErrorOrBound(t, centre, children_own) : OwnError(t));
+      own = std::max(own, t_own);
+      error = std::max(error, t_own);
     }
     ErrorAt(centre) = error;
+    OwnBoundAt(centre) = own;
+  }
+
+  // t's own error, or a bound on the same side of the tolerance, without visiting t's cells
+  // where the bounds decide. t's children (split at the hypotenuse midpoint m) interpolate the
+  // DEM at m where t's plane is off by d; the two planes differ linearly, by at most d over
+  // each child, so own(t) <= children + d, where `children` bounds the children's own errors. And
+  // own(t) >= d when m holds data. Only between the two is every cell scanned.
+  double OwnErrorOrBound(const TreeTriangle& t, Cell m, double children) {
+    const std::array<Cell, 4> p = {t.a, t.b, t.apex, m};
+    // Nodata corners take a costly nearest-valid mean: leave them to OwnError's checks.
+    if (!Inside(t) ||
+        std::any_of(p.begin(), p.end(), [&](Cell c) { return !dem_.IsValid(c.col, c.row); }))
+      return OwnError(t);
+    CellPlane plane;
+    const bool planar = PlaneThrough({t.a, t.b, t.apex}, {Z(t.a), Z(t.b), Z(t.apex)}, &plane);
+    assert(planar);
+    (void)planar;
+    const double d = std::fabs(plane.At(m.col, m.row) - Z(m));
+    if (d > tolerance_) return d;
+    // The margin covers the round-off of the two plane evaluations.
+    const double bound = children + d + 1e-9 * (1 + std::fabs(Z(m)));
+    if (bound <= tolerance_) return bound;
+    return OwnError(t);
   }
 
   bool Inside(const TreeTriangle& t) const {
@@ -249,6 +293,7 @@ class RtinBuilder {
   int32_t span_ = 1;                // 2^k >= max(width, height) - 1
   int32_t side_ = 2;                // span_ + 1
   std::vector<float> errors_;       // by diamond centre on the padded lattice
+  std::vector<float> own_bounds_;   // likewise: bounds on its own triangles' errors only
   std::vector<int32_t> vertex_of_;  // by cell, -1 until emitted
 };
 
