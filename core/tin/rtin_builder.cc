@@ -74,7 +74,6 @@ class RtinBuilder {
     Select(TreeTriangle{far, origin, Cell{0, span_}}, tin);
     [[maybe_unused]] const bool linked = LinkNeighbours(tin);
     assert(linked);
-    HideNodataTriangles(dem_, tin);
     if (report != nullptr) {
       const CellFit fit = MeasureCellFit(dem_, tin);
       report->max_error = fit.max_error;
@@ -164,13 +163,30 @@ class RtinBuilder {
       }
       error = std::max(error, children);
       if (children > tolerance_) continue;  // the diamond splits whatever t's own error is
-      const float t_own =
-          RoundUpToFloat(has_children ? OwnErrorOrBound(t, centre, children_own) : OwnError(t));
+      const float t_own = RoundUpToFloat(has_children ? OwnErrorOrBound(t, centre, children_own)
+                                                      : LeafOwnError(t, centre));
       own = std::max(own, t_own);
       error = std::max(error, t_own);
     }
     ErrorAt(centre) = error;
     OwnBoundAt(centre) = own;
+  }
+
+  // OwnError of a finest triangle (hypotenuse two cells long, through cell m): it covers its
+  // corners and m only, so those four are evaluated directly, the same way the scan would.
+  double LeafOwnError(const TreeTriangle& t, Cell m) {
+    const std::array<Cell, 4> p = {t.a, t.b, t.apex, m};
+    if (!Inside(t) ||
+        std::any_of(p.begin(), p.end(), [&](Cell c) { return !dem_.IsValid(c.col, c.row); }))
+      return OwnError(t);
+    const auto z = [&](Cell c) -> double { return dem_.At(c.col, c.row); };
+    CellPlane plane;
+    const bool planar = PlaneThrough({t.a, t.b, t.apex}, {z(t.a), z(t.b), z(t.apex)}, &plane);
+    assert(planar);
+    (void)planar;
+    double worst = 0;
+    for (Cell c : p) worst = std::max(worst, std::fabs(plane.At(c.col, c.row) - z(c)));
+    return worst;
   }
 
   // t's own error, or a bound on the same side of the tolerance, without visiting t's cells
@@ -184,14 +200,13 @@ class RtinBuilder {
     if (!Inside(t) ||
         std::any_of(p.begin(), p.end(), [&](Cell c) { return !dem_.IsValid(c.col, c.row); }))
       return OwnError(t);
-    CellPlane plane;
-    const bool planar = PlaneThrough({t.a, t.b, t.apex}, {Z(t.a), Z(t.b), Z(t.apex)}, &plane);
-    assert(planar);
-    (void)planar;
-    const double d = std::fabs(plane.At(m.col, m.row) - Z(m));
+    // All four hold data, so their z is the DEM's. t's plane at the hypotenuse midpoint is the
+    // mean of the hypotenuse's ends; with float inputs this d is exact in double.
+    const auto z = [&](Cell c) -> double { return dem_.At(c.col, c.row); };
+    const double d = std::fabs((z(t.a) + z(t.b)) / 2 - z(m));
     if (d > tolerance_) return d;
-    // The margin covers the round-off of the two plane evaluations.
-    const double bound = children + d + 1e-9 * (1 + std::fabs(Z(m)));
+    // The margin covers the round-off of the plane evaluations that measure the true error.
+    const double bound = children + d + 1e-9 * (1 + std::fabs(z(m)));
     if (bound <= tolerance_) return bound;
     return OwnError(t);
   }
@@ -271,6 +286,11 @@ class RtinBuilder {
     TinTriangle tri;
     tri.v = {VertexIndex(t.a, tin), VertexIndex(ccw ? t.b : t.apex, tin),
              VertexIndex(ccw ? t.apex : t.b, tin)};
+    // Hidden when its centroid lies on nodata, as HideNodataTriangles decides: the centroid's
+    // nearest cell, (s + 1) / 3 being round(s / 3) for a sum s >= 0 (never a tie).
+    const int32_t col = (t.a.col + t.b.col + t.apex.col + 1) / 3;
+    const int32_t row = (t.a.row + t.b.row + t.apex.row + 1) / 3;
+    tri.visible = dem_.IsValid(col, row);
     tin.triangles.push_back(tri);
   }
 
