@@ -1,6 +1,10 @@
 #include "core/tin/feature_paint.h"
 
+#include <algorithm>
 #include <cassert>
+#include <cmath>
+#include <limits>
+#include <utility>
 
 #include "core/geometry/polygon_locator.h"
 
@@ -15,14 +19,71 @@ Point2 Centroid(const Tin& tin, const TinTriangle& t) {
   return {(a.x + b.x + c.x) / 3, (a.y + b.y + c.y) / 3};
 }
 
-// Each triangle's centroid is located once per feature; the locator's bounding-box test makes
-// features far away nearly free.
-std::vector<uint8_t> InsideTriangles(const Tin& tin, const std::vector<Point2>& centroids,
-                                     const PolygonLocator& locator) {
-  std::vector<uint8_t> inside(tin.triangles.size(), 0);
-  for (size_t t = 0; t < centroids.size(); ++t)
-    inside[t] = locator.Locate(centroids[t]) != PointInPolygon::kOutside;
-  return inside;
+// Points bucketed on a uniform grid (about four a bucket), so that a feature visits only the
+// centroids near its box instead of every triangle of the surface once per feature: a whole map
+// painted at once would otherwise cost triangles x features.
+class PointBuckets {
+ public:
+  explicit PointBuckets(const std::vector<Point2>& points) {
+    if (points.empty()) return;
+    min_x_ = max_x_ = points[0].x, min_y_ = max_y_ = points[0].y;
+    for (const Point2& p : points) {
+      min_x_ = std::min(min_x_, p.x), max_x_ = std::max(max_x_, p.x);
+      min_y_ = std::min(min_y_, p.y), max_y_ = std::max(max_y_, p.y);
+    }
+    const double side = std::sqrt(static_cast<double>(points.size()) / 4.0);
+    across_ = std::clamp<int64_t>(static_cast<int64_t>(side), 1, 4096);
+    size_x_ = std::max((max_x_ - min_x_) / static_cast<double>(across_), 1e-300);
+    size_y_ = std::max((max_y_ - min_y_) / static_cast<double>(across_), 1e-300);
+    begin_.assign(static_cast<size_t>(across_ * across_ + 1), 0);
+    for (const Point2& p : points) ++begin_[Bucket(p) + 1];
+    for (size_t b = 1; b < begin_.size(); ++b) begin_[b] += begin_[b - 1];
+    std::vector<uint32_t> next(begin_.begin(), begin_.end() - 1);
+    ids_.resize(points.size());
+    for (uint32_t i = 0; i < points.size(); ++i) ids_[next[Bucket(points[i])]++] = i;
+  }
+
+  // Calls fn(id) for every point whose bucket meets [min, max] (a superset of those inside).
+  template <typename Fn>
+  void ForEachNear(const Point2& min, const Point2& max, Fn&& fn) const {
+    if (ids_.empty() || max.x < min_x_ || min.x > max_x_ || max.y < min_y_ || min.y > max_y_)
+      return;
+    const int64_t c0 = Column(min.x), c1 = Column(max.x), r0 = Row(min.y), r1 = Row(max.y);
+    for (int64_t r = r0; r <= r1; ++r)
+      for (uint32_t k = begin_[r * across_ + c0]; k < begin_[r * across_ + c1 + 1]; ++k)
+        fn(ids_[k]);
+  }
+
+ private:
+  // Clamped as doubles first: a box far outside would overflow the integer.
+  int64_t Column(double x) const {
+    return static_cast<int64_t>(
+        std::clamp((x - min_x_) / size_x_, 0.0, static_cast<double>(across_ - 1)));
+  }
+  int64_t Row(double y) const {
+    return static_cast<int64_t>(
+        std::clamp((y - min_y_) / size_y_, 0.0, static_cast<double>(across_ - 1)));
+  }
+  size_t Bucket(const Point2& p) const {
+    return static_cast<size_t>(Row(p.y) * across_ + Column(p.x));
+  }
+
+  double min_x_ = 0, min_y_ = 0, max_x_ = 0, max_y_ = 0, size_x_ = 1, size_y_ = 1;
+  int64_t across_ = 1;
+  std::vector<uint32_t> begin_;  // CSR: bucket b holds ids_[begin_[b], begin_[b + 1])
+  std::vector<uint32_t> ids_;
+};
+
+// The plan-view box of the polygons' shells (holes lie inside them).
+std::pair<Point2, Point2> ShellBox(const std::vector<Polygon>& polygons) {
+  Point2 min{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+  Point2 max{-min.x, -min.y};
+  for (const Polygon& polygon : polygons)
+    for (const Point2& p : polygon.shell) {
+      min.x = std::min(min.x, p.x), min.y = std::min(min.y, p.y);
+      max.x = std::max(max.x, p.x), max.y = std::max(max.y, p.y);
+    }
+  return {min, max};
 }
 
 }  // namespace
@@ -61,36 +122,38 @@ Paint ComputePaint(const Tin& tin, const std::vector<PaintedFeature>& features) 
   std::vector<uint8_t> in_clip;
   std::vector<uint8_t> replaced(tin.vertices.size(), 0);
   std::vector<double> level(tin.vertices.size(), 0);
+  const PointBuckets buckets(centroids);
   for (const PaintedFeature& feature : features) {
     assert(feature.tag == kNoTag ||
            (feature.tag >= 0 && static_cast<size_t>(feature.tag) < tin.tags.size()));
+    if (feature.mode == PaintMode::kClip && in_clip.empty()) in_clip.assign(n, 0);
+    if (feature.polygons.empty()) continue;
     const PolygonLocator locator(feature.polygons);
-    const std::vector<uint8_t> inside = feature.polygons.empty()
-                                            ? std::vector<uint8_t>(n, 0)
-                                            : InsideTriangles(tin, centroids, locator);
-    switch (feature.mode) {
-      case PaintMode::kClip:
-        if (in_clip.empty()) in_clip.assign(n, 0);
-        for (size_t t = 0; t < n; ++t) in_clip[t] |= inside[t];
-        break;
-      case PaintMode::kErase:
-        for (size_t t = 0; t < n; ++t)
-          if (inside[t]) paint.visible[t] = 0;
-        break;
-      case PaintMode::kReplace:
-        // A vertex on the ring is part of the flat replaced area, so boundary counts.
-        for (uint32_t v = 0; v < tin.vertices.size(); ++v) {
-          const TinVertex& p = tin.vertices[v];
-          if (locator.Locate({p.x, p.y}) == PointInPolygon::kOutside) continue;
-          replaced[v] = 1;
-          level[v] = feature.level;
-        }
-        [[fallthrough]];
-      case PaintMode::kFill:
-        for (size_t t = 0; t < n; ++t)
-          if (inside[t]) paint.tag[t] = feature.tag;
-        break;
+    if (feature.mode == PaintMode::kReplace) {
+      // A vertex on the ring is part of the flat replaced area, so boundary counts.
+      for (uint32_t v = 0; v < tin.vertices.size(); ++v) {
+        const TinVertex& p = tin.vertices[v];
+        if (locator.Locate({p.x, p.y}) == PointInPolygon::kOutside) continue;
+        replaced[v] = 1;
+        level[v] = feature.level;
+      }
     }
+    const auto [min, max] = ShellBox(feature.polygons);
+    buckets.ForEachNear(min, max, [&](uint32_t t) {
+      if (locator.Locate(centroids[t]) == PointInPolygon::kOutside) return;
+      switch (feature.mode) {
+        case PaintMode::kClip:
+          in_clip[t] = 1;
+          break;
+        case PaintMode::kErase:
+          paint.visible[t] = 0;
+          break;
+        case PaintMode::kReplace:
+        case PaintMode::kFill:
+          paint.tag[t] = feature.tag;
+          break;
+      }
+    });
   }
   if (!in_clip.empty()) {
     for (size_t t = 0; t < n; ++t)
