@@ -10,6 +10,7 @@
 #include <random>
 #include <set>
 
+#include "core/geometry/predicates.h"
 #include "tests/support/tin_checks.h"
 
 namespace tinbase {
@@ -116,6 +117,68 @@ TEST(CdtTest, IncidentFacesAreTheStarOfTheNewVertex) {
   cdt.SetFaceStamp(incident[0], 12345);
   EXPECT_EQ(cdt.FaceStamp(incident[0]), 12345u);
   ExpectValid(tin);
+}
+
+std::set<std::array<uint32_t, 3>> FaceSet(const Tin& tin) {
+  std::set<std::array<uint32_t, 3>> faces;
+  for (const TinTriangle& t : tin.triangles) {
+    std::array<uint32_t, 3> key = t.v;
+    std::sort(key.begin(), key.end());
+    faces.insert(key);
+  }
+  return faces;
+}
+
+// On a grid every cell's corners are co-circular, so either diagonal is Delaunay. A new vertex
+// keeps the diagonals that were there (as strict in-circle flips do) rather than taking CGAL's
+// symbolic perturbation: no edge from it ends up as the diagonal of a co-circular quad. And
+// every face the insertion made, including those across a kept diagonal, is reported.
+TEST(CdtTest, NewVertexKeepsCoCircularDiagonals) {
+  constexpr int kSide = 9;
+  const auto at = [](int c, int r) { return TinVertex{500000.0 + 10 * c, 5000000.0 + 10 * r, 0}; };
+  Cdt cdt;
+  cdt.InsertVertices({at(0, 0), at(kSide - 1, 0), at(0, kSide - 1), at(kSide - 1, kSide - 1)});
+  std::vector<TinVertex> inner;
+  for (int r = 0; r < kSide; ++r)
+    for (int c = 0; c < kSide; ++c)
+      if ((c % (kSide - 1) != 0) || (r % (kSide - 1) != 0)) inner.push_back(at(c, r));
+  std::mt19937 rng(11);
+  std::shuffle(inner.begin(), inner.end(), rng);
+  int tied_quads_seen = 0;
+  for (const TinVertex& p : inner) {
+    const auto before = FaceSet(cdt.ToTin());
+    std::vector<Cdt::FaceRef> incident;
+    const uint32_t v = cdt.InsertVertex(p, {}, &incident);
+    std::set<std::array<uint32_t, 3>> reported;
+    for (Cdt::FaceRef f : incident) {
+      std::array<uint32_t, 3> key = cdt.FaceVertices(f);
+      std::sort(key.begin(), key.end());
+      reported.insert(key);
+    }
+    const Tin tin = cdt.ToTin();
+    for (const auto& face : FaceSet(tin)) {
+      if (before.count(face)) continue;
+      EXPECT_TRUE(reported.count(face)) << "an unreported new face";
+    }
+    for (const TinTriangle& t : tin.triangles) {
+      for (int i = 0; i < 3; ++i) {
+        // The edge opposite v[i], if it comes from v, with the apex across it.
+        const uint32_t a = t.v[(i + 1) % 3], b = t.v[(i + 2) % 3];
+        if ((a != v && b != v) || t.n[i] == kNoNeighbour) continue;
+        const TinTriangle& u = tin.triangles[t.n[i]];
+        uint32_t apex = u.v[0];
+        for (uint32_t w : u.v)
+          if (w != a && w != b) apex = w;
+        const auto& q = tin.vertices;
+        const int side = InCircle({q[t.v[0]].x, q[t.v[0]].y}, {q[t.v[1]].x, q[t.v[1]].y},
+                                  {q[t.v[2]].x, q[t.v[2]].y}, {q[apex].x, q[apex].y});
+        EXPECT_NE(side, 0) << "vertex " << v << " took a co-circular diagonal";
+        tied_quads_seen += side == 0;
+      }
+    }
+    ExpectValid(tin);
+  }
+  EXPECT_EQ(tied_quads_seen, 0);
 }
 
 TEST(CdtTest, CollinearInputHasNoTriangles) {
