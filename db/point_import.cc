@@ -16,20 +16,25 @@ Result<PointImportReport> ImportPoints(Store& store, const PointImportOptions& o
   tin_options.classes = options.classes;
   tin_options.thin = options.thin;
   tin_options.thinning = options.thresholds;
-  TB_ASSIGN_OR_RETURN(PointTin built, BuildPointTin(options.file, tin_options, store_crs));
+  TB_ASSIGN_OR_RETURN(PointSet points, ReadPoints(options.file, tin_options, store_crs));
 
   PointImportReport report;
-  report.points = built.report;
-  if (built.crs) report.crs = built.crs->Label();
-  if (!store_crs && built.crs) {
-    TB_RETURN_IF_ERROR(store.SetCrs(*built.crs));
+  report.points = points.report;
+  if (points.crs) report.crs = points.crs->Label();
+  if (!store_crs && points.crs) {
+    TB_RETURN_IF_ERROR(store.SetCrs(*points.crs));
     report.adopted_crs = true;
   }
   SurfaceInfo spec;
   spec.name = options.surface;
   spec.kind = SurfaceKind::kDelaunay;
   spec.method = options.thin ? "lidar-voronoi-thinned" : "lidar";
-  TB_ASSIGN_OR_RETURN(SurfaceInfo created, SurfaceStore(store).Create(spec, built.tin));
+  // The report is filled in on the triangulating thread; CreateWhileTriangulating has joined it
+  // before it returns.
+  TB_ASSIGN_OR_RETURN(SurfaceInfo created,
+                      SurfaceStore(store).CreateWhileTriangulating(spec, points.vertices, [&] {
+                        return TriangulatePoints(options.file, points.vertices, &report.points);
+                      }));
   report.surface_id = created.id;
   TB_RETURN_IF_ERROR(tx->Commit());
   return report;

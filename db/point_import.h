@@ -1,9 +1,11 @@
 // PointImport: a LiDAR (LAS) or XYZ point file to a new `delaunay` surface of `lidar` vertices.
 //
-// One write transaction: read the file and build its TIN (core/pointcloud/point_tin.h: class
-// filter, reprojection to the store's CRS, optional Voronoi density thinning, bulk Delaunay),
-// adopt the file's CRS when the store has none yet, write the surface with SurfaceStore::Create.
-// Nothing is written on any error. Thread-safety: as Store (one per thread).
+// One write transaction: read the file's points (core/pointcloud/point_tin.h: class filter,
+// reprojection to the store's CRS, duplicates out, optional Voronoi density thinning), adopt the
+// file's CRS when the store has none yet, then bulk-Delaunay the points on a second thread while
+// the vertex rows are written (SurfaceStore::CreateWhileTriangulating) and write the triangles.
+// Nothing is written on any error. Thread-safety: as Store (one per thread); uses one extra
+// thread of its own during the import.
 #pragma once
 
 #include <cstdint>

@@ -92,6 +92,15 @@ class SurfaceStore {
   // coordinate is not finite. REQUIRES: inside a WriteTransaction; `tin`'s neighbour links are
   // consistent (LinkNeighbours).
   Result<SurfaceInfo> Create(const SurfaceInfo& spec, const Tin& tin);
+  // As Create, for a bulk import whose triangles are still to be computed from `vertices`:
+  // `triangulate` runs on a second thread while this one writes the surface and vertex rows
+  // (for LiDAR points the two take about as long), then the triangles it returns are written.
+  // Errors: Create's, and those `triangulate` returns; InvalidArgument when the Tin it returns
+  // does not have exactly `vertices` as its vertices, in order. REQUIRES: inside a
+  // WriteTransaction; `triangulate` touches no store.
+  Result<SurfaceInfo> CreateWhileTriangulating(const SurfaceInfo& spec,
+                                               const std::vector<TinVertex>& vertices,
+                                               const std::function<Result<Tin>()>& triangulate);
   // Replaces every vertex, triangle and constraint row of `surface` by `tin` (features and
   // changes stay). The surface keeps its block grid (blocks clamp at the grid's edge, so a larger
   // `tin` stays correct, only coarser to search). Returns the new ids. InvalidArgument when

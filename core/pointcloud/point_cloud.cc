@@ -33,7 +33,7 @@ std::vector<CloudPoint> SelectPoints(const PointCloud& cloud, const ClassSelecti
   if (selection.classes.empty()) return cloud.points;
   std::vector<CloudPoint> out;
   for (const CloudPoint& p : cloud.points) {
-    if (selection.classes.count(p.classification)) out.push_back(p);
+    if (selection.Keeps(p.classification)) out.push_back(p);
   }
   return out;
 }

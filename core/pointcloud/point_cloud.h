@@ -34,6 +34,10 @@ struct PointCloud {
 struct ClassSelection {
   std::set<uint8_t> classes;  // empty = every point
   std::string description;    // "classes 2", "ground (class 2)", "all points (no class 2)"
+
+  bool Keeps(uint8_t classification) const {
+    return classes.empty() || classes.count(classification) > 0;
+  }
 };
 
 // The classes to keep: `requested` when given (non-empty); otherwise ground (class 2) when any

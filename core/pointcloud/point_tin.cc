@@ -19,11 +19,29 @@ std::string LowerExtension(const std::string& path) {
   return ext;
 }
 
-std::vector<TinVertex> ToVertices(const std::vector<CloudPoint>& points) {
+// The selected points as TIN vertices, copied once from the cloud.
+std::vector<TinVertex> SelectedVertices(const PointCloud& cloud, const ClassSelection& selection) {
   std::vector<TinVertex> vertices;
-  vertices.reserve(points.size());
-  for (const CloudPoint& p : points) vertices.push_back({p.x, p.y, p.z, VertexKind::kLidar});
+  vertices.reserve(selection.classes.empty() ? cloud.points.size() : 0);
+  for (const CloudPoint& p : cloud.points) {
+    if (selection.Keeps(p.classification)) vertices.push_back({p.x, p.y, p.z, VertexKind::kLidar});
+  }
   return vertices;
+}
+
+// Sorts `vertices` by x, then y, and leaves out each one at the x, y of an earlier one in input
+// order (the stable sort puts that one first among equals): the vertex Cdt::InsertVertices keeps
+// too. The x, y order is also the one the store writes vertex rows in. Returns how many went.
+size_t SortDroppingDuplicates(std::vector<TinVertex>& vertices) {
+  std::stable_sort(vertices.begin(), vertices.end(), [](const TinVertex& a, const TinVertex& b) {
+    return a.x != b.x ? a.x < b.x : a.y < b.y;
+  });
+  const auto end =
+      std::unique(vertices.begin(), vertices.end(),
+                  [](const TinVertex& a, const TinVertex& b) { return a.x == b.x && a.y == b.y; });
+  const size_t dropped = static_cast<size_t>(vertices.end() - end);
+  vertices.erase(end, vertices.end());
+  return dropped;
 }
 
 }  // namespace
@@ -41,23 +59,25 @@ Result<PointCloud> ReadPointFile(const std::string& path, std::string* format) {
   return ReadXyz(path);
 }
 
-Result<PointTin> BuildPointTin(const std::string& path, const PointTinOptions& options,
-                               const std::optional<Crs>& target) {
-  PointTin out;
+Result<PointSet> ReadPoints(const std::string& path, const PointTinOptions& options,
+                            const std::optional<Crs>& target) {
+  PointSet out;
   PointTinReport& report = out.report;
-  TB_ASSIGN_OR_RETURN(PointCloud cloud, ReadPointFile(path, &report.format));
-  report.points_in = cloud.points.size();
-  const ClassSelection selection = ChooseClasses(cloud, options.classes);
-  report.classes = selection.description;
-  std::vector<TinVertex> vertices = ToVertices(SelectPoints(cloud, selection));
-  report.selected = vertices.size();
-
-  out.crs = target ? target : cloud.crs;
-  if (target && cloud.crs && !cloud.crs->IsSame(*target)) {
-    TB_RETURN_IF_ERROR(ReprojectXy(*cloud.crs, *target, vertices).WithContext(path));
-    ConvertHeightUnits(*cloud.crs, *target, vertices);
-    report.reprojected_from = cloud.crs->Label();
+  std::vector<TinVertex>& vertices = out.vertices;
+  {
+    TB_ASSIGN_OR_RETURN(PointCloud cloud, ReadPointFile(path, &report.format));
+    report.points_in = cloud.points.size();
+    const ClassSelection selection = ChooseClasses(cloud, options.classes);
+    report.classes = selection.description;
+    vertices = SelectedVertices(cloud, selection);
+    out.crs = target ? target : cloud.crs;
+    if (target && cloud.crs && !cloud.crs->IsSame(*target)) {
+      TB_RETURN_IF_ERROR(ReprojectXy(*cloud.crs, *target, vertices).WithContext(path));
+      ConvertHeightUnits(*cloud.crs, *target, vertices);
+      report.reprojected_from = cloud.crs->Label();
+    }
   }
+  report.selected = vertices.size();
 
   if (options.thin) {
     auto thinned = ThinByVoronoiDensity(vertices, options.thinning);
@@ -69,19 +89,34 @@ Result<PointTin> BuildPointTin(const std::string& path, const PointTinOptions& o
     report.duplicates = thinned->report.duplicates;
     report.dropped = thinned->report.dropped;
     report.cell_area_threshold = thinned->report.cell_area_threshold;
+  } else {
+    report.duplicates = SortDroppingDuplicates(vertices);
   }
+  return out;
+}
 
+Result<Tin> TriangulatePoints(const std::string& path, const std::vector<TinVertex>& points,
+                              PointTinReport* report) {
   Cdt cdt;
-  cdt.InsertVertices(vertices);
-  out.tin = cdt.ToTin();
-  if (!options.thin) report.duplicates = vertices.size() - out.tin.vertices.size();
-  report.kept = out.tin.vertices.size();
-  report.triangles = out.tin.triangles.size();
-  if (out.tin.triangles.empty()) {
-    return Status::InvalidArgument(path + ": the " + std::to_string(report.kept) + " points of " +
-                                   report.classes +
+  cdt.InsertVertices(points);
+  Tin tin = cdt.ToTin();
+  report->kept = tin.vertices.size();
+  report->triangles = tin.triangles.size();
+  if (tin.triangles.empty()) {
+    return Status::InvalidArgument(path + ": the " + std::to_string(report->kept) + " points of " +
+                                   report->classes +
                                    " span no triangle (fewer than three, or all collinear)");
   }
+  return tin;
+}
+
+Result<PointTin> BuildPointTin(const std::string& path, const PointTinOptions& options,
+                               const std::optional<Crs>& target) {
+  TB_ASSIGN_OR_RETURN(PointSet points, ReadPoints(path, options, target));
+  PointTin out;
+  out.crs = std::move(points.crs);
+  out.report = std::move(points.report);
+  TB_ASSIGN_OR_RETURN(out.tin, TriangulatePoints(path, points.vertices, &out.report));
   return out;
 }
 

@@ -1,15 +1,18 @@
 // PointTin: a point file (LAS or XYZ) to a Delaunay TIN of `lidar` vertices, in memory.
 //
-// The steps db/point_import runs before it writes: read the file, keep the chosen classes,
-// reproject to the target CRS, optionally thin by Voronoi density (voronoi_thinning.h), and
-// bulk-Delaunay the survivors through the Cdt adapter (spatially sorted insertion). Kept apart
-// from the store so all of it can be tested without one. Stateless; thread-safe.
+// The steps db/point_import runs around its writes: read the file, keep the chosen classes,
+// reproject to the target CRS, drop duplicate x, y, optionally thin by Voronoi density
+// (voronoi_thinning.h) (ReadPoints), and bulk-Delaunay the survivors through the Cdt adapter
+// (spatially sorted insertion; TriangulatePoints). The two halves are apart so the import can
+// write the vertices while the triangulation runs. Kept apart from the store so all of it can be
+// tested without one. Stateless; thread-safe.
 #pragma once
 
 #include <cstdint>
 #include <optional>
 #include <set>
 #include <string>
+#include <vector>
 
 #include "core/base/status.h"
 #include "core/geometry/crs.h"
@@ -38,6 +41,13 @@ struct PointTinReport {
   std::string reprojected_from;    // the file's CRS label when it was reprojected, else empty
 };
 
+// The points of a file, ready to triangulate: no two at the same x, y.
+struct PointSet {
+  std::vector<TinVertex> vertices;  // kind kLidar; in x, y order unless thinned (input order)
+  std::optional<Crs> crs;           // as PointTin::crs
+  PointTinReport report;            // all but kept and triangles
+};
+
 struct PointTin {
   Tin tin;                  // every vertex kind kLidar; neighbours linked
   std::optional<Crs> crs;   // the TIN's CRS: the target when given, else the file's
@@ -49,11 +59,23 @@ struct PointTin {
 // ReadXyz.
 Result<PointCloud> ReadPointFile(const std::string& path, std::string* format);
 
-// Builds the TIN of the file's points. `target` is the CRS the TIN must be in (the store's), or
-// nullopt to keep the file's; a file without a CRS (XYZ, or LAS without projection records) is
-// taken to be in `target` already. Errors: those of ReadPointFile, ReprojectXy and
-// ThinByVoronoiDensity (with the file named); InvalidArgument when the kept points span no
-// triangle (fewer than three distinct points, or all collinear).
+// Everything BuildPointTin does before the triangulation. Without thinning the points come out
+// sorted by x, then y, each duplicate x, y left out but the first in file order. Errors as
+// BuildPointTin's but the last.
+Result<PointSet> ReadPoints(const std::string& path, const PointTinOptions& options,
+                            const std::optional<Crs>& target);
+
+// The Delaunay TIN of `points`, whose vertices are points.vertices in order; fills
+// report->kept and report->triangles. InvalidArgument naming `path` when the points span no
+// triangle. REQUIRES: no two points at the same x, y (as ReadPoints gives them).
+Result<Tin> TriangulatePoints(const std::string& path, const std::vector<TinVertex>& points,
+                              PointTinReport* report);
+
+// Builds the TIN of the file's points (ReadPoints, then TriangulatePoints). `target` is the CRS the
+// TIN must be in (the store's), or nullopt to keep the file's; a file without a CRS (XYZ, or LAS
+// without projection records) is taken to be in `target` already. Errors: those of ReadPointFile,
+// ReprojectXy and ThinByVoronoiDensity (with the file named); InvalidArgument when the kept points
+// span no triangle (fewer than three distinct points, or all collinear).
 Result<PointTin> BuildPointTin(const std::string& path, const PointTinOptions& options,
                                const std::optional<Crs>& target);
 

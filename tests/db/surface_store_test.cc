@@ -290,6 +290,63 @@ TEST_F(SurfaceStoreTest, ReplaceSwapsTheRowsOfOneSurfaceOnly) {
   ExpectStoreIntact(*store_);
 }
 
+// The bulk path (triangles computed on a second thread while the vertices are written) stores
+// what Create stores, block grid included (its first guess at the triangle count is corrected).
+TEST_F(SurfaceStoreTest, CreateWhileTriangulatingStoresWhatCreateStores) {
+  const Tin tin = testing::RandomDelaunayTin({.points = 5000, .seed = 11});
+  const SurfaceInfo reference = CreateSurface("reference", SurfaceKind::kDelaunay, tin);
+  auto tx = store_->BeginWrite();
+  ASSERT_TRUE(tx.ok());
+  SurfaceInfo spec;
+  spec.name = "bulk";
+  spec.kind = SurfaceKind::kDelaunay;
+  spec.method = "test";
+  auto info = SurfaceStore(*store_).CreateWhileTriangulating(spec, tin.vertices,
+                                                             [&]() -> Result<Tin> { return tin; });
+  ASSERT_TRUE(info.ok()) << info.status().ToString();
+  ASSERT_TRUE((*tx)->Commit().ok());
+  auto found = SurfaceStore(*store_).Find("bulk");
+  ASSERT_TRUE(found.ok());
+  EXPECT_EQ(found->blocks.origin_x, reference.blocks.origin_x);
+  EXPECT_EQ(found->blocks.origin_y, reference.blocks.origin_y);
+  EXPECT_EQ(found->blocks.size, reference.blocks.size);
+  auto loaded = SurfaceStore(*store_).Load(*found);
+  ASSERT_TRUE(loaded.ok()) << loaded.status().ToString();
+  ExpectSameTin(tin, loaded->tin);
+  ExpectStoreIntact(*store_);
+}
+
+// A triangulation that fails, or returns other vertices than those written, leaves nothing once
+// the transaction rolls back.
+TEST_F(SurfaceStoreTest, CreateWhileTriangulatingPassesErrorsOnAndChecksVertices) {
+  const Tin tin = testing::RandomDelaunayTin({.points = 500, .seed = 3});
+  Tin moved = tin;
+  moved.vertices[17].x += 0.25;
+  SurfaceInfo spec;
+  spec.name = "bulk";
+  spec.kind = SurfaceKind::kDelaunay;
+  spec.method = "test";
+  {
+    auto tx = store_->BeginWrite();
+    ASSERT_TRUE(tx.ok());
+    auto failed = SurfaceStore(*store_).CreateWhileTriangulating(
+        spec, tin.vertices, []() -> Result<Tin> { return Status::InvalidArgument("no triangle"); });
+    EXPECT_EQ(failed.status().message(), "no triangle");
+  }
+  {
+    auto tx = store_->BeginWrite();
+    ASSERT_TRUE(tx.ok());
+    auto other = SurfaceStore(*store_).CreateWhileTriangulating(
+        spec, tin.vertices, [&]() -> Result<Tin> { return moved; });
+    EXPECT_EQ(other.status().code(), StatusCode::kInvalidArgument);
+    EXPECT_EQ(other.status().message(),
+              "surface 'bulk': the triangulation's vertices are not the ones written");
+  }
+  EXPECT_EQ(SurfaceStore(*store_).Find("bulk").status().code(), StatusCode::kNotFound);
+  EXPECT_EQ(*store_->db().QueryInt("SELECT count(*) FROM vertices"), 0);
+  ExpectStoreIntact(*store_);
+}
+
 // A million triangles write, load back whole and check clean (speed is bench/'s business).
 TEST_F(SurfaceStoreTest, AMillionTrianglesRoundTrip) {
   const Tin tin = testing::PerturbedGridTin(708, 708, 9, 10.0);  // 2 * 707^2 = 999698 triangles

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <fstream>
 #include <iostream>
@@ -164,6 +165,36 @@ TEST(PointTin, XyzFileHasNoCrsUnlessTheTargetGivesOne) {
   ASSERT_TRUE(in_store.ok());
   EXPECT_TRUE(in_store->report.reprojected_from.empty());
   EXPECT_EQ(in_store->tin.vertices[1].x, built->tin.vertices[1].x);
+}
+
+// ReadPoints hands the points over sorted by x, then y, without duplicates (the first in file
+// order stays), and BuildPointTin's TIN has exactly those vertices.
+TEST(PointTin, ReadPointsSortsAndDropsDuplicatesKeepingTheFirst) {
+  testing::TempDir dir;
+  const std::string path = dir.Path("pts.xyz");
+  {
+    std::ofstream out(path);
+    out << "5 0 1\n0 5 2\n0 0 3\n5 5 4\n0 0 5\n2 2 6\n5 0 7\n";
+  }
+  auto points = ReadPoints(path, {}, std::nullopt);
+  ASSERT_TRUE(points.ok()) << points.status().ToString();
+  EXPECT_EQ(points->report.selected, 7u);
+  EXPECT_EQ(points->report.duplicates, 2u);
+  const std::vector<std::array<double, 3>> expected = {
+      {0, 0, 3}, {0, 5, 2}, {2, 2, 6}, {5, 0, 1}, {5, 5, 4}};
+  ASSERT_EQ(points->vertices.size(), expected.size());
+  for (size_t i = 0; i < expected.size(); ++i) {
+    EXPECT_EQ(points->vertices[i].x, expected[i][0]) << i;
+    EXPECT_EQ(points->vertices[i].y, expected[i][1]) << i;
+    EXPECT_EQ(points->vertices[i].z, expected[i][2]) << i;
+    EXPECT_EQ(points->vertices[i].kind, VertexKind::kLidar) << i;
+  }
+  auto built = BuildPointTin(path, {}, std::nullopt);
+  ASSERT_TRUE(built.ok()) << built.status().ToString();
+  ASSERT_EQ(built->tin.vertices.size(), expected.size());
+  for (size_t i = 0; i < expected.size(); ++i) EXPECT_EQ(built->tin.vertices[i].z, expected[i][2]);
+  EXPECT_EQ(built->report.kept, 5u);
+  EXPECT_EQ(built->report.triangles, 4u);
 }
 
 TEST(PointTin, ErrorsNameTheFile) {

@@ -68,6 +68,35 @@ TEST(XyzReader, ErrorsNameTheLine) {
   }
 }
 
+// The reader takes the input a few MiB at a time: lines that straddle a chunk's end, a last
+// line without '\n' and a line number past the first chunk must come out as in one piece.
+TEST(XyzReader, LinesAcrossChunksAndNoFinalNewline) {
+  std::string text = "# header comment\n";
+  int64_t lines = 1;
+  int64_t count = 0;
+  while (text.size() < (size_t{20} << 20)) {  // past two chunks
+    text += std::to_string(count) + ".25 " + std::to_string(2 * count) + " 7\n";
+    ++count;
+    ++lines;
+  }
+  text += "1 2 3";  // no final newline
+  ++count;
+  ++lines;
+  auto cloud = Parse(text);
+  ASSERT_TRUE(cloud.ok()) << cloud.status().ToString();
+  ASSERT_EQ(cloud->points.size(), static_cast<size_t>(count));
+  for (int64_t i = 0; i + 1 < count; ++i) {
+    ASSERT_EQ(cloud->points[i].x, static_cast<double>(i) + 0.25) << i;
+    ASSERT_EQ(cloud->points[i].y, static_cast<double>(2 * i)) << i;
+  }
+  EXPECT_EQ(cloud->points.back().z, 3);
+
+  auto bad = Parse(text + "\n4 five 6\n");
+  ASSERT_FALSE(bad.ok());
+  EXPECT_EQ(bad.status().message(),
+            "pts.xyz, line " + std::to_string(lines + 1) + ": y 'five' is not a number");
+}
+
 TEST(XyzReader, MissingFile) {
   auto cloud = ReadXyz("/nonexistent/points.xyz");
   EXPECT_EQ(cloud.status().code(), StatusCode::kIOError);
