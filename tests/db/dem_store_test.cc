@@ -1186,20 +1186,33 @@ TEST_F(Mosaic, KillNineMidImportLeavesWholeImportsOnly) {
   store.reset();
 
   std::mt19937 rng(20261122);
-  std::uniform_int_distribution<int> delay_ms(5, 150);
+  std::uniform_int_distribution<int> delay_ms(0, 40);
   std::set<std::string> seen;
   for (int round = 0; round < 12; ++round) {
+    int done[2];  // the child writes a byte after each whole import
+    ASSERT_EQ(pipe(done), 0);
     const pid_t child = fork();
     ASSERT_GE(child, 0);
     if (child == 0) {
+      close(done[0]);
       auto s = Store::Open(path);
       if (!s.ok()) _exit(2);
       DemStore dems(**s);
-      for (int i = 0;; ++i)
+      for (int i = 0;; ++i) {
         if (!dems.Import({i % 2 ? original_path : raised_path}, Options("v", 32)).ok()) _exit(3);
+        if (write(done[1], "x", 1) != 1) _exit(4);
+      }
+    }
+    close(done[1]);
+    // Kill during the import after the first (raised) or second (original) one is whole, at a
+    // random moment of it: timing alone would depend on how loaded the machine is.
+    for (int whole = 0; whole < 1 + round % 2; ++whole) {
+      char byte = 0;
+      ASSERT_EQ(read(done[0], &byte, 1), 1) << "the importing child died";
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms(rng)));
     ASSERT_EQ(kill(child, SIGKILL), 0);
+    close(done[0]);
     int status = 0;
     ASSERT_EQ(waitpid(child, &status, 0), child);
     ASSERT_TRUE(WIFSIGNALED(status)) << "the importing child stopped by itself: " << status;
