@@ -13,7 +13,9 @@
 // triangulation of the stored vertices and constraints. Triangles outside R keep their ids and
 // rows except the neighbour links that cross R's outline; visibility and tags of the triangles
 // around the changed features are recomputed (db/feature_store PaintFromFeatures) and updated
-// where they differ; replace features set the z of the vertices they cover.
+// where they differ: triangle by triangle near a ring or nodata, and a whole centroid block at
+// a time, unread, where no ring comes near (core/tin/ring_blocks); replace features set the z
+// of the vertices they cover.
 //
 // Ownership: borrows the Store; all writes happen inside the caller's WriteTransaction, so an
 // error (or the fault hook) leaves the rollback to it. Not thread-safe; one edit at a time.
