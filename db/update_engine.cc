@@ -17,6 +17,7 @@
 #include "core/tin/ring_blocks.h"
 #include "core/tin/tolerance_refiner.h"
 #include "db/point_locator.h"
+#include "db/sqlite/unchecked_foreign_keys.h"
 
 namespace tinbase {
 
@@ -335,13 +336,14 @@ struct LocalPatch {
 class Edit {
  public:
   Edit(Store& store, const SurfaceInfo& surface, DemStore& dems, const DemInfo& dem,
-       const LocalEdit& edit, const FaultHook& hook)
+       const LocalEdit& edit, const FaultHook& hook, std::unique_ptr<ScopedPageCache>& page_cache)
       : store_(store),
         surface_(surface),
         dems_(dems),
         dem_(dem),
         edit_(edit),
         hook_(hook),
+        page_cache_(page_cache),
         mesh_(store, surface),
         locator_(store, surface),
         levels_(edit.features),
@@ -934,6 +936,14 @@ class Edit {
   Status Write(const LocalPatch& patch) {
     SqliteDb& db = store_.db();
     const Tin& tin = patch.tin;
+    if (!page_cache_ || !page_cache_->raised()) {
+      // Rows deleted, inserted and repainted; a uniform block holds about the builders' number.
+      const auto inserted = static_cast<size_t>(
+          std::count(patch.inside.begin(), patch.inside.end(), uint8_t{1}));
+      const size_t rows = order_.size() + inserted + around_.size() +
+                          uniform_blocks_.size() * BlockGrid::kDefaultPerBlock;
+      page_cache_ = std::make_unique<ScopedPageCache>(db, rows);
+    }
     std::vector<int64_t> ids = patch.store_ids;
     std::unordered_set<int64_t> new_ids;
     {
@@ -1237,7 +1247,8 @@ class Edit {
 
   // The uniform blocks' triangles, never read: the block index holds their ids (it covers the
   // query), and one UPDATE per run of consecutive ids walks the table in order, twice as fast as
-  // an UPDATE through the index, which looks every row up. Rows that already have the paint are
+  // an UPDATE through the index, which looks every row up; unchecked foreign keys halve it again
+  // (db/sqlite/unchecked_foreign_keys.h). Rows that already have the paint are
   // not rewritten (the patch's new triangles have theirs; a block whose paint depends on no
   // changed feature is skipped before this, but one under an added clip may keep its paint).
   Status WriteUniformRepaints() {
@@ -1247,6 +1258,8 @@ class Edit {
       TB_ASSIGN_OR_RETURN(int64_t id, InternTag(store_, value));
       tag_ids.push_back(id);
     }
+    // Every tag id bound below was interned just now, in this transaction.
+    TB_ASSIGN_OR_RETURN(UncheckedForeignKeys unchecked, UncheckedForeignKeys::Begin(store_.db()));
     TB_ASSIGN_OR_RETURN(Statement * repaint,
                         store_.db().Cached("UPDATE triangles SET visible = ?1, tag = ?2 WHERE "
                                            "id BETWEEN ?3 AND ?4 AND "
@@ -1296,6 +1309,7 @@ class Edit {
   const DemInfo& dem_;
   const LocalEdit& edit_;
   const FaultHook& hook_;
+  std::unique_ptr<ScopedPageCache>& page_cache_;  // the engine's: it outlives the commit
   StoredMesh mesh_;
   PointLocator locator_;  // valid until Write: every lookup comes before it
   ReplaceLevels levels_;
@@ -1334,7 +1348,7 @@ UpdateEngine::UpdateEngine(Store& store, const SurfaceInfo& surface, DemStore& d
 UpdateEngine::~UpdateEngine() = default;
 
 Result<EditResult> UpdateEngine::Apply(const LocalEdit& edit) {
-  Edit run(store_, surface_, dems_, dem_, edit, fault_hook_);
+  Edit run(store_, surface_, dems_, dem_, edit, fault_hook_, page_cache_);
   return run.Run();
 }
 
