@@ -468,11 +468,22 @@ class Edit {
     const auto bucket = [snap](double v) { return static_cast<int64_t>(std::floor(v / snap)); };
     for (EditPolyline& line : lines_) {
       located_.emplace_back();
+      std::optional<int64_t> previous;  // the triangle holding the previous point
       for (size_t i = 0; i < line.points.size(); ++i) {
         TinVertex& p = line.points[i];
         const std::string what =
             "feature " + std::to_string(line.feature) + ", point " + std::to_string(i);
-        TB_ASSIGN_OR_RETURN(int64_t t, Locate({p.x, p.y}, what));
+        // Draped ring points lie a DEM cell or less apart, often several in one triangle; a
+        // point strictly inside the previous point's triangle lies in no other, so the locator
+        // would return that triangle: no walk.
+        bool same = false;
+        if (previous) {
+          TB_ASSIGN_OR_RETURN(same, StrictlyInside(*previous, {p.x, p.y}));
+        }
+        int64_t t = previous.value_or(0);
+        if (!same) {
+          TB_ASSIGN_OR_RETURN(t, Locate({p.x, p.y}, what));
+        }
         TB_ASSIGN_OR_RETURN(const MeshTriangle* tri, mesh_.Triangle(t));
         bool snapped = false;
         for (int64_t v : tri->v) {
@@ -499,6 +510,7 @@ class Edit {
         }
         buckets[{bx, by}].push_back({p.x, p.y});
         located_.back().push_back(t);
+        previous = t;
       }
     }
     return Status::Ok();
@@ -560,6 +572,13 @@ class Edit {
   Result<bool> Meets(int64_t t, const Point2& p, const Point2& q) {
     TB_ASSIGN_OR_RETURN(Corners3 c, Corners(t));
     return SegmentMeetsTriangle(p, q, c[0], c[1], c[2]);
+  }
+
+  // True when `p` lies inside stored triangle `t`, off its edges (exact).
+  Result<bool> StrictlyInside(int64_t t, const Point2& p) {
+    TB_ASSIGN_OR_RETURN(Corners3 c, Corners(t));
+    return Orientation(c[0], c[1], p) > 0 && Orientation(c[1], c[2], p) > 0 &&
+           Orientation(c[2], c[0], p) > 0;
   }
 
   Result<Corners3> Corners(int64_t t) {
