@@ -9,6 +9,8 @@
 #include <numeric>
 #include <unordered_map>
 
+#include "db/sqlite/scoped_page_cache.h"
+
 namespace tinbase {
 
 namespace {
@@ -106,29 +108,6 @@ Result<std::vector<int64_t>> TagIds(SqliteDb& db, const Tin& tin) {
   }
   return ids;
 }
-
-// Raises the connection's page cache while a bulk write runs. The vertices' (surface, x, y) index
-// is written in an order unrelated to ids, so with SQLite's default 2 MB cache most inserts of a
-// million-row surface fetch pages from the OS; 64 MB holds a few million rows' index pages.
-class ScopedPageCache {
- public:
-  ScopedPageCache(SqliteDb& db, size_t rows) : db_(db) {
-    if (rows < kThresholdRows) return;
-    auto previous = db_.QueryInt("PRAGMA cache_size");
-    // A positive cache_size counts pages, a negative one KiB; only grow a KiB-sized cache.
-    if (!previous.ok() || *previous >= 0 || *previous <= kCacheSize) return;
-    if (db_.Exec("PRAGMA cache_size = " + std::to_string(kCacheSize)).ok()) previous_ = *previous;
-  }
-  ~ScopedPageCache() {
-    if (previous_) (void)db_.Exec("PRAGMA cache_size = " + std::to_string(*previous_));
-  }
-
- private:
-  static constexpr size_t kThresholdRows = 50000;
-  static constexpr int64_t kCacheSize = -65536;  // negative: KiB
-  SqliteDb& db_;
-  std::optional<int64_t> previous_;
-};
 
 // Writes `rows` rows through multi-row INSERTs of kBatchRows rows each, then single-row ones for
 // the rest. `bind_row(stmt, first, r)` binds row r's values to parameters first, first + 1, ...

@@ -13,8 +13,11 @@
 #include "core/geometry/polygon_locator.h"
 #include "core/geometry/predicates.h"
 #include "core/tin/cell_cover.h"
+#include "core/tin/feature_paint.h"
+#include "core/tin/ring_blocks.h"
 #include "core/tin/tolerance_refiner.h"
 #include "db/point_locator.h"
+#include "db/sqlite/unchecked_foreign_keys.h"
 
 namespace tinbase {
 
@@ -79,27 +82,6 @@ class StoredMesh {
     return &vertices_.emplace(id, v).first->second;
   }
 
-  // Reads every vertex inside `box` with one range scan of the (surface, x, y) index: the scan
-  // reads the whole x-slab, so it pays only when the box spans a good part of the surface's
-  // height (the caller decides).
-  Status PreloadVertices(const Box& box) {
-    TB_ASSIGN_OR_RETURN(Statement * stmt,
-                        store_.db().Cached("SELECT id, x, y, z, kind FROM vertices WHERE "
-                                           "surface = ? AND x BETWEEN ? AND ? AND y BETWEEN ? "
-                                           "AND ?"));
-    stmt->Bind(1, surface_.id).Bind(2, box.min_x).Bind(3, box.max_x).Bind(4, box.min_y);
-    stmt->Bind(5, box.max_y);
-    for (;;) {
-      TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
-      if (!row) break;
-      TinVertex v{stmt->ColumnDouble(1), stmt->ColumnDouble(2), stmt->ColumnDouble(3)};
-      if (!ParseVertexKind(stmt->ColumnText(4), &v.kind)) v.kind = VertexKind::kUser;
-      vertices_.emplace(stmt->ColumnInt(0), v);
-    }
-    stmt->Reset();
-    return Status::Ok();
-  }
-
   Result<Point2> At(int64_t vertex) {
     TB_ASSIGN_OR_RETURN(const TinVertex* v, Vertex(vertex));
     return Point2{v->x, v->y};
@@ -142,27 +124,30 @@ class StoredMesh {
 
   // The triangles whose centroid block meets `box` (through the block index).
   Result<std::vector<int64_t>> TrianglesInBox(const Box& box) {
+    const BlockGrid& g = surface_.blocks;
+    const int64_t bx0 = g.ColumnOf(box.min_x), bx1 = g.ColumnOf(box.max_x);
+    std::vector<int64_t> ids;
+    for (int64_t by = g.RowOf(box.min_y); by <= g.RowOf(box.max_y); ++by)
+      TB_RETURN_IF_ERROR(TrianglesInBlocks(by, bx0, bx1, &ids));
+    return ids;
+  }
+
+  // Appends the triangles whose centroid block is one of (bx0..bx1, by) to `ids`.
+  Status TrianglesInBlocks(int64_t by, int64_t bx0, int64_t bx1, std::vector<int64_t>* ids) {
     TB_ASSIGN_OR_RETURN(
         Statement * stmt,
         store_.db().Cached("SELECT v0, v1, v2, n0, n1, n2, visible, tag, id FROM "
                            "triangles WHERE surface = ? AND block BETWEEN ? AND ?"));
-    const BlockGrid& g = surface_.blocks;
-    const int64_t bx0 = g.ColumnOf(box.min_x), bx1 = g.ColumnOf(box.max_x);
-    std::vector<int64_t> ids;
-    for (int64_t by = g.RowOf(box.min_y); by <= g.RowOf(box.max_y); ++by) {
-      stmt->Bind(1, surface_.id)
-          .Bind(2, BlockGrid::Pack(bx0, by))
-          .Bind(3, BlockGrid::Pack(bx1, by));
-      for (;;) {
-        TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
-        if (!row) break;
-        const int64_t id = stmt->ColumnInt(8);
-        if (!triangles_.count(id)) Remember(id, *stmt, 0);
-        ids.push_back(id);
-      }
-      stmt->Reset();
+    stmt->Bind(1, surface_.id).Bind(2, BlockGrid::Pack(bx0, by)).Bind(3, BlockGrid::Pack(bx1, by));
+    for (;;) {
+      TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
+      if (!row) break;
+      const int64_t id = stmt->ColumnInt(8);
+      if (!triangles_.count(id)) Remember(id, *stmt, 0);
+      ids->push_back(id);
     }
-    return ids;
+    stmt->Reset();
+    return Status::Ok();
   }
 
   // The triangles around `vertex`, starting from `start` (one of them), counter-clockwise;
@@ -351,13 +336,14 @@ struct LocalPatch {
 class Edit {
  public:
   Edit(Store& store, const SurfaceInfo& surface, DemStore& dems, const DemInfo& dem,
-       const LocalEdit& edit, const FaultHook& hook)
+       const LocalEdit& edit, const FaultHook& hook, std::unique_ptr<ScopedPageCache>& page_cache)
       : store_(store),
         surface_(surface),
         dems_(dems),
         dem_(dem),
         edit_(edit),
         hook_(hook),
+        page_cache_(page_cache),
         mesh_(store, surface),
         locator_(store, surface),
         levels_(edit.features),
@@ -451,9 +437,11 @@ class Edit {
     for (int64_t id : edit_.remove) {
       auto f = LoadFeature(store_, surface_, id);  // REQUIRES of Apply: the row still exists
       if (!f.ok()) return f.status();
-      if (f->mode != "replace") continue;
-      polygons.insert(polygons.end(), f->polygons.begin(), f->polygons.end());
-      box.Add(BoxOf(*f));
+      removed_features_.push_back(std::move(*f));
+      const EditorFeature& removed = removed_features_.back();
+      if (removed.mode != "replace") continue;
+      polygons.insert(polygons.end(), removed.polygons.begin(), removed.polygons.end());
+      box.Add(BoxOf(removed));
     }
     if (polygons.empty()) return Status::Ok();
     restore_ = std::make_unique<PolygonLocator>(polygons);
@@ -480,11 +468,22 @@ class Edit {
     const auto bucket = [snap](double v) { return static_cast<int64_t>(std::floor(v / snap)); };
     for (EditPolyline& line : lines_) {
       located_.emplace_back();
+      std::optional<int64_t> previous;  // the triangle holding the previous point
       for (size_t i = 0; i < line.points.size(); ++i) {
         TinVertex& p = line.points[i];
         const std::string what =
             "feature " + std::to_string(line.feature) + ", point " + std::to_string(i);
-        TB_ASSIGN_OR_RETURN(int64_t t, Locate({p.x, p.y}, what));
+        // Draped ring points lie a DEM cell or less apart, often several in one triangle; a
+        // point strictly inside the previous point's triangle lies in no other, so the locator
+        // would return that triangle: no walk.
+        bool same = false;
+        if (previous) {
+          TB_ASSIGN_OR_RETURN(same, StrictlyInside(*previous, {p.x, p.y}));
+        }
+        int64_t t = previous.value_or(0);
+        if (!same) {
+          TB_ASSIGN_OR_RETURN(t, Locate({p.x, p.y}, what));
+        }
         TB_ASSIGN_OR_RETURN(const MeshTriangle* tri, mesh_.Triangle(t));
         bool snapped = false;
         for (int64_t v : tri->v) {
@@ -514,6 +513,7 @@ class Edit {
         }
         buckets[{bx, by}].push_back({p.x, p.y});
         located_.back().push_back(t);
+        previous = t;
       }
     }
     return Status::Ok();
@@ -615,6 +615,13 @@ class Edit {
     return SegmentMeetsTriangle(p, q, c[0], c[1], c[2]);
   }
 
+  // True when `p` lies inside stored triangle `t`, off its edges (exact).
+  Result<bool> StrictlyInside(int64_t t, const Point2& p) {
+    TB_ASSIGN_OR_RETURN(Corners3 c, Corners(t));
+    return Orientation(c[0], c[1], p) > 0 && Orientation(c[1], c[2], p) > 0 &&
+           Orientation(c[2], c[0], p) > 0;
+  }
+
   Result<Corners3> Corners(int64_t t) {
     TB_ASSIGN_OR_RETURN(const MeshTriangle* tri, mesh_.Triangle(t));
     Corners3 c;
@@ -667,20 +674,87 @@ class Edit {
     return false;
   }
 
-  // The stored triangles whose paint may change (centroid blocks meeting the changed features),
-  // and the box the DEM window must cover for their data test.
+  // Where the paint of stored triangles may change, block by block (centroid blocks,
+  // core/tin/ring_blocks.h) over the changed features' box. Paint is a function of the features
+  // holding a triangle's centroid (and of nodata), so a block no changed ring comes near and
+  // whose centre no changed polygon holds keeps its paint and is skipped (a clip feature changes
+  // paint everywhere: skipping is off). A block no ring of any feature comes near, over DEM data
+  // only, takes one paint for all its triangles: it is repainted by one statement in Write
+  // without being read. The rest ("mixed" blocks) are read and painted triangle by triangle, as
+  // are all blocks when a changed feature sets vertex z (replace), since z is per vertex.
   Status FindPaintArea() {
     if (edit_.changed.empty()) return Status::Ok();
-    // A point lookup costs a few rows of a scan: with the box over more than half of the DEM's
-    // height (measured: a quarter is too little), one slab scan beats a lookup per vertex.
-    const GridGeometry& g = dem_.geometry;
-    if (edit_.changed.max_y - edit_.changed.min_y > 0.5 * (g.MaxY() - g.MinY())) {
-      const double margin = 2 * surface_.blocks.size;  // triangles reach about a block beyond
-      TB_RETURN_IF_ERROR(
-          mesh_.PreloadVertices({edit_.changed.min_x - margin, edit_.changed.min_y - margin,
-                                 edit_.changed.max_x + margin, edit_.changed.max_y + margin}));
+    const BlockGrid& g = surface_.blocks;
+    const BlockWindow window{g.ColumnOf(edit_.changed.min_x), g.RowOf(edit_.changed.min_y),
+                             g.ColumnOf(edit_.changed.max_x), g.RowOf(edit_.changed.max_y)};
+    std::set<int64_t> added_ids;
+    for (const EditPolyline& line : edit_.add) added_ids.insert(line.feature);
+    std::vector<Polygon> changed;
+    bool anywhere = false, per_triangle = false;
+    RingBlocks near_any(g, window);
+    const auto note = [&](const EditorFeature& f, bool is_changed) {
+      if (IsBreakline(f.mode) || !ParsePaintMode(f.mode).ok()) return;
+      near_any.AddRings(f.polygons);
+      if (!is_changed) return;
+      changed.insert(changed.end(), f.polygons.begin(), f.polygons.end());
+      anywhere |= f.mode == "clip";
+      per_triangle |= f.mode == "replace";
+    };
+    for (const EditorFeature& f : edit_.features) note(f, added_ids.count(f.id) > 0);
+    for (const EditorFeature& f : removed_features_) note(f, true);
+    RingBlocks near_changed(g, window);
+    near_changed.AddRings(changed);
+    const PolygonLocator inside_changed(changed);
+
+    // The DEM under the window, for the data test of whole blocks; read only if one may be.
+    std::optional<Grid> window_dem;
+    const auto on_data = [&](const Point2& c) -> Result<bool> {
+      if (!window_dem) {
+        const double cell = std::max(dem_.geometry.cell_x, std::fabs(dem_.geometry.cell_y));
+        const Point2 low = near_any.Centre(window.bx0, window.by0);
+        const Point2 high = near_any.Centre(window.bx1, window.by1);
+        TB_ASSIGN_OR_RETURN(window_dem, dems_.ReadWindow(dem_, {low.x - g.size - cell,
+                                                                low.y - g.size - cell,
+                                                                high.x + g.size + cell,
+                                                                high.y + g.size + cell}));
+      }
+      const double half = g.size / 2 + RingBlocks::kMargin * g.size;
+      return BoxOnData(*window_dem, c.x - half, c.y - half, c.x + half, c.y + half);
+    };
+    Tin centres;  // one point-like triangle per uniform block, at its centre
+    for (int64_t by = window.by0; by <= window.by1; ++by) {
+      int64_t run = -1;  // first block of the current run of mixed blocks in this row
+      for (int64_t bx = window.bx0; bx <= window.bx1 + 1; ++bx) {
+        bool mixed = false;
+        if (bx <= window.bx1) {
+          const Point2 c = near_any.Centre(bx, by);
+          const bool may_change = anywhere || near_changed.Near(bx, by) ||
+                                  inside_changed.Locate(c) != PointInPolygon::kOutside;
+          bool uniform = may_change && !per_triangle && !near_any.Near(bx, by);
+          if (uniform) {
+            TB_ASSIGN_OR_RETURN(uniform, on_data(c));
+          }
+          if (uniform) {
+            uniform_blocks_.push_back(BlockGrid::Pack(bx, by));
+            const uint32_t v = static_cast<uint32_t>(centres.vertices.size());
+            centres.vertices.push_back({c.x, c.y, 0});
+            centres.triangles.push_back(TinTriangle{{v, v, v}});
+          } else {
+            mixed = may_change;
+          }
+        }
+        if (mixed && run < 0) run = bx;
+        if (!mixed && run >= 0) {
+          TB_RETURN_IF_ERROR(mesh_.TrianglesInBlocks(by, run, bx - 1, &around_));
+          run = -1;
+        }
+      }
     }
-    TB_ASSIGN_OR_RETURN(around_, mesh_.TrianglesInBox(edit_.changed));
+    if (!uniform_blocks_.empty()) {
+      uniform_paint_ =
+          PaintFromFeatures(edit_.features, static_cast<const Grid*>(nullptr), centres);
+      uniform_tags_ = std::move(centres.tags);
+    }
     paint_box_ = edit_.changed;
     for (int64_t t : around_) {
       TB_ASSIGN_OR_RETURN(Corners3 c, Corners(t));
@@ -947,6 +1021,14 @@ class Edit {
   Status Write(const LocalPatch& patch) {
     SqliteDb& db = store_.db();
     const Tin& tin = patch.tin;
+    if (!page_cache_ || !page_cache_->raised()) {
+      // Rows deleted, inserted and repainted; a uniform block holds about the builders' number.
+      const auto inserted = static_cast<size_t>(
+          std::count(patch.inside.begin(), patch.inside.end(), uint8_t{1}));
+      const size_t rows = order_.size() + inserted + around_.size() +
+                          uniform_blocks_.size() * BlockGrid::kDefaultPerBlock;
+      page_cache_ = std::make_unique<ScopedPageCache>(db, rows);
+    }
     std::vector<int64_t> ids = patch.store_ids;
     std::unordered_set<int64_t> new_ids;
     {
@@ -1200,6 +1282,7 @@ class Edit {
         repaints.push_back({kept_around[j], visible, tag});
     }
     TB_RETURN_IF_ERROR(WriteRepaints(std::move(repaints)));
+    TB_RETURN_IF_ERROR(WriteUniformRepaints());
     for (const auto& [id, index] : painted_vertex) {
       (void)index;
       // R's vertices (existing or new) already have their z.
@@ -1247,12 +1330,71 @@ class Edit {
     return Status::Ok();
   }
 
+  // The uniform blocks' triangles, never read: the block index holds their ids (it covers the
+  // query), and one UPDATE per run of consecutive ids walks the table in order, twice as fast as
+  // an UPDATE through the index, which looks every row up; unchecked foreign keys halve it again
+  // (db/sqlite/unchecked_foreign_keys.h). Rows that already have the paint are
+  // not rewritten (the patch's new triangles have theirs; a block whose paint depends on no
+  // changed feature is skipped before this, but one under an added clip may keep its paint).
+  Status WriteUniformRepaints() {
+    if (uniform_blocks_.empty()) return Status::Ok();
+    std::vector<std::optional<int64_t>> tag_ids;
+    for (const std::string& value : uniform_tags_) {
+      TB_ASSIGN_OR_RETURN(int64_t id, InternTag(store_, value));
+      tag_ids.push_back(id);
+    }
+    // Every tag id bound below was interned just now, in this transaction.
+    TB_ASSIGN_OR_RETURN(UncheckedForeignKeys unchecked, UncheckedForeignKeys::Begin(store_.db()));
+    TB_ASSIGN_OR_RETURN(Statement * repaint,
+                        store_.db().Cached("UPDATE triangles SET visible = ?1, tag = ?2 WHERE "
+                                           "id BETWEEN ?3 AND ?4 AND "
+                                           "(visible IS NOT ?1 OR tag IS NOT ?2)"));
+    TB_ASSIGN_OR_RETURN(Statement * ids_of,
+                        store_.db().Cached("SELECT id FROM triangles WHERE surface = ? AND block "
+                                           "BETWEEN ? AND ?"));
+    std::vector<int64_t> ids;
+    const auto same = [&](size_t a, size_t b) {
+      return uniform_paint_.visible[a] == uniform_paint_.visible[b] &&
+             uniform_paint_.tag[a] == uniform_paint_.tag[b];
+    };
+    for (size_t first = 0; first < uniform_blocks_.size();) {
+      size_t last = first;
+      while (last + 1 < uniform_blocks_.size() &&
+             uniform_blocks_[last + 1] == uniform_blocks_[last] + 1 && same(first, last + 1))
+        ++last;
+      ids.clear();
+      ids_of->Bind(1, surface_.id).Bind(2, uniform_blocks_[first]).Bind(3, uniform_blocks_[last]);
+      for (;;) {
+        TB_ASSIGN_OR_RETURN(bool row, ids_of->Step());
+        if (!row) break;
+        ids.push_back(ids_of->ColumnInt(0));
+      }
+      ids_of->Reset();
+      std::sort(ids.begin(), ids.end());
+      for (size_t a = 0; a < ids.size();) {
+        size_t b = a;
+        while (b + 1 < ids.size() && ids[b + 1] == ids[b] + 1) ++b;
+        repaint->Bind(1, int64_t{uniform_paint_.visible[first] ? 1 : 0});
+        if (uniform_paint_.tag[first] == kNoTag)
+          repaint->BindNull(2);
+        else
+          repaint->Bind(2, *tag_ids[uniform_paint_.tag[first]]);
+        TB_RETURN_IF_ERROR(repaint->Bind(3, ids[a]).Bind(4, ids[b]).Run());
+        result_.repainted += store_.db().Changes();
+        a = b + 1;
+      }
+      first = last + 1;
+    }
+    return Status::Ok();
+  }
+
   Store& store_;
   const SurfaceInfo& surface_;
   DemStore& dems_;
   const DemInfo& dem_;
   const LocalEdit& edit_;
   const FaultHook& hook_;
+  std::unique_ptr<ScopedPageCache>& page_cache_;  // the engine's: it outlives the commit
   StoredMesh mesh_;
   PointLocator locator_;  // valid until Write: every lookup comes before it
   ReplaceLevels levels_;
@@ -1261,7 +1403,11 @@ class Edit {
   std::unique_ptr<PolygonLocator> restore_;    // removed replace features: z back from the DEM
   std::vector<EditPolyline> lines_;            // edit.add, snapped
   std::vector<std::vector<int64_t>> located_;  // a triangle holding each point of lines_
-  std::vector<int64_t> around_;                // stored triangles whose paint may change
+  std::vector<EditorFeature> removed_features_;  // rows of edit.remove, as stored
+  std::vector<int64_t> around_;  // stored triangles of mixed blocks whose paint may change
+  std::vector<int64_t> uniform_blocks_;  // blocks repainted whole, in (by, bx) order
+  Paint uniform_paint_;                  // per uniform block
+  std::vector<std::string> uniform_tags_;  // what uniform_paint_.tag indexes
   Box paint_box_;
 
   std::unordered_set<int64_t> region_;  // R
@@ -1289,7 +1435,7 @@ UpdateEngine::UpdateEngine(Store& store, const SurfaceInfo& surface, DemStore& d
 UpdateEngine::~UpdateEngine() = default;
 
 Result<EditResult> UpdateEngine::Apply(const LocalEdit& edit) {
-  Edit run(store_, surface_, dems_, dem_, edit, fault_hook_);
+  Edit run(store_, surface_, dems_, dem_, edit, fault_hook_, page_cache_);
   return run.Run();
 }
 

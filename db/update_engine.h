@@ -13,14 +13,20 @@
 // triangulation of the stored vertices and constraints. Triangles outside R keep their ids and
 // rows except the neighbour links that cross R's outline; visibility and tags of the triangles
 // around the changed features are recomputed (db/feature_store PaintFromFeatures) and updated
-// where they differ; replace features set the z of the vertices they cover.
+// where they differ: triangle by triangle near a ring or nodata, and a whole centroid block at
+// a time, unread, where no ring comes near (core/tin/ring_blocks); replace features set the z
+// of the vertices they cover.
 //
 // Ownership: borrows the Store; all writes happen inside the caller's WriteTransaction, so an
-// error (or the fault hook) leaves the rollback to it. Not thread-safe; one edit at a time.
+// error (or the fault hook) leaves the rollback to it. An edit that writes ~1e5 rows (a fill
+// over most of a surface) raises the connection's page cache (db/sqlite/scoped_page_cache.h)
+// until the engine is destroyed: destroy it after the commit. Not thread-safe; one edit at a
+// time.
 #pragma once
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -28,6 +34,7 @@
 #include "core/tin/tin.h"
 #include "db/dem_store.h"
 #include "db/feature_store.h"
+#include "db/sqlite/scoped_page_cache.h"
 #include "db/store.h"
 #include "db/surface_store.h"
 
@@ -94,6 +101,7 @@ class UpdateEngine {
   DemStore& dems_;
   const DemInfo& dem_;
   FaultHook fault_hook_;
+  std::unique_ptr<ScopedPageCache> page_cache_;
 };
 
 }  // namespace tinbase

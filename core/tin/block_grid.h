@@ -24,9 +24,11 @@ struct BlockGrid {
   static int64_t Pack(int64_t bx, int64_t by) { return by * kStride + bx; }
   int64_t BlockOf(double x, double y) const { return Pack(ColumnOf(x), RowOf(y)); }
 
+  static constexpr int64_t kDefaultPerBlock = 32;
+
   // A grid whose blocks hold about `per_block` of `count` items spread over the box.
   static BlockGrid For(double min_x, double min_y, double max_x, double max_y, int64_t count,
-                       int64_t per_block = 32) {
+                       int64_t per_block = kDefaultPerBlock) {
     const double area = std::max((max_x - min_x) * (max_y - min_y), 1e-12);
     const double blocks = std::max<double>(1.0, static_cast<double>(count) / per_block);
     double size = std::sqrt(area / blocks);

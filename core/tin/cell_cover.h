@@ -153,4 +153,23 @@ bool TriangleOnData(Dem& dem, const Tin& tin, const TinTriangle& t) {
   return TriangleOnData(dem, tin.vertices[t.v[0]], tin.vertices[t.v[1]], tin.vertices[t.v[2]]);
 }
 
+// True when every point of the box [x0, x1] x [y0, y1] lies in a cell holding data, so every
+// triangle whose centroid lies in it is on data (the update engine's test for a whole block).
+inline bool BoxOnData(const Grid& dem, double x0, double y0, double x1, double y1) {
+  const GridGeometry& g = dem.geometry;
+  const double ca = std::floor((x0 - g.origin_x) / g.cell_x);
+  const double cb = std::floor((x1 - g.origin_x) / g.cell_x);
+  const double ra = std::floor((y0 - g.origin_y) / g.cell_y);
+  const double rb = std::floor((y1 - g.origin_y) / g.cell_y);
+  const double c0 = std::min(ca, cb), c1 = std::max(ca, cb);
+  const double r0 = std::min(ra, rb), r1 = std::max(ra, rb);
+  if (!(c0 >= 0 && r0 >= 0 && c1 < static_cast<double>(g.width) &&
+        r1 < static_cast<double>(g.height)))
+    return false;
+  for (auto row = static_cast<int64_t>(r0); row <= static_cast<int64_t>(r1); ++row)
+    for (auto col = static_cast<int64_t>(c0); col <= static_cast<int64_t>(c1); ++col)
+      if (!dem.IsValid(col, row)) return false;
+  return true;
+}
+
 }  // namespace tinbase

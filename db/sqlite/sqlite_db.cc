@@ -158,4 +158,12 @@ Result<int64_t> SqliteDb::QueryInt(std::string_view sql) {
 int64_t SqliteDb::LastInsertRowId() const { return sqlite3_last_insert_rowid(db_); }
 int64_t SqliteDb::Changes() const { return sqlite3_changes64(db_); }
 
+Result<bool> SqliteDb::SetForeignKeys(bool on) {
+  int was = 0, now = 0;
+  int rc = sqlite3_db_config(db_, SQLITE_DBCONFIG_ENABLE_FKEY, -1, &was);
+  if (rc == SQLITE_OK) rc = sqlite3_db_config(db_, SQLITE_DBCONFIG_ENABLE_FKEY, on ? 1 : 0, &now);
+  if (rc != SQLITE_OK) return StatusFromSqlite(rc, db_, "turning foreign keys on or off");
+  return was != 0;
+}
+
 }  // namespace tinbase

@@ -83,6 +83,10 @@ class SqliteDb {
 
   int64_t LastInsertRowId() const;
   int64_t Changes() const;
+  // Turns the enforcement of foreign keys on or off and returns whether it was on. Unlike
+  // PRAGMA foreign_keys this also works inside a transaction (db/sqlite/unchecked_foreign_keys.h
+  // is the only user); statements prepared before are re-prepared on their next step.
+  Result<bool> SetForeignKeys(bool on);
   sqlite3* handle() const { return db_; }
   const std::string& path() const { return path_; }
 

@@ -9,11 +9,13 @@
 #include <cmath>
 #include <fstream>
 #include <iomanip>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "core/raster/gdal_raster.h"
 #include "db/change_log.h"
 #include "db/dem_store.h"
 #include "db/integrity_check.h"
@@ -217,6 +219,53 @@ TEST_F(UpdateEngineTest, RemoveAndUpdateAreLocalAndRestoreTheSurface) {
   EXPECT_EQ(missing.status().code(), StatusCode::kNotFound);
 }
 
+// A fill far larger than the surface's blocks: most of its blocks are repainted whole, from the
+// paint at their centre (db/update_engine FindPaintArea), over earlier features it covers
+// (a later fill wins, an erase still hides) and when those features go again.
+TEST_F(UpdateEngineTest, LargeFillRepaintsWholeBlocksOverOtherFeatures) {
+  const auto add = [&](const std::string& name, const PointList& ring, const std::string& mode,
+                       const std::string& tag) {
+    PolygonAddOptions o;
+    o.surface = "terrain";
+    o.file = WritePolygons(dir_, name, {{ring}});
+    o.mode = mode;
+    o.tag = tag;
+    const auto before = Rows();
+    auto report = AddPolygons(*store_, o);
+    EXPECT_TRUE(report.ok()) << report.status().ToString();
+    if (!report.ok()) return int64_t{0};
+    ExpectKept(before, *report);
+    testing::ExpectStoreIntact(*store_, /*full=*/true);
+    return report->first_feature_id;
+  };
+  const auto tagged = [&](const std::string& tag) {
+    return Int("SELECT count(*) FROM triangles t JOIN tags g ON g.id = t.tag WHERE g.value = '" +
+               tag + "'");
+  };
+  const int64_t all = Int("SELECT count(*) FROM triangles");
+  const int64_t inner = add("inner.geojson", Ngon(kCx, kCy, 10 * kCell, 30), "fill", "inner");
+  add("hole.geojson", Ngon(kCx + 3 * kCell, kCy, 4 * kCell, 14, 0.3), "erase", "");
+  const int64_t outer = add("outer.geojson", Ngon(kCx, kCy, 60 * kCell, 90, 0.2), "fill", "outer");
+  EXPECT_EQ(tagged("inner"), 0) << "the later fill covers the earlier one everywhere";
+  EXPECT_GT(tagged("outer"), all / 4);
+  EXPECT_GT(Int("SELECT count(*) FROM triangles WHERE visible = 0"), 0);
+
+  const auto remove = [&](int64_t id) {
+    const auto before = Rows();
+    auto removed = RemovePolygon(*store_, id);
+    ASSERT_TRUE(removed.ok()) << removed.status().ToString();
+    ExpectKept(before, *removed);
+    testing::ExpectStoreIntact(*store_, /*full=*/true);
+  };
+  const int64_t outer_before = tagged("outer");
+  remove(inner);  // under the outer fill: no paint changes but along its ring's region
+  EXPECT_GT(tagged("outer"), outer_before - outer_before / 10);
+  EXPECT_GT(Int("SELECT count(*) FROM triangles WHERE visible = 0"), 0) << "the erase stays";
+  remove(outer);
+  EXPECT_EQ(tagged("outer"), 0);
+  EXPECT_EQ(Int("SELECT count(*) FROM triangles WHERE tag IS NOT NULL"), 0);
+}
+
 TEST_F(UpdateEngineTest, ReplaceFlattensAndRemovingItRestoresTheTolerance) {
   const PolygonAddReport r = AddChecked(
       WritePolygons(dir_, "lake.geojson", {{Ngon(kCx, kCy, 9 * kCell, 25)}}), "replace", 400.0);
@@ -290,6 +339,52 @@ TEST(UpdateEngineNodataTest, PolygonsNearNodataKeepEveryInvariant) {
     ASSERT_TRUE(added.ok()) << added.status().ToString();
     testing::ExpectStoreIntact(**store, /*full=*/true);
   }
+}
+
+// A fill around a hole of nodata in a synthetic DEM: the blocks over the hole are painted
+// triangle by triangle (their triangles stay hidden), the others on data whole.
+TEST(UpdateEngineNodataTest, LargeFillAroundANodataHole) {
+  TempDir dir;
+  Grid grid;
+  grid.geometry = GridGeometry{500000, 5200000, 10, -10, 120, 120};
+  auto crs = Crs::FromUserInput("EPSG:32632");
+  ASSERT_TRUE(crs.ok());
+  grid.crs_wkt = crs->Wkt();
+  grid.cells.resize(120 * 120);
+  for (int64_t r = 0; r < 120; ++r)
+    for (int64_t c = 0; c < 120; ++c)
+      grid.cells[static_cast<size_t>(r * 120 + c)] =
+          std::abs(r - 60) < 8 && std::abs(c - 55) < 6
+              ? std::numeric_limits<float>::quiet_NaN()
+              : static_cast<float>(300 + 20 * std::sin(c * 0.05) * std::cos(r * 0.04));
+  ASSERT_TRUE(WriteGeoTiff(grid, dir.Path("hole.tif")).ok());
+  auto store = Store::Create(dir.Path("hole.tinbase"), "");
+  ASSERT_TRUE(store.ok());
+  DemStore dems(**store);
+  ASSERT_TRUE(dems.Import({dir.Path("hole.tif")}, {}).ok());
+  SurfaceBuildOptions o;
+  o.surface = "terrain";
+  o.greedy.tolerance = 0.5;
+  ASSERT_TRUE(BuildSurfaceFromDem(**store, o).ok());
+  const auto hidden = [&] {
+    return *(*store)->db().QueryInt("SELECT count(*) FROM triangles WHERE visible = 0");
+  };
+  ASSERT_GT(hidden(), 0);
+  PolygonAddOptions big;
+  big.surface = "terrain";
+  big.mode = "fill";
+  big.tag = "big";
+  big.file = WritePolygons(dir, "big.geojson", {{Ngon(500600, 5199400, 500, 48)}}, 32632);
+  auto added = AddPolygons(**store, big);
+  ASSERT_TRUE(added.ok()) << added.status().ToString();
+  testing::ExpectStoreIntact(**store, /*full=*/true);
+  EXPECT_GT(hidden(), 0);
+  EXPECT_GT(*(*store)->db().QueryInt("SELECT count(*) FROM triangles WHERE tag IS NOT NULL"),
+            *(*store)->db().QueryInt("SELECT count(*) FROM triangles") / 4);
+  auto removed = RemovePolygon(**store, added->first_feature_id);
+  ASSERT_TRUE(removed.ok()) << removed.status().ToString();
+  testing::ExpectStoreIntact(**store, /*full=*/true);
+  EXPECT_EQ(*(*store)->db().QueryInt("SELECT count(*) FROM triangles WHERE tag IS NOT NULL"), 0);
 }
 
 // Regression (found by the kill -9 test): re-adding a ring whose segment an earlier ring crossed
