@@ -6,11 +6,13 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iomanip>
 #include <limits>
 #include <map>
+#include <random>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -449,6 +451,67 @@ TEST_F(UpdateEngineTest, PointNearAnExistingConstraintSnapsOntoIt) {
                 std::to_string(added.first_feature_id) + " AND (va = " + std::to_string(split) +
                 " OR vb = " + std::to_string(split) + ")"),
             2);
+}
+
+// A polygon whose every vertex lies a hair off an earlier ring's edges (both sides, random
+// places along them): each snaps onto its edge; then the earlier ring goes and comes back (its
+// new segments pass through those vertices), and both go, every step locally and checked.
+TEST_F(UpdateEngineTest, RingOnAnotherRingsEdgesSnapsAndBothGoAgain) {
+  const std::string a_file = WritePolygons(dir_, "a.geojson", {{Ngon(kCx, kCy, 10 * kCell, 12)}});
+  for (int seed = 1; seed <= 3; ++seed) {
+    const PolygonAddReport a = AddChecked(a_file, "fill");
+    auto edges = store_->db().Prepare(
+        "SELECT c.va, c.vb, p.x, p.y, q.x, q.y FROM constraints c JOIN vertices p ON p.id = c.va "
+        "JOIN vertices q ON q.id = c.vb WHERE c.feature = ?");
+    ASSERT_TRUE(edges.ok());
+    (*edges)->Bind(1, a.first_feature_id);
+    struct Near {
+      double angle, x, y;
+      int64_t va, vb;
+    };
+    std::vector<Near> points;
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> along(0.25, 0.75), off(-0.5, 0.5);
+    for (int k = 0; *(*edges)->Step(); ++k) {
+      if (k % 2) continue;
+      const double px = (*edges)->ColumnDouble(2), py = (*edges)->ColumnDouble(3);
+      const double qx = (*edges)->ColumnDouble(4), qy = (*edges)->ColumnDouble(5);
+      const double t = along(rng), len = std::hypot(qx - px, qy - py);
+      const double o = off(rng) * kSnapCells * kCell;
+      const double x = px + t * (qx - px) - o * (qy - py) / len;
+      const double y = py + t * (qy - py) + o * (qx - px) / len;
+      points.push_back(
+          {std::atan2(y - kCy, x - kCx), x, y, (*edges)->ColumnInt(0), (*edges)->ColumnInt(1)});
+    }
+    (*edges)->Reset();
+    ASSERT_GE(points.size(), 4u);
+    std::sort(points.begin(), points.end(),
+              [](const Near& l, const Near& r) { return l.angle < r.angle; });
+    PointList ring;
+    for (const Near& p : points) ring.push_back({p.x, p.y});
+    ring.push_back(ring.front());
+    const PolygonAddReport b =
+        AddChecked(WritePolygons(dir_, "b" + std::to_string(seed) + ".geojson", {{ring}}), "erase");
+    for (const Near& p : points) {
+      EXPECT_EQ(Int("SELECT count(*) FROM constraints WHERE va = " + std::to_string(p.va) +
+                    " AND vb = " + std::to_string(p.vb)),
+                0)
+          << "seed " << seed << ": an edge a vertex snapped onto is still whole";
+    }
+    const auto remove = [&](int64_t id) {
+      const auto before = Rows();
+      auto removed = RemovePolygon(*store_, id);
+      ASSERT_TRUE(removed.ok()) << removed.status().ToString();
+      ExpectKept(before, *removed);
+      testing::ExpectStoreIntact(*store_, /*full=*/true);
+    };
+    remove(a.first_feature_id);
+    const PolygonAddReport again = AddChecked(a_file, "fill");  // now through b's vertices
+    remove(b.first_feature_id);
+    remove(again.first_feature_id);
+    EXPECT_EQ(Int("SELECT count(*) FROM constraints"), 0);
+    EXPECT_EQ(Int("SELECT count(*) FROM vertices WHERE kind IN ('ring', 'steiner')"), 0);
+  }
 }
 
 TEST_F(UpdateEngineTest, BadInputLeavesTheStoreUnchanged) {
