@@ -713,10 +713,9 @@ class Edit {
         const double cell = std::max(dem_.geometry.cell_x, std::fabs(dem_.geometry.cell_y));
         const Point2 low = near_any.Centre(window.bx0, window.by0);
         const Point2 high = near_any.Centre(window.bx1, window.by1);
-        TB_ASSIGN_OR_RETURN(window_dem, dems_.ReadWindow(dem_, {low.x - g.size - cell,
-                                                                low.y - g.size - cell,
-                                                                high.x + g.size + cell,
-                                                                high.y + g.size + cell}));
+        TB_ASSIGN_OR_RETURN(
+            window_dem, dems_.ReadWindow(dem_, {low.x - g.size - cell, low.y - g.size - cell,
+                                                high.x + g.size + cell, high.y + g.size + cell}));
       }
       const double half = g.size / 2 + RingBlocks::kMargin * g.size;
       return BoxOnData(*window_dem, c.x - half, c.y - half, c.x + half, c.y + half);
@@ -1023,8 +1022,8 @@ class Edit {
     const Tin& tin = patch.tin;
     if (!page_cache_ || !page_cache_->raised()) {
       // Rows deleted, inserted and repainted; a uniform block holds about the builders' number.
-      const auto inserted = static_cast<size_t>(
-          std::count(patch.inside.begin(), patch.inside.end(), uint8_t{1}));
+      const auto inserted =
+          static_cast<size_t>(std::count(patch.inside.begin(), patch.inside.end(), uint8_t{1}));
       const size_t rows = order_.size() + inserted + around_.size() +
                           uniform_blocks_.size() * BlockGrid::kDefaultPerBlock;
       page_cache_ = std::make_unique<ScopedPageCache>(db, rows);
@@ -1303,13 +1302,17 @@ class Edit {
 
   // One UPDATE per run of consecutive ids that take the same paint: the builders store a
   // surface's triangles in block order, so a filled polygon's inside is a few long runs (a fill
-  // over ~5000 triangles of a 1e6 store is ~100 statements instead of 5000).
+  // over ~5000 triangles of a 1e6 store is ~100 statements instead of 5000). A run walks the
+  // table in id order, twice as fast as an UPDATE through an index, which looks every row up.
+  // Rows that already have the paint are not rewritten (uniform blocks' triangles are not read
+  // first), and only the rows that change count as repainted.
   Status WriteRepaints(std::vector<Repaint> repaints) {
     std::sort(repaints.begin(), repaints.end(),
               [](const Repaint& a, const Repaint& b) { return a.triangle < b.triangle; });
     TB_ASSIGN_OR_RETURN(Statement * repaint,
-                        store_.db().Cached("UPDATE triangles SET visible = ?, tag = ? "
-                                           "WHERE id BETWEEN ? AND ?"));
+                        store_.db().Cached("UPDATE triangles SET visible = ?1, tag = ?2 WHERE "
+                                           "id BETWEEN ?3 AND ?4 AND "
+                                           "(visible IS NOT ?1 OR tag IS NOT ?2)"));
     for (size_t first = 0; first < repaints.size();) {
       size_t last = first;
       while (last + 1 < repaints.size() &&
@@ -1324,68 +1327,47 @@ class Edit {
         repaint->BindNull(2);
       TB_RETURN_IF_ERROR(
           repaint->Bind(3, repaints[first].triangle).Bind(4, repaints[last].triangle).Run());
+      result_.repainted += store_.db().Changes();
       first = last + 1;
     }
-    result_.repainted += static_cast<int64_t>(repaints.size());
     return Status::Ok();
   }
 
-  // The uniform blocks' triangles, never read: the block index holds their ids (it covers the
-  // query), and one UPDATE per run of consecutive ids walks the table in order, twice as fast as
-  // an UPDATE through the index, which looks every row up; unchecked foreign keys halve it again
-  // (db/sqlite/unchecked_foreign_keys.h). Rows that already have the paint are
-  // not rewritten (the patch's new triangles have theirs; a block whose paint depends on no
-  // changed feature is skipped before this, but one under an added clip may keep its paint).
+  // The uniform blocks' triangles take their block's paint without being read: the block index
+  // holds their ids (it covers the query). Unchecked foreign keys halve the UPDATEs' cost
+  // (db/sqlite/unchecked_foreign_keys.h): every tag id they bind is interned here, in this
+  // transaction.
   Status WriteUniformRepaints() {
     if (uniform_blocks_.empty()) return Status::Ok();
-    std::vector<std::optional<int64_t>> tag_ids;
+    std::vector<int64_t> tag_ids;
     for (const std::string& value : uniform_tags_) {
       TB_ASSIGN_OR_RETURN(int64_t id, InternTag(store_, value));
       tag_ids.push_back(id);
     }
-    // Every tag id bound below was interned just now, in this transaction.
-    TB_ASSIGN_OR_RETURN(UncheckedForeignKeys unchecked, UncheckedForeignKeys::Begin(store_.db()));
-    TB_ASSIGN_OR_RETURN(Statement * repaint,
-                        store_.db().Cached("UPDATE triangles SET visible = ?1, tag = ?2 WHERE "
-                                           "id BETWEEN ?3 AND ?4 AND "
-                                           "(visible IS NOT ?1 OR tag IS NOT ?2)"));
     TB_ASSIGN_OR_RETURN(Statement * ids_of,
-                        store_.db().Cached("SELECT id FROM triangles WHERE surface = ? AND block "
-                                           "BETWEEN ? AND ?"));
-    std::vector<int64_t> ids;
-    const auto same = [&](size_t a, size_t b) {
-      return uniform_paint_.visible[a] == uniform_paint_.visible[b] &&
-             uniform_paint_.tag[a] == uniform_paint_.tag[b];
-    };
+                        store_.db().Cached("SELECT id, block FROM triangles WHERE surface = ? AND "
+                                           "block BETWEEN ? AND ?"));
+    std::vector<Repaint> repaints;
+    // A run of consecutive blocks is one range of the index; block k of it is uniform_blocks_[k].
     for (size_t first = 0; first < uniform_blocks_.size();) {
       size_t last = first;
       while (last + 1 < uniform_blocks_.size() &&
-             uniform_blocks_[last + 1] == uniform_blocks_[last] + 1 && same(first, last + 1))
+             uniform_blocks_[last + 1] == uniform_blocks_[last] + 1)
         ++last;
-      ids.clear();
       ids_of->Bind(1, surface_.id).Bind(2, uniform_blocks_[first]).Bind(3, uniform_blocks_[last]);
       for (;;) {
         TB_ASSIGN_OR_RETURN(bool row, ids_of->Step());
         if (!row) break;
-        ids.push_back(ids_of->ColumnInt(0));
+        const size_t k = first + static_cast<size_t>(ids_of->ColumnInt(1) - uniform_blocks_[first]);
+        const int32_t tag = uniform_paint_.tag[k];
+        repaints.push_back({ids_of->ColumnInt(0), uniform_paint_.visible[k] != 0,
+                            tag == kNoTag ? std::nullopt : std::optional<int64_t>(tag_ids[tag])});
       }
       ids_of->Reset();
-      std::sort(ids.begin(), ids.end());
-      for (size_t a = 0; a < ids.size();) {
-        size_t b = a;
-        while (b + 1 < ids.size() && ids[b + 1] == ids[b] + 1) ++b;
-        repaint->Bind(1, int64_t{uniform_paint_.visible[first] ? 1 : 0});
-        if (uniform_paint_.tag[first] == kNoTag)
-          repaint->BindNull(2);
-        else
-          repaint->Bind(2, *tag_ids[uniform_paint_.tag[first]]);
-        TB_RETURN_IF_ERROR(repaint->Bind(3, ids[a]).Bind(4, ids[b]).Run());
-        result_.repainted += store_.db().Changes();
-        a = b + 1;
-      }
       first = last + 1;
     }
-    return Status::Ok();
+    TB_ASSIGN_OR_RETURN(UncheckedForeignKeys unchecked, UncheckedForeignKeys::Begin(store_.db()));
+    return WriteRepaints(std::move(repaints));
   }
 
   Store& store_;
@@ -1399,12 +1381,12 @@ class Edit {
   PointLocator locator_;  // valid until Write: every lookup comes before it
   ReplaceLevels levels_;
   std::vector<Polygon> replace_polygons_;
-  std::unique_ptr<PolygonLocator> replaced_;   // cells where tolerance does not apply
-  std::unique_ptr<PolygonLocator> restore_;    // removed replace features: z back from the DEM
-  std::vector<EditPolyline> lines_;            // edit.add, snapped
-  std::vector<std::vector<int64_t>> located_;  // a triangle holding each point of lines_
+  std::unique_ptr<PolygonLocator> replaced_;     // cells where tolerance does not apply
+  std::unique_ptr<PolygonLocator> restore_;      // removed replace features: z back from the DEM
+  std::vector<EditPolyline> lines_;              // edit.add, snapped
+  std::vector<std::vector<int64_t>> located_;    // a triangle holding each point of lines_
   std::vector<EditorFeature> removed_features_;  // rows of edit.remove, as stored
-  std::vector<int64_t> around_;  // stored triangles of mixed blocks whose paint may change
+  std::vector<int64_t> around_;          // stored triangles of mixed blocks whose paint may change
   std::vector<int64_t> uniform_blocks_;  // blocks repainted whole, in (by, bx) order
   Paint uniform_paint_;                  // per uniform block
   std::vector<std::string> uniform_tags_;  // what uniform_paint_.tag indexes

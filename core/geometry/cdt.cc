@@ -75,28 +75,28 @@ struct Cdt::Impl {
   // before, as Garland-Heckbert's strict in-circle flips (and delatin, hmm) do. Returns the
   // flipped faces that no longer touch v.
   std::vector<FaceHandle> KeepCocircularDiagonals(VertexHandle v) {
-    std::vector<VertexHandle> tied;  // the far ends of co-circular edges around v
+    // Edge i of f is unconstrained, between finite faces, and closes a co-circular quad.
+    const auto tied = [&](FaceHandle f, int i) {
+      const FaceHandle g = f->neighbor(i);
+      if (cdt.is_infinite(f) || cdt.is_infinite(g) || f->is_constrained(i)) return false;
+      const Point& apex = g->vertex(g->index(f))->point();
+      return cdt.side_of_oriented_circle(f, apex, false) == CGAL::ON_ORIENTED_BOUNDARY;
+    };
+    std::vector<VertexHandle> far_ends;  // of the tied edges around v
     Triangulation::Face_circulator fc = cdt.incident_faces(v);
     const Triangulation::Face_circulator done = fc;
     do {
       FaceHandle f = fc;
-      const int i = cdt.cw(f->index(v));  // the edge from v to f->vertex(ccw(index of v))
-      FaceHandle g = f->neighbor(i);
-      if (cdt.is_infinite(f) || cdt.is_infinite(g) || f->is_constrained(i)) continue;
-      const Point& apex = g->vertex(g->index(f))->point();
-      if (cdt.side_of_oriented_circle(f, apex, false) == CGAL::ON_ORIENTED_BOUNDARY)
-        tied.push_back(f->vertex(cdt.ccw(f->index(v))));
+      // Edge cw(index of v) joins v to the vertex ccw of it: each edge from v once.
+      if (tied(f, cdt.cw(f->index(v)))) far_ends.push_back(f->vertex(cdt.ccw(f->index(v))));
     } while (++fc != done);
     std::vector<FaceHandle> beyond;
-    for (VertexHandle q : tied) {
+    for (VertexHandle q : far_ends) {
       FaceHandle f;
       int i;
       // Earlier flips may have changed the faces: find the edge again and re-test.
-      if (!cdt.is_edge(v, q, f, i) || f->is_constrained(i)) continue;
+      if (!cdt.is_edge(v, q, f, i) || !tied(f, i)) continue;
       FaceHandle g = f->neighbor(i);
-      if (cdt.is_infinite(f) || cdt.is_infinite(g)) continue;
-      const Point& apex = g->vertex(g->index(f))->point();
-      if (cdt.side_of_oriented_circle(f, apex, false) != CGAL::ON_ORIENTED_BOUNDARY) continue;
       cdt.flip(f, i);  // reuses f and g: one now holds v, the other lies across the new edge
       beyond.push_back(f->has_vertex(v) ? g : f);
     }

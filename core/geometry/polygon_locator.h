@@ -25,6 +25,9 @@ class PolygonLocator {
   PointInPolygon Locate(const Point2& p) const;
 
   bool empty() const { return edges_.empty(); }
+  // The plan-view box of every ring (inverted, min above max, when there is none).
+  Point2 min() const { return {min_x_, min_y_}; }
+  Point2 max() const { return {max_x_, max_y_}; }
 
  private:
   struct Edge {

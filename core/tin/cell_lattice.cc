@@ -114,12 +114,9 @@ void HideNodataTriangles(const Grid& dem, Tin& tin) {
   const GridGeometry& g = dem.geometry;
   for (TinTriangle& t : tin.triangles) {
     const std::array<Cell, 3> p = TriangleCells(g, tin, t);
-    // A lattice triangle's centroid has thirds as fractions, never a rounding tie.
-    const int64_t c =
-        std::clamp<int64_t>(std::llround((p[0].col + p[1].col + p[2].col) / 3.0), 0, g.width - 1);
-    const int64_t r =
-        std::clamp<int64_t>(std::llround((p[0].row + p[1].row + p[2].row) / 3.0), 0, g.height - 1);
-    t.visible = dem.IsValid(c, r);
+    const Cell centroid = CentroidCell(p[0], p[1], p[2]);
+    t.visible = dem.IsValid(std::clamp<int64_t>(centroid.col, 0, g.width - 1),
+                            std::clamp<int64_t>(centroid.row, 0, g.height - 1));
   }
 }
 

@@ -104,6 +104,13 @@ class NodataElevation {
 // The cell whose centre a vertex lies on (rounded; exact for vertices placed at cell centres).
 Cell CellOf(const GridGeometry& g, const TinVertex& v);
 
+// The cell nearest the centroid of a lattice triangle: (s + 1) / 3 is round(s / 3) for a sum
+// s >= 0 of coordinates, and thirds are never a rounding tie. The cell whose data decides whether
+// the triangle is part of the surface.
+inline Cell CentroidCell(Cell a, Cell b, Cell c) {
+  return {(a.col + b.col + c.col + 1) / 3, (a.row + b.row + c.row + 1) / 3};
+}
+
 // Sets each triangle's visibility: a triangle whose centroid lies on a nodata cell is not part
 // of the surface. REQUIRES: every vertex lies on a cell centre of `dem`.
 void HideNodataTriangles(const Grid& dem, Tin& tin);

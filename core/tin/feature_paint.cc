@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
-#include <limits>
-#include <utility>
 
 #include "core/geometry/polygon_locator.h"
 
@@ -74,18 +72,6 @@ class PointBuckets {
   std::vector<uint32_t> ids_;
 };
 
-// The plan-view box of the polygons' shells (holes lie inside them).
-std::pair<Point2, Point2> ShellBox(const std::vector<Polygon>& polygons) {
-  Point2 min{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
-  Point2 max{-min.x, -min.y};
-  for (const Polygon& polygon : polygons)
-    for (const Point2& p : polygon.shell) {
-      min.x = std::min(min.x, p.x), min.y = std::min(min.y, p.y);
-      max.x = std::max(max.x, p.x), max.y = std::max(max.y, p.y);
-    }
-  return {min, max};
-}
-
 }  // namespace
 
 const char* PaintModeName(PaintMode mode) {
@@ -138,8 +124,7 @@ Paint ComputePaint(const Tin& tin, const std::vector<PaintedFeature>& features) 
         level[v] = feature.level;
       }
     }
-    const auto [min, max] = ShellBox(feature.polygons);
-    buckets.ForEachNear(min, max, [&](uint32_t t) {
+    buckets.ForEachNear(locator.min(), locator.max(), [&](uint32_t t) {
       if (locator.Locate(centroids[t]) == PointInPolygon::kOutside) return;
       switch (feature.mode) {
         case PaintMode::kClip:

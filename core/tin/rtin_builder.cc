@@ -175,10 +175,8 @@ class RtinBuilder {
   // OwnError of a finest triangle (hypotenuse two cells long, through cell m): it covers its
   // corners and m only, so those four are evaluated directly, the same way the scan would.
   double LeafOwnError(const TreeTriangle& t, Cell m) {
+    if (!InsideOnData(t, m)) return OwnError(t);
     const std::array<Cell, 4> p = {t.a, t.b, t.apex, m};
-    if (!Inside(t) ||
-        std::any_of(p.begin(), p.end(), [&](Cell c) { return !dem_.IsValid(c.col, c.row); }))
-      return OwnError(t);
     const auto z = [&](Cell c) -> double { return dem_.At(c.col, c.row); };
     CellPlane plane;
     const bool planar = PlaneThrough({t.a, t.b, t.apex}, {z(t.a), z(t.b), z(t.apex)}, &plane);
@@ -195,11 +193,7 @@ class RtinBuilder {
   // each child, so own(t) <= children + d, where `children` bounds the children's own errors. And
   // own(t) >= d when m holds data. Only between the two is every cell scanned.
   double OwnErrorOrBound(const TreeTriangle& t, Cell m, double children) {
-    const std::array<Cell, 4> p = {t.a, t.b, t.apex, m};
-    // Nodata corners take a costly nearest-valid mean: leave them to OwnError's checks.
-    if (!Inside(t) ||
-        std::any_of(p.begin(), p.end(), [&](Cell c) { return !dem_.IsValid(c.col, c.row); }))
-      return OwnError(t);
+    if (!InsideOnData(t, m)) return OwnError(t);
     // All four hold data, so their z is the DEM's. t's plane at the hypotenuse midpoint is the
     // mean of the hypotenuse's ends; with float inputs this d is exact in double.
     const auto z = [&](Cell c) -> double { return dem_.At(c.col, c.row); };
@@ -209,6 +203,15 @@ class RtinBuilder {
     const double bound = children + d + 1e-9 * (1 + std::fabs(z(m)));
     if (bound <= tolerance_) return bound;
     return OwnError(t);
+  }
+
+  // t lies inside the grid and its corners and hypotenuse midpoint m hold data. Otherwise
+  // OwnError's own checks apply (nodata corners take a costly nearest-valid mean).
+  bool InsideOnData(const TreeTriangle& t, Cell m) const {
+    if (!Inside(t)) return false;
+    for (Cell c : {t.a, t.b, t.apex, m})
+      if (!dem_.IsValid(c.col, c.row)) return false;
+    return true;
   }
 
   bool Inside(const TreeTriangle& t) const {
@@ -286,11 +289,9 @@ class RtinBuilder {
     TinTriangle tri;
     tri.v = {VertexIndex(t.a, tin), VertexIndex(ccw ? t.b : t.apex, tin),
              VertexIndex(ccw ? t.apex : t.b, tin)};
-    // Hidden when its centroid lies on nodata, as HideNodataTriangles decides: the centroid's
-    // nearest cell, (s + 1) / 3 being round(s / 3) for a sum s >= 0 (never a tie).
-    const int32_t col = (t.a.col + t.b.col + t.apex.col + 1) / 3;
-    const int32_t row = (t.a.row + t.b.row + t.apex.row + 1) / 3;
-    tri.visible = dem_.IsValid(col, row);
+    // As HideNodataTriangles decides, from the cells at hand.
+    const Cell centroid = CentroidCell(t.a, t.b, t.apex);
+    tri.visible = dem_.IsValid(centroid.col, centroid.row);
     tin.triangles.push_back(tri);
   }
 

@@ -107,6 +107,15 @@ class UpdateEngineTest : public ::testing::Test {
     return *report;
   }
 
+  // Removes feature `id` and asserts as AddChecked does.
+  void RemoveChecked(int64_t id) {
+    const auto before = Rows();
+    auto removed = RemovePolygon(*store_, id);
+    ASSERT_TRUE(removed.ok()) << removed.status().ToString();
+    ExpectKept(before, *removed);
+    testing::ExpectStoreIntact(*store_, /*full=*/true);
+  }
+
   void ExpectKept(const std::map<int64_t, Row>& before, const PolygonAddReport& report) {
     const auto after = Rows();
     int64_t gone = 0, repainted = 0, created = 0;
@@ -187,11 +196,7 @@ TEST_F(UpdateEngineTest, RemoveAndUpdateAreLocalAndRestoreTheSurface) {
   ASSERT_GT(a.first_feature_id, 0);
   ASSERT_GT(b.first_feature_id, 0);
 
-  auto before = Rows();
-  auto removed = RemovePolygon(*store_, a.first_feature_id);
-  ASSERT_TRUE(removed.ok()) << removed.status().ToString();
-  ExpectKept(before, *removed);
-  testing::ExpectStoreIntact(*store_, /*full=*/true);
+  RemoveChecked(a.first_feature_id);
   EXPECT_EQ(
       Int("SELECT count(*) FROM constraints WHERE feature = " + std::to_string(a.first_feature_id)),
       0);
@@ -200,7 +205,7 @@ TEST_F(UpdateEngineTest, RemoveAndUpdateAreLocalAndRestoreTheSurface) {
 
   PolygonAddOptions update;
   update.file = WritePolygons(dir_, "b2.geojson", {{Ngon(kCx - 5 * kCell, kCy, 6 * kCell, 17)}});
-  before = Rows();
+  const auto before = Rows();
   auto updated = UpdatePolygon(*store_, b.first_feature_id, update);
   ASSERT_TRUE(updated.ok()) << updated.status().ToString();
   ExpectKept(before, *updated);
@@ -252,18 +257,11 @@ TEST_F(UpdateEngineTest, LargeFillRepaintsWholeBlocksOverOtherFeatures) {
   EXPECT_GT(tagged("outer"), all / 4);
   EXPECT_GT(Int("SELECT count(*) FROM triangles WHERE visible = 0"), 0);
 
-  const auto remove = [&](int64_t id) {
-    const auto before = Rows();
-    auto removed = RemovePolygon(*store_, id);
-    ASSERT_TRUE(removed.ok()) << removed.status().ToString();
-    ExpectKept(before, *removed);
-    testing::ExpectStoreIntact(*store_, /*full=*/true);
-  };
   const int64_t outer_before = tagged("outer");
-  remove(inner);  // under the outer fill: no paint changes but along its ring's region
+  RemoveChecked(inner);  // under the outer fill: no paint changes but along its ring's region
   EXPECT_GT(tagged("outer"), outer_before - outer_before / 10);
   EXPECT_GT(Int("SELECT count(*) FROM triangles WHERE visible = 0"), 0) << "the erase stays";
-  remove(outer);
+  RemoveChecked(outer);
   EXPECT_EQ(tagged("outer"), 0);
   EXPECT_EQ(Int("SELECT count(*) FROM triangles WHERE tag IS NOT NULL"), 0);
 }
@@ -498,17 +496,10 @@ TEST_F(UpdateEngineTest, RingOnAnotherRingsEdgesSnapsAndBothGoAgain) {
                 0)
           << "seed " << seed << ": an edge a vertex snapped onto is still whole";
     }
-    const auto remove = [&](int64_t id) {
-      const auto before = Rows();
-      auto removed = RemovePolygon(*store_, id);
-      ASSERT_TRUE(removed.ok()) << removed.status().ToString();
-      ExpectKept(before, *removed);
-      testing::ExpectStoreIntact(*store_, /*full=*/true);
-    };
-    remove(a.first_feature_id);
+    RemoveChecked(a.first_feature_id);
     const PolygonAddReport again = AddChecked(a_file, "fill");  // now through b's vertices
-    remove(b.first_feature_id);
-    remove(again.first_feature_id);
+    RemoveChecked(b.first_feature_id);
+    RemoveChecked(again.first_feature_id);
     EXPECT_EQ(Int("SELECT count(*) FROM constraints"), 0);
     EXPECT_EQ(Int("SELECT count(*) FROM vertices WHERE kind IN ('ring', 'steiner')"), 0);
   }
