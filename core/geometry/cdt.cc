@@ -190,7 +190,9 @@ void Cdt::InsertConstraint(uint32_t a, uint32_t b) {
   const double lo = std::min(key(pa), key(pb)), hi = std::max(key(pa), key(pb));
   std::vector<VertexHandle> on_segment;
   Triangulation::Line_face_circulator face = cdt.line_walk(pa, pb, va->face());
-  for (size_t steps = 0, limit = cdt.number_of_faces(); steps < limit && !face.is_empty();
+  // The walk's guard: the data structure's face count is O(1), CGAL's number_of_faces() walks
+  // the convex hull (a third of a large patch's build when asked once per constraint).
+  for (size_t steps = 0, limit = cdt.tds().number_of_faces(); steps < limit && !face.is_empty();
        ++steps, ++face) {
     if (cdt.is_infinite(face)) break;
     bool reached_b = false;
