@@ -553,9 +553,7 @@ class Edit {
       for (int i = 0; i < 3; ++i) {
         if (!here.n[i]) continue;
         const int64_t a = here.v[(i + 1) % 3], b = here.v[(i + 2) % 3];
-        if (removed_edges_.count(Key(a, b))) continue;
-        TB_ASSIGN_OR_RETURN(const std::vector<int64_t>* owners, mesh_.Owners(a, b));
-        if (owners->empty()) continue;
+        // Distance first: the constraint lookup reads rows, and nearly every edge is too far.
         TB_ASSIGN_OR_RETURN(const Point2 pa, mesh_.At(a));
         TB_ASSIGN_OR_RETURN(const Point2 pb, mesh_.At(b));
         const double dx = pb.x - pa.x, dy = pb.y - pa.y, len = std::hypot(dx, dy);
@@ -564,6 +562,9 @@ class Edit {
         const double off = std::fabs((p.x - pa.x) * dy - (p.y - pa.y) * dx) / len;
         const double ends = snap / len;
         if (along <= ends || along >= 1 - ends || off > snap) continue;
+        if (removed_edges_.count(Key(a, b))) continue;
+        TB_ASSIGN_OR_RETURN(const std::vector<int64_t>* owners, mesh_.Owners(a, b));
+        if (owners->empty()) continue;
         p.x = pa.x + along * dx, p.y = pa.y + along * dy;
         splits_[Key(a, b)].push_back({a < b ? along : 1 - along, Point2{p.x, p.y}});
         AddToRegion(c);
@@ -663,10 +664,12 @@ class Edit {
       for (int i = 0; i < 3; ++i) {
         if (!here.n[i] || region_.count(*here.n[i])) continue;
         const int64_t a = here.v[(i + 1) % 3], b = here.v[(i + 2) % 3];
+        TB_ASSIGN_OR_RETURN(auto c, Corners(*here.n[i]));
+        if (!CircleHoldsAny(c, points)) continue;
+        // A kept constraint shields the triangle across (checked second: it reads a row).
         TB_ASSIGN_OR_RETURN(const std::vector<int64_t>* owners, mesh_.Owners(a, b));
         if (!owners->empty() && !removed_edges_.count(Key(a, b))) continue;
-        TB_ASSIGN_OR_RETURN(auto c, Corners(*here.n[i]));
-        if (CircleHoldsAny(c, points)) AddToRegion(*here.n[i]);
+        AddToRegion(*here.n[i]);
       }
     }
     return Status::Ok();
