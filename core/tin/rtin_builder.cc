@@ -79,12 +79,6 @@ void RunHalves(bool parallel, const Work& work) {
   RunBoth(parallel, [&work] { work(0); }, [&work] { work(1); });
 }
 
-// [first, last) of 0..count for half 0 or 1.
-std::pair<int64_t, int64_t> HalfRange(int64_t count, int half) {
-  return half == 0 ? std::pair<int64_t, int64_t>{0, count / 2}
-                   : std::pair<int64_t, int64_t>{count / 2, count};
-}
-
 // Every RTIN edge is axis-aligned or diagonal, so a vertex starts at most one half-edge in each
 // of the eight lattice directions. Direction k points at 45 k degrees in cell space (0: +col,
 // 2: +row); the twin of a half-edge in direction k runs in direction k + 4 (mod 8).
@@ -158,31 +152,62 @@ class RtinBuilder {
   // edge-centred diamonds (hypotenuse an axis-aligned edge of length 2h, apexes h away) come
   // first; their children are the square-centred diamonds of half-size h / 2. Then the
   // square-centred diamonds (hypotenuse a diagonal of a 2h square), whose children are the
-  // edge-centred ones of half-size h. Within a level the diamonds are independent, so the rows
-  // of a large level are shared between two threads.
+  // edge-centred ones of half-size h.
+  //
+  // On two threads: a diamond reads only its descendants, whose centres lie at most `reach`
+  // columns away (see ComputeLevels), so every level of the diamonds left of the middle column
+  // by more than their reach is one thread's, those right of it the other's, with no
+  // synchronisation between levels (which on a loaded machine costs more than the work). The
+  // narrow cone around the middle column follows on one thread.
   void ComputeDiamondErrors() {
+    const int32_t all = std::numeric_limits<int32_t>::max();
+    if (!parallel_ || has_nodata_) {  // NodataElevation caches: one thread for nodata
+      ComputeLevels([&](int32_t) { return ColumnRange{0, all}; });
+      return;
+    }
+    const int32_t middle = span_ / 2;
+    RunHalves(true, [&](int half) {
+      ComputeLevels([&](int32_t reach) {
+        return half == 0 ? ColumnRange{0, middle - 1 - reach} : ColumnRange{middle + 1 + reach, all};
+      });
+    });
+    ComputeLevels([&](int32_t reach) { return ColumnRange{middle - reach, middle + reach}; });
+  }
+
+  struct ColumnRange {
+    int32_t first;
+    int32_t last;  // inclusive
+  };
+
+  // Every level, each row restricted to the diamonds whose centre column lies in
+  // columns(reach), reach being how far from its centre the centres of a diamond of the level
+  // and of its descendants lie: 0 for edge-centred diamonds of half-size 1 (no children);
+  // h + that of its edge-centred children for a square-centred diamond of half-size h; h / 2
+  // + that of its square-centred children for an edge-centred one.
+  template <typename ColumnsFn>
+  void ComputeLevels(const ColumnsFn& columns) {
+    int32_t edge_reach = 0;
     for (int32_t h = 1; h < span_; h *= 2) {
-      ForEachRowOfLevel(span_ / h + 1, h, [&](int64_t i) { SetEdgeDiamondRow(i * h, h); });
-      ForEachRowOfLevel(span_ / (2 * h), h,
-                        [&](int64_t i) { SetSquareDiamondRow((2 * i + 1) * h, h); });
+      const ColumnRange edge_columns = columns(edge_reach);
+      for (int32_t y = 0; y <= span_; y += h) SetEdgeDiamondRow(y, h, edge_columns);
+      const int32_t square_reach = h + edge_reach;
+      const ColumnRange square_columns = columns(square_reach);
+      for (int32_t y = h; y <= span_; y += 2 * h) SetSquareDiamondRow(y, h, square_columns);
+      edge_reach = h + square_reach;
     }
   }
 
-  template <typename RowFn>
-  void ForEachRowOfLevel(int64_t rows, int32_t h, const RowFn& row) {
-    // NodataElevation caches, so a grid with nodata is done on one thread.
-    const bool parallel =
-        parallel_ && !has_nodata_ && (int64_t{span_} / h) * (span_ / h) >= kMinParallelLattice;
-    RunHalves(parallel, [&](int half) {
-      const auto [first, last] = HalfRange(rows, half);
-      for (int64_t i = first; i < last; ++i) row(i);
-    });
+  // The first x >= range.first in the progression first_x, first_x + 2h, ...
+  static int32_t FirstInRange(int32_t first_x, int32_t h, const ColumnRange& range) {
+    if (range.first <= first_x) return first_x;
+    const int32_t steps = (range.first - first_x + 2 * h - 1) / (2 * h);
+    return first_x + steps * 2 * h;
   }
 
-  void SetEdgeDiamondRow(int64_t row, int32_t h) {
-    const int32_t y = static_cast<int32_t>(row);
+  void SetEdgeDiamondRow(int32_t y, int32_t h, const ColumnRange& range) {
     const bool vertical = (y / h) % 2 == 1;  // y an odd multiple of h, x an even one
-    for (int32_t x = vertical ? 0 : h; x <= span_; x += 2 * h) {
+    const int32_t last = std::min(span_, range.last);
+    for (int32_t x = FirstInRange(vertical ? 0 : h, h, range); x <= last; x += 2 * h) {
       std::array<TreeTriangle, 2> pair;
       if (vertical) {  // apexes left and right
         pair = {TreeTriangle{{x, y - h}, {x, y + h}, {x - h, y}},
@@ -195,9 +220,9 @@ class RtinBuilder {
     }
   }
 
-  void SetSquareDiamondRow(int64_t row, int32_t h) {
-    const int32_t y = static_cast<int32_t>(row);
-    for (int32_t x = h; x <= span_; x += 2 * h) {
+  void SetSquareDiamondRow(int32_t y, int32_t h, const ColumnRange& range) {
+    const int32_t last = std::min(span_, range.last);
+    for (int32_t x = FirstInRange(h, h, range); x <= last; x += 2 * h) {
       // The tree alternates the diagonals so that the four squares of a 2h x 2h block all
       // have a corner at the block's centre.
       const bool main_diagonal = ((x - h) / (2 * h) + (y - h) / (2 * h)) % 2 == 0;
