@@ -106,8 +106,11 @@ class RtinBuilder {
     side_ = span_ + 1;
     parallel_ = int64_t{side_} * side_ >= kMinParallelLattice;
     padded_ = width_ != side_ || height_ != side_;
-    errors_.assign(static_cast<size_t>(side_) * static_cast<size_t>(side_), 0.0f);
-    own_bounds_.assign(errors_.size(), 0.0f);
+    // Not cleared: the error pass writes every lattice point but the four corners, which are no
+    // diamond's centre and are never read. The first writes then fall to the two threads.
+    const size_t lattice_points = static_cast<size_t>(side_) * static_cast<size_t>(side_);
+    errors_ = std::make_unique_for_overwrite<float[]>(lattice_points);
+    own_bounds_ = std::make_unique_for_overwrite<float[]>(lattice_points);
   }
 
   Tin Build(RtinReport* report) {
@@ -576,8 +579,8 @@ class RtinBuilder {
   int32_t side_ = 2;               // span_ + 1
   bool parallel_ = false;          // the lattice is large enough for two threads to pay
   bool padded_ = false;            // the grid is smaller than the lattice
-  std::vector<float> errors_;      // by diamond centre on the padded lattice
-  std::vector<float> own_bounds_;  // likewise: bounds on its own triangles' errors only
+  std::unique_ptr<float[]> errors_;      // by diamond centre on the padded lattice
+  std::unique_ptr<float[]> own_bounds_;  // likewise: bounds on its own triangles' errors only
   std::array<int64_t, 2> triangle_count_{};  // output triangles by root
   std::vector<uint8_t> vertex_used_;         // by cell: 1 where a triangle has a corner
   std::unique_ptr<uint32_t[]> vertex_of_;    // by cell: its vertex, where used
