@@ -2,9 +2,10 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cassert>
 #include <cmath>
-#include <atomic>
+#include <exception>
 #include <limits>
 #include <memory>
 #include <string>
@@ -57,20 +58,30 @@ Status Validate(const Grid& dem, const RtinOptions& options) {
 
 // Runs first() on this thread and second() on another one when `parallel`, else both here, and
 // returns when both are done; the two must write disjoint memory. If no thread can be started
-// the work runs serially: the result never depends on the split.
+// the work runs serially: the result never depends on the split. An exception from either
+// (std::bad_alloc) reaches the caller once both have stopped.
 template <typename First, typename Second>
 void RunBoth(bool parallel, const First& first, const Second& second) {
-  std::thread other;
-  if (parallel) {
-    try {
-      other = std::thread([&second] { second(); });
-    } catch (const std::system_error&) {
-      // No thread to be had (a resource limit): fall through to the serial path.
+  std::exception_ptr second_failed;
+  {
+    std::jthread other;  // joined on leaving the block, also when first() throws
+    if (parallel) {
+      try {
+        other = std::jthread([&] {
+          try {
+            second();
+          } catch (...) {
+            second_failed = std::current_exception();
+          }
+        });
+      } catch (const std::system_error&) {
+        // No thread to be had (a resource limit): fall through to the serial path.
+      }
     }
+    if (!other.joinable()) second();
+    first();
   }
-  if (!other.joinable()) second();
-  first();
-  if (other.joinable()) other.join();
+  if (second_failed) std::rethrow_exception(second_failed);
 }
 
 // work(0) and work(1), as RunBoth.
