@@ -296,8 +296,7 @@ Result<std::vector<int64_t>> WriteTriangleRows(SqliteDb& db, const SurfaceInfo& 
   for (size_t rank = 0; rank < order.size(); ++rank)
     ids[order[rank]] = base + static_cast<int64_t>(rank);
   const std::string context = "surface " + Quoted(surface.name);
-  // A freshly built surface has every triangle visible and untagged: its rows leave visible and
-  // tag to the columns' defaults (1, NULL), two values fewer to bind and copy per row.
+  // A freshly built surface takes kTriangleRow, the rows without paint.
   const bool defaults = std::all_of(tin.triangles.begin(), tin.triangles.end(),
                                     [](const TinTriangle& t) { return t.visible && t.tag == kNoTag; });
   const auto triangle_id = [&](int32_t t) { return ids[static_cast<size_t>(t)]; };
