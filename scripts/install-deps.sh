@@ -7,6 +7,7 @@ PACKAGES=(
   build-essential cmake ninja-build pkg-config
   libcgal-dev libgmp-dev libmpfr-dev libboost-dev
   libgdal-dev gdal-bin libgeographiclib-dev libgeos-dev
+  libopenvdb-dev libboost-iostreams-dev
   libsqlite3-dev sqlite3 libblosc-dev libzstd-dev zlib1g-dev
   nlohmann-json3-dev libcli11-dev
   libgtest-dev libgmock-dev librapidcheck-dev libbenchmark-dev

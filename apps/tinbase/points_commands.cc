@@ -1,4 +1,5 @@
 // Kernel: `points import` (a LAS or XYZ point file to a Delaunay surface, optionally thinned).
+#include <cmath>
 #include <iostream>
 
 #include "apps/tinbase/command.h"
@@ -14,7 +15,34 @@ struct ImportArgs {
   PointImportOptions options;
   std::vector<int> classes;
   double max_cell_area = 0;
+  std::string density;  // "COUNT/AREA"
 };
+
+// Parses --density "COUNT/AREA" (the paper's "10 per 150 square feet" is "10/150").
+Result<DensityWindow> ParseDensityWindow(const std::string& text) {
+  const auto bad = [&](const std::string& why) {
+    return Status::InvalidArgument("--density '" + text + "': " + why +
+                                   " (expected COUNT/AREA, e.g. 10/150)");
+  };
+  const size_t slash = text.find('/');
+  if (slash == std::string::npos) return bad("no '/'");
+  DensityWindow window;
+  size_t used = 0;
+  try {
+    window.max_points = std::stod(text.substr(0, slash), &used);
+    if (used != slash) return bad("the count is not a number");
+    const std::string area = text.substr(slash + 1);
+    window.area = std::stod(area, &used);
+    if (used != area.size()) return bad("the area is not a number");
+  } catch (const std::exception&) {
+    return bad("not a number");
+  }
+  if (!(std::isfinite(window.max_points) && window.max_points >= 0)) {
+    return bad("the count must be >= 0");
+  }
+  if (!(std::isfinite(window.area) && window.area > 0)) return bad("the area must be positive");
+  return window;
+}
 
 int RunImport(ImportArgs args) {
   for (int c : args.classes) {
@@ -24,6 +52,16 @@ int RunImport(ImportArgs args) {
     args.options.classes.insert(static_cast<uint8_t>(c));
   }
   if (args.max_cell_area > 0) args.options.thresholds.max_cell_area = args.max_cell_area;
+  if (!args.density.empty()) {
+    if (args.max_cell_area > 0) {
+      return ReportError(
+          Status::InvalidArgument("--density and --max-cell-area are two ways to say dense: "
+                                  "give one"));
+    }
+    auto window = ParseDensityWindow(args.density);
+    if (!window.ok()) return ReportError(window.status());
+    args.options.thresholds.window = *window;
+  }
   auto store = Store::Open(args.store);
   if (!store.ok()) return ReportError(store.status());
   Stopwatch watch;
@@ -58,6 +96,9 @@ void RegisterPointsCommands(CLI::App& app, int* exit_code) {
                      "--thin: drop a dense point within this z of its Voronoi neighbours");
   import->add_option("--max-cell-area", args->max_cell_area,
                      "--thin: cells smaller than this are dense (default 0.75 x median)");
+  import->add_option("--density", args->density,
+                     "--thin: dense where more than COUNT points lie in the disc of AREA around "
+                     "a point, as COUNT/AREA (paper 003: 10/150 in square feet)");
   import->callback([=] { *exit_code = RunImport(*args); });
 }
 

@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <string>
 
 #include "core/geometry/cdt.h"
+#include "core/pointcloud/plan_density.h"
 
 namespace tinbase {
 namespace {
@@ -23,6 +25,15 @@ Status ValidateOptions(const ThinningOptions& o) {
   if (!(std::isfinite(o.median_fraction) && o.median_fraction > 0)) {
     return Status::InvalidArgument("thinning: median fraction " +
                                    std::to_string(o.median_fraction) + " must be positive");
+  }
+  if (o.window && !(std::isfinite(o.window->area) && o.window->area > 0)) {
+    return Status::InvalidArgument("thinning: density window area " +
+                                   std::to_string(o.window->area) + " must be positive");
+  }
+  if (o.window && !(std::isfinite(o.window->max_points) && o.window->max_points >= 0)) {
+    return Status::InvalidArgument("thinning: density window count " +
+                                   std::to_string(o.window->max_points) +
+                                   " must be a finite value >= 0");
   }
   if (o.passes < 1) {
     return Status::InvalidArgument("thinning: passes " + std::to_string(o.passes) +
@@ -66,15 +77,37 @@ double Deviation(const std::vector<TinVertex>& v, uint32_t i, const VoronoiCell&
   return std::abs(v[i].z - sum / static_cast<double>(cell.neighbours.size()));
 }
 
+// Which vertices are in a dense cluster, by the window when there is one, else by cell area
+// (setting *threshold from the cells when it is not yet known). Hull points never are.
+std::vector<char> DenseVertices(const std::vector<TinVertex>& vertices,
+                                const std::vector<VoronoiCell>& cells,
+                                const ThinningOptions& options, std::optional<double>* threshold) {
+  std::vector<char> dense(cells.size(), 0);
+  if (options.window) {
+    const double radius = std::sqrt(options.window->area / std::numbers::pi);
+    const std::vector<uint32_t> counts = CountPointsWithinPlanRadius(vertices, radius);
+    for (uint32_t i = 0; i < cells.size(); ++i) {
+      dense[i] = cells[i].bounded && counts[i] > options.window->max_points;
+    }
+    return dense;
+  }
+  if (!*threshold) *threshold = options.median_fraction * MedianBoundedArea(cells);
+  for (uint32_t i = 0; i < cells.size(); ++i) {
+    dense[i] = cells[i].bounded && cells[i].area < **threshold;
+  }
+  return dense;
+}
+
 // One pass over `vertices` (distinct x, y): returns the positions to drop, no two of them
-// Voronoi neighbours. Sets *threshold from the cells when it is not yet known.
+// Voronoi neighbours, and counts the dense vertices into *dense_count.
 std::vector<uint32_t> ThinOnePass(const std::vector<TinVertex>& vertices,
                                   const ThinningOptions& options,
-                                  std::optional<double>* threshold) {
+                                  std::optional<double>* threshold, size_t* dense_count) {
   Cdt cdt;
   cdt.InsertVertices(vertices);
   const std::vector<VoronoiCell> cells = cdt.VoronoiCells();
-  if (!*threshold) *threshold = options.median_fraction * MedianBoundedArea(cells);
+  const std::vector<char> dense = DenseVertices(vertices, cells, options, threshold);
+  *dense_count = static_cast<size_t>(std::count(dense.begin(), dense.end(), 1));
 
   struct Candidate {
     double deviation;
@@ -83,7 +116,7 @@ std::vector<uint32_t> ThinOnePass(const std::vector<TinVertex>& vertices,
   std::vector<Candidate> candidates;
   for (uint32_t i = 0; i < cells.size(); ++i) {
     const VoronoiCell& cell = cells[i];
-    if (!cell.bounded || !(cell.area < **threshold) || cell.neighbours.empty()) continue;
+    if (!dense[i] || cell.neighbours.empty()) continue;
     const double d = Deviation(vertices, i, cell, options.flatness);
     if (d <= options.vertical_threshold) candidates.push_back({d, i});
   }
@@ -134,7 +167,9 @@ Result<ThinningResult> ThinByVoronoiDensity(const std::vector<TinVertex>& points
     std::vector<TinVertex> vertices;
     vertices.reserve(input_of.size());
     for (uint32_t i : input_of) vertices.push_back(points[i]);
-    const std::vector<uint32_t> drop = ThinOnePass(vertices, options, &threshold);
+    size_t dense = 0;
+    const std::vector<uint32_t> drop = ThinOnePass(vertices, options, &threshold, &dense);
+    if (pass == 0) result.report.dense = dense;
     if (drop.empty()) break;
     ++result.report.passes_run;
     for (uint32_t k : drop) dropped[input_of[k]] = 1;
@@ -145,7 +180,7 @@ Result<ThinningResult> ThinByVoronoiDensity(const std::vector<TinVertex>& points
   for (uint32_t i = 0; i < points.size(); ++i) {
     if (dropped[i]) result.dropped.push_back(i);
   }
-  result.report.cell_area_threshold = threshold.value_or(0);
+  result.report.cell_area_threshold = options.window ? 0 : threshold.value_or(0);
   result.report.dropped = result.dropped.size();
   result.report.kept = result.kept.size();
   return result;

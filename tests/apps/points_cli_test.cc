@@ -46,6 +46,37 @@ TEST(PointsCli, LasBecomesACheckedSurfaceAndThinningKeepsFewerPoints) {
   EXPECT_EQ(a["kind"], "delaunay");
 }
 
+TEST(PointsCli, DensityWindowThinsAndBadWindowsAreRefusedUnchanged) {
+  TempDir dir;
+  const std::string store = dir.Path("p.tinbase");
+  ASSERT_EQ(RunCli("init " + Quote(store)).exit_code, 0);
+  const std::string las = Quote(DataPath("las/autzen_trim.las"));
+  auto thin = RunCli("points import " + Quote(store) + " " + las +
+                     " --surface window --thin --density 10/150");
+  ASSERT_EQ(thin.exit_code, 0) << thin.err;
+  EXPECT_EQ(RunCli("check " + Quote(store)).exit_code, 0);
+  const int kept = SurfaceNamed(store, "window")["vertices"].get<int>();
+  EXPECT_LT(kept, 26107);
+  EXPECT_GT(kept, 26107 / 2);
+
+  const auto before = TableChecksums(store);
+  for (const auto& [density, expected] :
+       {std::pair{"10", "no '/'"}, std::pair{"ten/150", "not a number"},
+        std::pair{"10/0", "the area must be positive"}, std::pair{"10/15x", "area is not"},
+        std::pair{"-1/150", "the count must be >= 0"}}) {
+    auto r = RunCli("points import " + Quote(store) + " " + las + " --surface bad --thin --density " +
+                    density);
+    EXPECT_NE(r.exit_code, 0) << density;
+    EXPECT_NE(r.err.find(std::string("--density '") + density + "'"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(expected), std::string::npos) << r.err;
+  }
+  auto both = RunCli("points import " + Quote(store) + " " + las +
+                     " --surface bad --thin --density 10/150 --max-cell-area 15");
+  EXPECT_NE(both.exit_code, 0);
+  EXPECT_NE(both.err.find("give one"), std::string::npos) << both.err;
+  EXPECT_EQ(TableChecksums(store), before);
+}
+
 TEST(PointsCli, LazAndBrokenFilesAreRefusedUnchanged) {
   TempDir dir;
   const std::string store = dir.Path("p.tinbase");

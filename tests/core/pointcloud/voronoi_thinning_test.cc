@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <numbers>
 #include <random>
 #include <set>
 
@@ -206,6 +207,50 @@ TEST(VoronoiThinning, DefaultThresholdFindsTheDenseClusterAmongSparsePoints) {
   ExpectFaithfulPass(points, *r, ThinningOptions{}.vertical_threshold);
 }
 
+TEST(VoronoiThinning, DensityWindowFindsTheClusterAndCountsPointsNotCells) {
+  // Sparse spacing 5, cluster spacing 1. A window of 30 units² (radius ~3.1) holds only the point
+  // itself in the sparse part and ~29 points in the cluster, so "more than 10 per 30" is exactly
+  // the cluster. A close pair in the sparse part has two tiny-ish Voronoi cells but only two
+  // points in its window: the window leaves it alone.
+  std::mt19937 rng(11);
+  std::normal_distribution<double> noise(0, 0.01);
+  auto points = SparseWithCluster([&](double, double) { return 10 + noise(rng); }, rng);
+  points.push_back({12.6, 12.4, 10, VertexKind::kLidar});  // beside the sparse point near (10, 10)
+  ThinningOptions o;
+  o.window = DensityWindow{10, 30};
+  o.vertical_threshold = 0.15;
+  auto r = ThinByVoronoiDensity(points, o);
+  ASSERT_TRUE(r.ok()) << r.status().ToString();
+  for (uint32_t i : r->dropped) EXPECT_TRUE(InCluster(points[i])) << "sparse point " << i;
+  EXPECT_GT(r->report.dropped, 441u / 5);
+  EXPECT_LT(r->report.dropped, 441u / 2);
+  // The cluster's points away from its rim are dense; nothing outside it is.
+  EXPECT_GT(r->report.dense, 300u);
+  EXPECT_LE(r->report.dense, 441u);
+  EXPECT_EQ(r->report.cell_area_threshold, 0);
+  ExpectFaithfulPass(points, *r, 0.15);
+
+  // Widen the allowance past the cluster's count and nothing is dense.
+  o.window = DensityWindow{40, 30};
+  auto none = ThinByVoronoiDensity(points, o);
+  ASSERT_TRUE(none.ok());
+  EXPECT_EQ(none->report.dense, 0u);
+  EXPECT_EQ(none->report.dropped, 0u);
+}
+
+TEST(VoronoiThinning, BadDensityWindowIsRejected) {
+  const std::vector<TinVertex> points = {{0, 0, 0, VertexKind::kLidar},
+                                         {1, 0, 0, VertexKind::kLidar},
+                                         {0, 1, 0, VertexKind::kLidar}};
+  ThinningOptions o;
+  o.window = DensityWindow{10, 0};
+  EXPECT_EQ(ThinByVoronoiDensity(points, o).status().message(),
+            "thinning: density window area 0.000000 must be positive");
+  o.window = DensityWindow{-1, 150};
+  EXPECT_EQ(ThinByVoronoiDensity(points, o).status().message(),
+            "thinning: density window count -1.000000 must be a finite value >= 0");
+}
+
 TEST(VoronoiThinning, HullPointsAreNeverDropped) {
   // Everything dense and perfectly flat: only the hull rule and the neighbour rule hold points.
   std::mt19937 rng(7);
@@ -389,6 +434,30 @@ TEST(VoronoiThinning, PaperExperimentOnAutzenGround) {
   const double point_ratio = double(r->report.kept) / double(best.size());
   EXPECT_NEAR(ratio, point_ratio, 0.05);
   ExpectFaithfulPass(best, *r, 0.15);
+
+  // The paper's words taken literally: more than 10 points in the 150 ft² disc around a point.
+  ThinningOptions literal;
+  literal.window = DensityWindow{10, 150};
+  literal.vertical_threshold = 0.15;
+  auto by_window = ThinByVoronoiDensity(best, literal);
+  ASSERT_TRUE(by_window.ok()) << by_window.status().ToString();
+  const size_t window_triangles = TinOf(best, by_window->kept).triangles.size();
+  std::cout << "same window, density window 10 per 150 ft2: " << by_window->report.dense
+            << " dense, " << by_window->report.kept << " kept, " << by_window->report.dropped
+            << " dropped; triangles " << triangles_before << " -> " << window_triangles << "\n";
+  // Fewer go than by cell area (this window's typical spacing is near 10 per 150 ft² already),
+  // and each dropped point really has more than 10 points, itself included, in its disc.
+  EXPECT_GT(by_window->report.dropped, 0u);
+  EXPECT_LT(by_window->report.dropped, best.size() / 2);
+  const double radius_squared = 150 / std::numbers::pi;
+  for (uint32_t i : by_window->dropped) {
+    const size_t in_disc = std::count_if(best.begin(), best.end(), [&](const TinVertex& q) {
+      return (q.x - best[i].x) * (q.x - best[i].x) + (q.y - best[i].y) * (q.y - best[i].y) <=
+             radius_squared;
+    });
+    EXPECT_GT(in_disc, 10u) << "dropped point " << i;
+  }
+  ExpectFaithfulPass(best, *by_window, 0.15);
 
   // The default density threshold (0.75 of the median cell) on the same window, for comparison.
   auto by_default = ThinByVoronoiDensity(best, ThinningOptions{});
