@@ -183,6 +183,14 @@ std::vector<uint32_t> RefineToTolerance(Cdt& cdt, CellSource& dem, const RefineO
   return refiner.Run(cdt.FiniteFaces(), report);
 }
 
+std::vector<uint32_t> RefineFacesToTolerance(Cdt& cdt, CellSource& dem,
+                                             const RefineOptions& options,
+                                             std::vector<Cdt::FaceRef> faces,
+                                             RefineReport* report) {
+  Refiner refiner(cdt, dem, options);
+  return refiner.Run(std::move(faces), report);
+}
+
 std::vector<uint32_t> RefineToTolerance(Cdt& cdt, const Grid& dem, const RefineOptions& options,
                                         RefineReport* report) {
   GridCellSource source(dem);
