@@ -236,7 +236,12 @@ Result<Tin> BuildGreedyTin(const Grid& dem, const GreedyOptions& options, Greedy
   GridCellSource source(dem);
   if (!RefinesInHalves(dem, options)) return BuildGreedyTin(source, options, report);
   TB_ASSIGN_OR_RETURN(Tin tin, BuildInHalves(dem, options));
-  PaintAndMeasure(source, tin, report);
+  if (report != nullptr) {
+    PaintAndMeasure(source, tin, report);
+  } else {
+    // Nothing to measure, and cells in memory need no reading order: no sort by tile.
+    for (TinTriangle& t : tin.triangles) t.visible = TriangleOnData(dem, tin, t);
+  }
   return tin;
 }
 
