@@ -83,12 +83,19 @@ Result<int64_t> InternTag(Store& store, const std::string& value) {
 }
 
 Box BoxOf(const EditorFeature& f) {
+  if (f.box_cache) return *f.box_cache;
   Box box;
   for (const Polygon& p : f.polygons)
     for (const Point2& q : p.shell) box.Add(q);
   for (const auto& line : f.lines)
     for (const Point2& q : line) box.Add(q);
+  f.box_cache = box;
   return box;
+}
+
+const std::shared_ptr<const PolygonLocator>& InsideOf(const EditorFeature& f) {
+  if (!f.inside_cache) f.inside_cache = std::make_shared<const PolygonLocator>(f.polygons);
+  return f.inside_cache;
 }
 
 Result<std::vector<EditorFeature>> LoadFeatures(Store& store, const SurfaceInfo& surface) {
@@ -161,7 +168,7 @@ Paint PaintFromFeatures(const std::vector<EditorFeature>& features, CellSource* 
     const bool near = BoxOf(f).Meets(reach);
     if (!near && *mode != PaintMode::kClip) continue;
     PaintedFeature p;
-    if (near) p.polygons = f.polygons;
+    if (near) p.inside = InsideOf(f);
     p.mode = *mode;
     p.level = f.level.value_or(0);
     if (f.tag) {
@@ -194,7 +201,7 @@ Result<LoadedSurface> LoadFeatureSurface(Store& store, int64_t feature) {
   if (IsBreakline(f.mode))
     return Status::InvalidArgument("feature " + std::to_string(feature) +
                                    " is a breakline: it has no inside to export");
-  const PolygonLocator inside(f.polygons);
+  const PolygonLocator& inside = *InsideOf(f);
   const Box box = BoxOf(f);
   TB_ASSIGN_OR_RETURN(Statement * triangles,
                       store.db().Cached("SELECT t.id, t.v0, t.v1, t.v2, g.value FROM triangles t "

@@ -443,6 +443,9 @@ class SurfaceChecker {
           const double z = plane.At(static_cast<double>(c), static_cast<double>(r));
           const double error = std::fabs(z - value);
           if (error <= worst) return;
+          if (!HoldsCellCentre(g, tin.vertices[tri.v[0]], tin.vertices[tri.v[1]],
+                               tin.vertices[tri.v[2]], c, r))
+            return;
           if (!replaced.empty() &&
               replaced.Locate({g.CellCenterX(c), g.CellCenterY(r)}) != PointInPolygon::kOutside)
             return;

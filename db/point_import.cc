@@ -3,6 +3,15 @@
 #include "db/surface_store.h"
 
 namespace tinbase {
+namespace {
+
+// Bands of the streamed triangulation: after each, the triangles below it are final and their
+// rows can be written while the next is inserted. Four let the writer, which the vertex rows keep
+// busy for the first part of the triangulation, start on triangle rows when it is free; more
+// cost a scan of the faces each. Small imports, written in moments anyway, go in one band.
+int TriangulationBands(size_t points) { return points < 20000 ? 1 : 4; }
+
+}  // namespace
 
 Result<PointImportReport> ImportPoints(Store& store, const PointImportOptions& options) {
   if (options.surface.empty()) {
@@ -31,10 +40,14 @@ Result<PointImportReport> ImportPoints(Store& store, const PointImportOptions& o
   spec.method = options.thin ? "lidar-voronoi-thinned" : "lidar";
   // The report is filled in on the triangulating thread; CreateWhileTriangulating has joined it
   // before it returns.
-  TB_ASSIGN_OR_RETURN(SurfaceInfo created,
-                      SurfaceStore(store).CreateWhileTriangulating(spec, points.vertices, [&] {
-                        return TriangulatePoints(options.file, points.vertices, &report.points);
-                      }));
+  TB_ASSIGN_OR_RETURN(
+      SurfaceInfo created,
+      SurfaceStore(store).CreateWhileTriangulating(
+          spec, points.vertices, [&](const TriangleOrder& order, const TriangleSink& finished) {
+            return StreamPointTriangles(options.file, points.vertices,
+                                        TriangulationBands(points.vertices.size()), order,
+                                        finished, &report.points);
+          }));
   report.surface_id = created.id;
   TB_RETURN_IF_ERROR(tx->Commit());
   return report;

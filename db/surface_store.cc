@@ -4,12 +4,17 @@
 
 #include <algorithm>
 #include <cmath>
+#include <condition_variable>
+#include <deque>
 #include <future>
+#include <mutex>
+#include <optional>
 #include <limits>
 #include <numeric>
 #include <unordered_map>
 
 #include "db/sqlite/scoped_page_cache.h"
+#include "db/sqlite/unchecked_foreign_keys.h"
 
 namespace tinbase {
 
@@ -162,8 +167,7 @@ std::vector<uint32_t> VertexOrder(const std::vector<TinVertex>& vertices) {
 }
 
 // Where a Tin's triangle rows go: each triangle's block, and the order the rows are written in
-// (by block, ties in index order). Needs no database, so a bulk import computes it off the
-// writing thread.
+// (by block, ties in index order).
 struct TriangleLayout {
   BlockGrid grid;
   std::vector<int64_t> blocks;
@@ -186,30 +190,6 @@ TriangleLayout LayOutTriangles(const BlockGrid& grid, const Tin& tin) {
   std::sort(keyed.begin(), keyed.end());
   layout.order.reserve(keyed.size());
   for (const auto& [block, t] : keyed) layout.order.push_back(t);
-  return layout;
-}
-
-// LayOutTriangles, and then tin.triangles permuted into the layout's order (neighbour links
-// renumbered with them; the layout's order becomes the identity). Writing rows then reads each
-// triangle, its neighbours' ids and its corners' ids from nearby memory instead of jumping
-// across arrays of millions.
-TriangleLayout SortIntoLayout(const BlockGrid& grid, Tin& tin) {
-  TriangleLayout layout = LayOutTriangles(grid, tin);
-  const size_t n = tin.triangles.size();
-  std::vector<int32_t> rank(n);
-  for (size_t r = 0; r < n; ++r) rank[layout.order[r]] = static_cast<int32_t>(r);
-  std::vector<TinTriangle> sorted(n);
-  std::vector<int64_t> blocks(n);
-  for (size_t r = 0; r < n; ++r) {
-    const uint32_t t = layout.order[r];
-    sorted[r] = tin.triangles[t];
-    for (int32_t& neighbour : sorted[r].n)
-      if (neighbour != kNoNeighbour) neighbour = rank[static_cast<size_t>(neighbour)];
-    blocks[r] = layout.blocks[t];
-  }
-  tin.triangles = std::move(sorted);
-  layout.blocks = std::move(blocks);
-  std::iota(layout.order.begin(), layout.order.end(), 0u);
   return layout;
 }
 
@@ -273,10 +253,34 @@ Result<std::vector<int64_t>> WriteVertexRows(SqliteDb& db, const SurfaceInfo& su
                                   const TinVertex& v = vertices[i];
                                   row.Bind(p, ids[i]).Bind(p + 1, surface.id).Bind(p + 2, v.x);
                                   row.Bind(p + 3, v.y).Bind(p + 4, v.z);
-                                  row.Bind(p + 5, std::string_view(VertexKindName(v.kind)));
+                                  row.BindStaticText(p + 5, VertexKindName(v.kind));
                                 })
                          .WithContext("surface " + Quoted(surface.name)));
   return ids;
+}
+
+// A triangle row without its paint: visible and tag take the columns' defaults (1, NULL), as
+// every triangle of a freshly built surface has them; two values fewer to bind and copy per row.
+constexpr char kTriangleRow[] = "triangles(id, surface, v0, v1, v2, n0, n1, n2, block)";
+constexpr char kTriangleRowWithPaint[] =
+    "triangles(id, surface, v0, v1, v2, n0, n1, n2, block, visible, tag)";
+constexpr int kTriangleRowValues = 9;
+
+// Binds the values of kTriangleRow from parameter p on: `tri`'s vertices through `vertex_ids`,
+// its neighbours through `triangle_id` (an index to a store id), NULL for kNoNeighbour.
+template <typename TriangleId>
+void BindTriangleRow(Statement& row, int p, int64_t surface, int64_t id, const TinTriangle& tri,
+                     int64_t block, const std::vector<int64_t>& vertex_ids,
+                     const TriangleId& triangle_id) {
+  row.Bind(p, id).Bind(p + 1, surface);
+  for (int i = 0; i < 3; ++i) {
+    row.Bind(p + 2 + i, vertex_ids[tri.v[i]]);
+    if (tri.n[i] == kNoNeighbour)
+      row.BindNull(p + 5 + i);
+    else
+      row.Bind(p + 5 + i, triangle_id(tri.n[i]));
+  }
+  row.Bind(p + 8, block);
 }
 
 // Writes the triangle and constraint rows of `tin` for `surface`, whose vertices have the ids
@@ -292,26 +296,24 @@ Result<std::vector<int64_t>> WriteTriangleRows(SqliteDb& db, const SurfaceInfo& 
   for (size_t rank = 0; rank < order.size(); ++rank)
     ids[order[rank]] = base + static_cast<int64_t>(rank);
   const std::string context = "surface " + Quoted(surface.name);
+  // A freshly built surface takes kTriangleRow, the rows without paint.
+  const bool defaults = std::all_of(tin.triangles.begin(), tin.triangles.end(),
+                                    [](const TinTriangle& t) { return t.visible && t.tag == kNoTag; });
+  const auto triangle_id = [&](int32_t t) { return ids[static_cast<size_t>(t)]; };
   TB_RETURN_IF_ERROR(
-      InsertRows(db, "triangles(id, surface, v0, v1, v2, n0, n1, n2, visible, tag, block)", 11,
-                 order.size(),
+      InsertRows(db, defaults ? kTriangleRow : kTriangleRowWithPaint,
+                 defaults ? kTriangleRowValues : kTriangleRowValues + 2, order.size(),
                  [&](Statement& row, int p, size_t rank) {
                    const uint32_t t = order[rank];
                    const TinTriangle& tri = tin.triangles[t];
-                   row.Bind(p, ids[t]).Bind(p + 1, surface.id);
-                   for (int i = 0; i < 3; ++i) {
-                     row.Bind(p + 2 + i, vertex_ids[tri.v[i]]);
-                     if (tri.n[i] == kNoNeighbour)
-                       row.BindNull(p + 5 + i);
-                     else
-                       row.Bind(p + 5 + i, ids[tri.n[i]]);
-                   }
-                   row.Bind(p + 8, int64_t{tri.visible ? 1 : 0});
+                   BindTriangleRow(row, p, surface.id, ids[t], tri, layout.blocks[t], vertex_ids,
+                                   triangle_id);
+                   if (defaults) return;
+                   row.Bind(p + kTriangleRowValues, int64_t{tri.visible ? 1 : 0});
                    if (tri.tag == kNoTag)
-                     row.BindNull(p + 9);
+                     row.BindNull(p + kTriangleRowValues + 1);
                    else
-                     row.Bind(p + 9, tag_ids[tri.tag]);
-                   row.Bind(p + 10, layout.blocks[t]);
+                     row.Bind(p + kTriangleRowValues + 1, tag_ids[tri.tag]);
                  })
           .WithContext(context));
   TB_RETURN_IF_ERROR(InsertRows(db, "constraints(surface, va, vb)", 3, tin.constraints.size(),
@@ -323,6 +325,92 @@ Result<std::vector<int64_t>> WriteTriangleRows(SqliteDb& db, const SurfaceInfo& 
                                 })
                          .WithContext(context));
   return ids;
+}
+
+// Batches from a triangulating thread to the writing one, in order.
+class BatchQueue {
+ public:
+  void Push(TriangleBatch batch) {
+    {
+      std::lock_guard<std::mutex> lock(mu_);
+      batches_.push_back(std::move(batch));
+    }
+    ready_.notify_one();
+  }
+  // No batch follows.
+  void Close() {
+    {
+      std::lock_guard<std::mutex> lock(mu_);
+      closed_ = true;
+    }
+    ready_.notify_one();
+  }
+  // The next batch, waiting for it; nullopt once the queue is closed and empty.
+  std::optional<TriangleBatch> Pop() {
+    std::unique_lock<std::mutex> lock(mu_);
+    ready_.wait(lock, [&] { return closed_ || !batches_.empty(); });
+    if (batches_.empty()) return std::nullopt;
+    TriangleBatch batch = std::move(batches_.front());
+    batches_.pop_front();
+    return batch;
+  }
+
+ private:
+  std::mutex mu_;
+  std::condition_variable ready_;
+  std::deque<TriangleBatch> batches_;
+  bool closed_ = false;
+};
+
+// InvalidArgument naming the first index of `batch` that cannot be right: a vertex of none of the
+// `vertices`, a neighbour or link outside the triangles handed over so far, a batch that does
+// not continue at `written`.
+Status ValidateBatch(const TriangleBatch& batch, size_t vertices, size_t written) {
+  const size_t end = written + batch.triangles.size();
+  if (batch.first != written || batch.keys.size() != batch.triangles.size())
+    return Status::InvalidArgument("triangle batch at " + std::to_string(batch.first) +
+                                   " does not follow the " + std::to_string(written) +
+                                   " triangles written");
+  const auto known = [&](int64_t t) { return t >= 0 && static_cast<size_t>(t) < end; };
+  for (size_t k = 0; k < batch.triangles.size(); ++k) {
+    const TinTriangle& tri = batch.triangles[k];
+    for (int i = 0; i < 3; ++i) {
+      if (tri.v[i] >= vertices || (tri.n[i] != kNoNeighbour && !known(tri.n[i])))
+        return Status::InvalidArgument("triangle " + std::to_string(written + k) +
+                                       ": a vertex or neighbour does not exist");
+    }
+  }
+  for (const TriangleBatch::Link& link : batch.links) {
+    if (link.triangle >= written || link.slot < 0 || link.slot > 2 || !known(link.neighbour))
+      return Status::InvalidArgument("triangle " + std::to_string(link.triangle) +
+                                     ": a late neighbour link does not fit");
+  }
+  return Status::Ok();
+}
+
+// Writes the rows of `batch` (triangle index t gets id base + t), then the neighbour columns its
+// links fill in rows written before.
+Status WriteTriangleBatch(SqliteDb& db, const SurfaceInfo& surface, const TriangleBatch& batch,
+                          int64_t base, const std::vector<int64_t>& vertex_ids) {
+  const auto triangle_id = [&](int32_t t) { return base + t; };
+  const int64_t first = base + static_cast<int64_t>(batch.first);
+  TB_RETURN_IF_ERROR(InsertRows(db, kTriangleRow, kTriangleRowValues, batch.triangles.size(),
+                                [&](Statement& row, int p, size_t k) {
+                                  BindTriangleRow(row, p, surface.id,
+                                                  first + static_cast<int64_t>(k),
+                                                  batch.triangles[k], batch.keys[k], vertex_ids,
+                                                  triangle_id);
+                                })
+                         .WithContext("surface " + Quoted(surface.name)));
+  for (const TriangleBatch::Link& link : batch.links) {
+    static constexpr const char* kSetNeighbour[] = {"UPDATE triangles SET n0 = ? WHERE id = ?",
+                                                    "UPDATE triangles SET n1 = ? WHERE id = ?",
+                                                    "UPDATE triangles SET n2 = ? WHERE id = ?"};
+    TB_ASSIGN_OR_RETURN(Statement * update, db.Cached(kSetNeighbour[link.slot]));
+    update->Bind(1, triangle_id(link.neighbour)).Bind(2, base + link.triangle);
+    TB_RETURN_IF_ERROR(update->Run());
+  }
+  return Status::Ok();
 }
 
 }  // namespace
@@ -368,52 +456,39 @@ Result<SurfaceInfo> SurfaceStore::Create(const SurfaceInfo& spec, const Tin& tin
 
 Result<SurfaceInfo> SurfaceStore::CreateWhileTriangulating(
     const SurfaceInfo& spec, const std::vector<TinVertex>& vertices,
-    const std::function<Result<Tin>()>& triangulate) {
+    const BatchedTriangulation& triangulate) {
   SqliteDb& db = store_.db();
-  // n points in general position have 2n - 2 - h Delaunay triangles (h on the convex hull): 2n
-  // stands in for the grid until the count is known, then the row is corrected if need be.
+  // n points in general position have 2n - 2 - h Delaunay triangles (h on the convex hull): the
+  // grid is sized for 2n, as rows are written before the count is known.
   TB_ASSIGN_OR_RETURN(SurfaceInfo info,
                       InsertSurfaceRow(db, spec, GridFor(vertices, 2 * vertices.size())));
-  struct Triangulated {
-    Tin tin;
-    TriangleLayout layout;
-  };
-  // std::async's future waits for the task in its destructor, so `vertices` and `triangulate`
-  // outlive it on every return path.
-  std::future<Result<Triangulated>> worker =
-      std::async(std::launch::async, [&]() -> Result<Triangulated> {
-        TB_ASSIGN_OR_RETURN(Tin tin, triangulate());
-        TB_RETURN_IF_ERROR(ValidateIndices(tin).WithContext("surface " + Quoted(spec.name)));
-        TriangleLayout layout = SortIntoLayout(GridFor(vertices, tin.triangles.size()), tin);
-        return Triangulated{std::move(tin), std::move(layout)};
-      });
+  const BlockGrid grid = info.blocks;
+  BatchQueue queue;
+  // std::async's future waits for the task in its destructor, so `vertices`, `triangulate` and
+  // `queue` outlive it on every return path.
+  std::future<Status> worker = std::async(std::launch::async, [&]() -> Status {
+    const auto block = [&](const TinTriangle& t) {
+      const TinVertex &a = vertices[t.v[0]], &b = vertices[t.v[1]], &c = vertices[t.v[2]];
+      return CentroidBlock(grid, a.x, a.y, b.x, b.y, c.x, c.y);
+    };
+    Status status = triangulate(block, [&](TriangleBatch batch) { queue.Push(std::move(batch)); });
+    queue.Close();
+    return status;
+  });
   ScopedPageCache cache(db, 3 * vertices.size());
-  Result<std::vector<int64_t>> vertex_ids = WriteVertexRows(db, info, vertices);
-  Result<Triangulated> done = worker.get();
-  TB_RETURN_IF_ERROR(vertex_ids.status());
-  TB_RETURN_IF_ERROR(done.status());
-  const Tin& tin = done->tin;
-  const bool same_vertices =
-      tin.vertices.size() == vertices.size() &&
-      std::equal(vertices.begin(), vertices.end(), tin.vertices.begin(),
-                 [](const TinVertex& a, const TinVertex& b) {
-                   return a.x == b.x && a.y == b.y && a.z == b.z && a.kind == b.kind;
-                 });
-  if (!same_vertices) {
-    return Status::InvalidArgument("surface " + Quoted(spec.name) +
-                                   ": the triangulation's vertices are not the ones written");
+  // Each row's surface is the row this write just made: SQLite's lookup of the parent for every
+  // row would prove nothing (it is about 10 % of a row's cost).
+  TB_ASSIGN_OR_RETURN(UncheckedForeignKeys unchecked, UncheckedForeignKeys::Begin(db));
+  TB_ASSIGN_OR_RETURN(const std::vector<int64_t> vertex_ids, WriteVertexRows(db, info, vertices));
+  TB_ASSIGN_OR_RETURN(const int64_t base, NextId(db, "triangles"));
+  size_t written = 0;
+  while (std::optional<TriangleBatch> batch = queue.Pop()) {
+    TB_RETURN_IF_ERROR(ValidateBatch(*batch, vertices.size(), written)
+                           .WithContext("surface " + Quoted(spec.name)));
+    TB_RETURN_IF_ERROR(WriteTriangleBatch(db, info, *batch, base, vertex_ids));
+    written += batch->triangles.size();
   }
-  const BlockGrid& grid = done->layout.grid;
-  if (grid.origin_x != info.blocks.origin_x || grid.origin_y != info.blocks.origin_y ||
-      grid.size != info.blocks.size) {
-    TB_ASSIGN_OR_RETURN(Statement * update,
-                        db.Cached("UPDATE surfaces SET block_origin_x = ?, block_origin_y = ?, "
-                                  "block_size = ? WHERE id = ?"));
-    update->Bind(1, grid.origin_x).Bind(2, grid.origin_y).Bind(3, grid.size).Bind(4, info.id);
-    TB_RETURN_IF_ERROR(update->Run());
-    info.blocks = grid;
-  }
-  TB_RETURN_IF_ERROR(WriteTriangleRows(db, info, tin, *vertex_ids, done->layout).status());
+  TB_RETURN_IF_ERROR(worker.get());
   return info;
 }
 
@@ -434,6 +509,8 @@ Result<LoadedSurface> SurfaceStore::Replace(const SurfaceInfo& surface, const Ti
 Result<LoadedSurface> SurfaceStore::WriteRows(const SurfaceInfo& surface, const Tin& tin) {
   SqliteDb& db = store_.db();
   ScopedPageCache cache(db, tin.vertices.size() + tin.triangles.size());
+  // As in CreateWhileTriangulating: every key was made sure of just before.
+  TB_ASSIGN_OR_RETURN(UncheckedForeignKeys unchecked, UncheckedForeignKeys::Begin(db));
   LoadedSurface out;
   TB_ASSIGN_OR_RETURN(out.vertex_ids, WriteVertexRows(db, surface, tin.vertices));
   TB_ASSIGN_OR_RETURN(out.triangle_ids, WriteTriangleRows(db, surface, tin, out.vertex_ids,

@@ -16,6 +16,7 @@
 #include "core/base/status.h"
 #include "core/tin/block_grid.h"
 #include "core/tin/tin.h"
+#include "core/tin/triangle_batch.h"
 #include "db/store.h"
 
 namespace tinbase {
@@ -92,15 +93,20 @@ class SurfaceStore {
   // coordinate is not finite. REQUIRES: inside a WriteTransaction; `tin`'s neighbour links are
   // consistent (LinkNeighbours).
   Result<SurfaceInfo> Create(const SurfaceInfo& spec, const Tin& tin);
+  // Triangulates, handing the triangles over in batches sorted by `order` as they become final
+  // (TriangleBatch); returns its own errors. Runs on a thread of its own.
+  using BatchedTriangulation =
+      std::function<Status(const TriangleOrder& order, const TriangleSink& finished)>;
   // As Create, for a bulk import whose triangles are still to be computed from `vertices`:
-  // `triangulate` runs on a second thread while this one writes the surface and vertex rows
-  // (for LiDAR points the two take about as long), then the triangles it returns are written.
-  // Errors: Create's, and those `triangulate` returns; InvalidArgument when the Tin it returns
-  // does not have exactly `vertices` as its vertices, in order. REQUIRES: inside a
-  // WriteTransaction; `triangulate` touches no store.
+  // `triangulate` runs on a second thread while this one writes the surface and vertex rows, and
+  // then each batch's triangle rows as it comes (neighbours not final yet are written NULL and
+  // filled in when a later batch links them). The block grid is sized for 2n triangles before
+  // the count is known. Errors: Create's, and those `triangulate` returns; InvalidArgument when a
+  // batch's indices do not fit `vertices` and the triangles before it. REQUIRES: inside a
+  // WriteTransaction; `triangulate` touches no store, and indexes `vertices` in order.
   Result<SurfaceInfo> CreateWhileTriangulating(const SurfaceInfo& spec,
                                                const std::vector<TinVertex>& vertices,
-                                               const std::function<Result<Tin>()>& triangulate);
+                                               const BatchedTriangulation& triangulate);
   // Replaces every vertex, triangle and constraint row of `surface` by `tin` (features and
   // changes stay). The surface keeps its block grid (blocks clamp at the grid's edge, so a larger
   // `tin` stays correct, only coarser to search). Returns the new ids. InvalidArgument when

@@ -300,19 +300,19 @@ class ReplaceLevels {
   explicit ReplaceLevels(const std::vector<EditorFeature>& features) {
     for (const EditorFeature& f : features) {
       if (f.mode != "replace") continue;
-      locators_.emplace_back(f.polygons);
+      locators_.push_back(InsideOf(f));
       levels_.push_back(f.level.value_or(0));
     }
   }
   std::optional<double> At(const Point2& p) const {
     for (size_t k = locators_.size(); k-- > 0;)
-      if (locators_[k].Locate(p) != PointInPolygon::kOutside) return levels_[k];
+      if (locators_[k]->Locate(p) != PointInPolygon::kOutside) return levels_[k];
     return std::nullopt;
   }
   bool empty() const { return locators_.empty(); }
 
  private:
-  std::vector<PolygonLocator> locators_;
+  std::vector<std::shared_ptr<const PolygonLocator>> locators_;
   std::vector<double> levels_;
 };
 
@@ -368,7 +368,7 @@ class Edit {
       TB_ASSIGN_OR_RETURN(patch, Retriangulate());
       TB_ASSIGN_OR_RETURN(std::vector<int64_t> grow, CheckOutline(patch));
       if (grow.empty()) break;
-      for (int64_t t : grow) AddToRegion(t);
+      TB_RETURN_IF_ERROR(GrowAround(grow));
     }
     result_.refinement_points = patch.refinement_points;
     TB_RETURN_IF_ERROR(Write(patch));
@@ -382,11 +382,27 @@ class Edit {
     if (region_.insert(t).second) order_.push_back(t);
   }
 
-  Result<int64_t> Locate(const Point2& p, const std::string& what) {
+  // The triangles across R's failed outline edges join R with their neighbours: the outline
+  // then moves two triangles out, where the new triangulation seldom reaches, so R settles in
+  // fewer rounds (each re-triangulates all of R: a whole map in one edit took five).
+  Status GrowAround(const std::vector<int64_t>& failed) {
+    for (int64_t t : failed) {
+      AddToRegion(t);
+      TB_ASSIGN_OR_RETURN(const MeshTriangle* tri, mesh_.Triangle(t));
+      const MeshTriangle here = *tri;
+      for (const std::optional<int64_t>& n : here.n)
+        if (n) AddToRegion(*n);
+    }
+    return Status::Ok();
+  }
+
+  // `what` names the point in the error (called only then: it is built for every ring point).
+  template <typename Describe>
+  Result<int64_t> Locate(const Point2& p, const Describe& what) {
     auto located = locator_.Locate(p.x, p.y);
     if (located.ok()) return located->triangle;
     if (located.status().code() == StatusCode::kNotFound)
-      return Status::InvalidArgument(what + ": " + FormatPoint(p) + " lies outside surface '" +
+      return Status::InvalidArgument(what() + ": " + FormatPoint(p) + " lies outside surface '" +
                                      surface_.name + "'");
     return located.status();
   }
@@ -411,7 +427,7 @@ class Edit {
     for (int64_t v : touched) {
       TB_ASSIGN_OR_RETURN(const TinVertex* vertex, mesh_.Vertex(v));
       TB_ASSIGN_OR_RETURN(int64_t start,
-                          Locate({vertex->x, vertex->y}, "vertex " + std::to_string(v)));
+                          Locate({vertex->x, vertex->y}, [v] { return "vertex " + std::to_string(v); }));
       bool closed = true;
       TB_ASSIGN_OR_RETURN(std::vector<int64_t> star, mesh_.Star(v, start, &closed));
       for (int64_t t : star) AddToRegion(t);
@@ -471,8 +487,9 @@ class Edit {
       std::optional<int64_t> previous;  // the triangle holding the previous point
       for (size_t i = 0; i < line.points.size(); ++i) {
         TinVertex& p = line.points[i];
-        const std::string what =
-            "feature " + std::to_string(line.feature) + ", point " + std::to_string(i);
+        const auto what = [&line, i] {
+          return "feature " + std::to_string(line.feature) + ", point " + std::to_string(i);
+        };
         // Draped ring points lie a DEM cell or less apart, often several in one triangle; a
         // point strictly inside the previous point's triangle lies in no other, so the locator
         // would return that triangle: no walk.
@@ -536,9 +553,7 @@ class Edit {
       for (int i = 0; i < 3; ++i) {
         if (!here.n[i]) continue;
         const int64_t a = here.v[(i + 1) % 3], b = here.v[(i + 2) % 3];
-        if (removed_edges_.count(Key(a, b))) continue;
-        TB_ASSIGN_OR_RETURN(const std::vector<int64_t>* owners, mesh_.Owners(a, b));
-        if (owners->empty()) continue;
+        // Distance first: the constraint lookup reads rows, and nearly every edge is too far.
         TB_ASSIGN_OR_RETURN(const Point2 pa, mesh_.At(a));
         TB_ASSIGN_OR_RETURN(const Point2 pb, mesh_.At(b));
         const double dx = pb.x - pa.x, dy = pb.y - pa.y, len = std::hypot(dx, dy);
@@ -547,6 +562,9 @@ class Edit {
         const double off = std::fabs((p.x - pa.x) * dy - (p.y - pa.y) * dx) / len;
         const double ends = snap / len;
         if (along <= ends || along >= 1 - ends || off > snap) continue;
+        if (removed_edges_.count(Key(a, b))) continue;
+        TB_ASSIGN_OR_RETURN(const std::vector<int64_t>* owners, mesh_.Owners(a, b));
+        if (owners->empty()) continue;
         p.x = pa.x + along * dx, p.y = pa.y + along * dy;
         splits_[Key(a, b)].push_back({a < b ? along : 1 - along, Point2{p.x, p.y}});
         AddToRegion(c);
@@ -646,10 +664,12 @@ class Edit {
       for (int i = 0; i < 3; ++i) {
         if (!here.n[i] || region_.count(*here.n[i])) continue;
         const int64_t a = here.v[(i + 1) % 3], b = here.v[(i + 2) % 3];
+        TB_ASSIGN_OR_RETURN(auto c, Corners(*here.n[i]));
+        if (!CircleHoldsAny(c, points)) continue;
+        // A kept constraint shields the triangle across (checked second: it reads a row).
         TB_ASSIGN_OR_RETURN(const std::vector<int64_t>* owners, mesh_.Owners(a, b));
         if (!owners->empty() && !removed_edges_.count(Key(a, b))) continue;
-        TB_ASSIGN_OR_RETURN(auto c, Corners(*here.n[i]));
-        if (CircleHoldsAny(c, points)) AddToRegion(*here.n[i]);
+        AddToRegion(*here.n[i]);
       }
     }
     return Status::Ok();
@@ -692,8 +712,15 @@ class Edit {
     std::vector<Polygon> changed;
     bool anywhere = false, per_triangle = false;
     RingBlocks near_any(g, window);
+    Box window_box;  // the window's blocks, grown by the margin RingBlocks tests them with
+    const double reach = g.size / 2 + RingBlocks::kMargin * g.size;
+    const Point2 low = near_any.Centre(window.bx0, window.by0);
+    const Point2 high = near_any.Centre(window.bx1, window.by1);
+    window_box.Add(Point2{low.x - reach, low.y - reach});
+    window_box.Add(Point2{high.x + reach, high.y + reach});
     const auto note = [&](const EditorFeature& f, bool is_changed) {
       if (IsBreakline(f.mode) || !ParsePaintMode(f.mode).ok()) return;
+      if (!is_changed && !BoxOf(f).Meets(window_box)) return;  // no ring of it near the window
       near_any.AddRings(f.polygons);
       if (!is_changed) return;
       changed.insert(changed.end(), f.polygons.begin(), f.polygons.end());
@@ -711,14 +738,11 @@ class Edit {
     const auto on_data = [&](const Point2& c) -> Result<bool> {
       if (!window_dem) {
         const double cell = std::max(dem_.geometry.cell_x, std::fabs(dem_.geometry.cell_y));
-        const Point2 low = near_any.Centre(window.bx0, window.by0);
-        const Point2 high = near_any.Centre(window.bx1, window.by1);
         TB_ASSIGN_OR_RETURN(
             window_dem, dems_.ReadWindow(dem_, {low.x - g.size - cell, low.y - g.size - cell,
                                                 high.x + g.size + cell, high.y + g.size + cell}));
       }
-      const double half = g.size / 2 + RingBlocks::kMargin * g.size;
-      return BoxOnData(*window_dem, c.x - half, c.y - half, c.x + half, c.y + half);
+      return BoxOnData(*window_dem, c.x - reach, c.y - reach, c.x + reach, c.y + reach);
     };
     Tin centres;  // one point-like triangle per uniform block, at its centre
     for (int64_t by = window.by0; by <= window.by1; ++by) {

@@ -2,6 +2,7 @@
 
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Interval_nt.h>
 #include <CGAL/Projection_traits_xy_3.h>
 #include <CGAL/Spatial_sort_traits_adapter_2.h>
 #include <CGAL/Triangulation_face_base_with_info_2.h>
@@ -12,6 +13,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <set>
@@ -47,6 +49,27 @@ using VertexHandle = Triangulation::Vertex_handle;
 using FaceHandle = Triangulation::Face_handle;
 
 Point ToPoint(const TinVertex& v) { return Point(v.x, v.y, v.z); }
+
+// Whether f's closed circumdisk lies strictly below `limit`, so no point at y >= limit can be in
+// or on f's circumcircle. The disk's top, a.y + uy + r with (ux, uy) the circumcentre relative to
+// vertex a, is bounded above in interval arithmetic: rounding can only make the answer "no". A
+// near-flat face, whose circumcentre the intervals cannot bound, gets "no" too.
+// REQUIRES: rounding towards +infinity (a CGAL::Protect_FPU_rounding<true> in scope), which
+// unprotected intervals need and which one guard per scan sets, not one per operation.
+bool CircumdiskBelow(FaceHandle f, double limit) {
+  using I = CGAL::Interval_nt<false>;
+  const Point& a = f->vertex(0)->point();
+  const Point& b = f->vertex(1)->point();
+  const Point& c = f->vertex(2)->point();
+  const I bx = I(b.x()) - a.x(), by = I(b.y()) - a.y();
+  const I cx = I(c.x()) - a.x(), cy = I(c.y()) - a.y();
+  const I d = 2 * (bx * cy - by * cx);
+  if (!(d.inf() > 0 || d.sup() < 0)) return false;
+  const I b2 = bx * bx + by * by, c2 = cx * cx + cy * cy;
+  const I ux = (cy * b2 - by * c2) / d, uy = (bx * c2 - cx * b2) / d;
+  const I top = I(a.y()) + uy + CGAL::sqrt(ux * ux + uy * uy);
+  return top.sup() < limit;
+}
 
 }  // namespace
 
@@ -166,6 +189,64 @@ struct Cdt::Impl {
   }
 };
 
+namespace {
+
+// One batch of InsertVerticesInBands: the finite faces not yet handed over that are final (all of
+// them when `last`), numbered on from `next` in `order`, and the links that became known of the
+// edges in `unlinked` (faces handed over earlier whose neighbour was not final yet), which it
+// updates. Finished faces keep their number in FaceInfo::id; the others have kNoNeighbour there.
+TriangleBatch FinishFaces(Triangulation& cdt, double limit, bool last, const TriangleOrder& order,
+                          int32_t& next, std::vector<std::pair<FaceHandle, int>>& unlinked) {
+  std::vector<FaceHandle> faces;
+  if (cdt.dimension() == 2) {
+    // Only the test runs rounding upwards: `order` must see the default rounding.
+    CGAL::Protect_FPU_rounding<true> upward;
+    for (FaceHandle f : cdt.finite_face_handles())
+      if (f->info().id == kNoNeighbour && (last || CircumdiskBelow(f, limit))) faces.push_back(f);
+  }
+  std::vector<std::pair<int64_t, uint32_t>> keyed;
+  keyed.reserve(faces.size());
+  for (size_t k = 0; k < faces.size(); ++k) {
+    TinTriangle t;
+    for (int i = 0; i < 3; ++i) t.v[i] = faces[k]->vertex(i)->info().index;
+    keyed.emplace_back(order(t), static_cast<uint32_t>(k));
+  }
+  std::stable_sort(keyed.begin(), keyed.end(),
+                   [](const auto& p, const auto& q) { return p.first < q.first; });
+  TriangleBatch batch;
+  batch.first = static_cast<size_t>(next);
+  for (const auto& [key, k] : keyed) faces[k]->info().id = next++;
+  // Links of earlier batches first: this batch's own unknown edges join the list after.
+  std::vector<std::pair<FaceHandle, int>> still;
+  for (const auto& [f, i] : unlinked) {
+    const FaceHandle g = f->neighbor(i);
+    if (!cdt.is_infinite(g) && g->info().id != kNoNeighbour)
+      batch.links.push_back({static_cast<uint32_t>(f->info().id), i, g->info().id});
+    else if (!last)
+      still.emplace_back(f, i);
+  }
+  batch.triangles.reserve(keyed.size());
+  batch.keys.reserve(keyed.size());
+  for (const auto& [key, k] : keyed) {
+    const FaceHandle f = faces[k];
+    TinTriangle t;
+    for (int i = 0; i < 3; ++i) {
+      t.v[i] = f->vertex(i)->info().index;
+      const FaceHandle g = f->neighbor(i);
+      if (!cdt.is_infinite(g) && g->info().id != kNoNeighbour)
+        t.n[i] = g->info().id;
+      else if (!last)
+        still.emplace_back(f, i);  // a later point may still put a face across this edge
+    }
+    batch.triangles.push_back(t);
+    batch.keys.push_back(key);
+  }
+  unlinked = std::move(still);
+  return batch;
+}
+
+}  // namespace
+
 Cdt::Cdt() : impl_(std::make_unique<Impl>()) {}
 Cdt::~Cdt() = default;
 Cdt::Cdt(Cdt&&) noexcept = default;
@@ -200,6 +281,43 @@ std::vector<uint32_t> Cdt::InsertVertices(const std::vector<TinVertex>& points) 
     result[i] = v->info().index;
   }
   return result;
+}
+
+void Cdt::InsertVerticesInBands(const std::vector<TinVertex>& points, int bands,
+                                const TriangleOrder& order, const TriangleSink& finished) {
+  assert(vertices_.empty() && bands >= 1);
+  std::vector<Point> pts;
+  pts.reserve(points.size());
+  for (const TinVertex& v : points) pts.push_back(ToPoint(v));
+  // Input positions by y: each band is a run of them, and the first position after a band's run
+  // is the lowest point still to come.
+  std::vector<size_t> by_y(points.size());
+  std::iota(by_y.begin(), by_y.end(), 0);
+  std::sort(by_y.begin(), by_y.end(), [&](size_t a, size_t b) {
+    return points[a].y != points[b].y ? points[a].y < points[b].y : points[a].x < points[b].x;
+  });
+  vertices_ = points;
+  impl_->handles.assign(points.size(), VertexHandle());
+  using SortTraits =
+      CGAL::Spatial_sort_traits_adapter_2<Gt, CGAL::Pointer_property_map<Point>::type>;
+  FaceHandle hint;
+  int32_t next = 0;
+  std::vector<std::pair<FaceHandle, int>> unlinked;
+  for (int band = 0; band < bands; ++band) {
+    const auto lo = by_y.begin() + static_cast<ptrdiff_t>(points.size() * band / bands);
+    const auto hi = by_y.begin() + static_cast<ptrdiff_t>(points.size() * (band + 1) / bands);
+    CGAL::spatial_sort(lo, hi, SortTraits(CGAL::make_property_map(pts)));
+    for (auto it = lo; it != hi; ++it) {
+      VertexHandle v = impl_->Insert(pts[*it], hint);
+      assert(v->info().index == kPending);  // no two points share x, y
+      v->info().index = static_cast<uint32_t>(*it);
+      impl_->handles[*it] = v;
+      hint = v->face();
+    }
+    const bool last = hi == by_y.end();
+    const double limit = last ? std::numeric_limits<double>::infinity() : points[*hi].y;
+    finished(FinishFaces(impl_->cdt, limit, last, order, next, unlinked));
+  }
 }
 
 uint32_t Cdt::InsertVertex(const TinVertex& point, FaceRef hint, std::vector<FaceRef>* incident) {
@@ -378,7 +496,9 @@ void Cdt::InsertConstraint(uint32_t a, uint32_t b) {
   const double lo = std::min(key(pa), key(pb)), hi = std::max(key(pa), key(pb));
   std::vector<VertexHandle> on_segment;
   Triangulation::Line_face_circulator face = cdt.line_walk(pa, pb, va->face());
-  for (size_t steps = 0, limit = cdt.number_of_faces(); steps < limit && !face.is_empty();
+  // The walk's guard: the data structure's face count is O(1), CGAL's number_of_faces() walks
+  // the convex hull (a third of a large patch's build when asked once per constraint).
+  for (size_t steps = 0, limit = cdt.tds().number_of_faces(); steps < limit && !face.is_empty();
        ++steps, ++face) {
     if (cdt.is_infinite(face)) break;
     bool reached_b = false;

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "core/tin/tin.h"
+#include "core/tin/triangle_batch.h"
 
 namespace tinbase {
 
@@ -61,6 +62,19 @@ class Cdt {
   // x, y is already there (its z and kind are kept). New vertices get consecutive indices in
   // input order.
   std::vector<uint32_t> InsertVertices(const std::vector<TinVertex>& points);
+
+  // Inserts `points` as InsertVertices does, in `bands` bands of increasing y (each spatially
+  // sorted), and hands the triangulation to `finished` while it is built: after each band, the
+  // finite triangles whose closed circumdisk lies strictly below every point still to come
+  // (bounded in interval arithmetic, so the test errs only towards "not yet"), which no later
+  // insertion can flip, and after the last band all the rest. Each batch is sorted by `order`
+  // (ties in CGAL's face order) and numbered on from the last. Together the batches are a Delaunay
+  // triangulation of the points, as ToTin's (co-circular points may take the other diagonal).
+  // Vertex indices are input positions (vertices() == points). The Cdt is left triangulated, but
+  // ToTin renumbers its triangles. REQUIRES: the Cdt is empty; no two points share x, y;
+  // bands >= 1.
+  void InsertVerticesInBands(const std::vector<TinVertex>& points, int bands,
+                             const TriangleOrder& order, const TriangleSink& finished);
 
   // Inserts one vertex, locating it by walking from `hint` (a face near the point; a default
   // FaceRef starts anywhere). Returns its index (an existing one on a duplicate x, y). Where the

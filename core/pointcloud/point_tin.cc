@@ -95,6 +95,17 @@ Result<PointSet> ReadPoints(const std::string& path, const PointTinOptions& opti
   return out;
 }
 
+namespace {
+
+// InvalidArgument naming `path` for points that span no triangle.
+Status NoTriangles(const std::string& path, const PointTinReport& report) {
+  return Status::InvalidArgument(path + ": the " + std::to_string(report.kept) + " points of " +
+                                 report.classes +
+                                 " span no triangle (fewer than three, or all collinear)");
+}
+
+}  // namespace
+
 Result<Tin> TriangulatePoints(const std::string& path, const std::vector<TinVertex>& points,
                               PointTinReport* report) {
   Cdt cdt;
@@ -102,12 +113,23 @@ Result<Tin> TriangulatePoints(const std::string& path, const std::vector<TinVert
   Tin tin = cdt.ToTin();
   report->kept = tin.vertices.size();
   report->triangles = tin.triangles.size();
-  if (tin.triangles.empty()) {
-    return Status::InvalidArgument(path + ": the " + std::to_string(report->kept) + " points of " +
-                                   report->classes +
-                                   " span no triangle (fewer than three, or all collinear)");
-  }
+  if (tin.triangles.empty()) return NoTriangles(path, *report);
   return tin;
+}
+
+Status StreamPointTriangles(const std::string& path, const std::vector<TinVertex>& points,
+                            int bands, const TriangleOrder& order, const TriangleSink& finished,
+                            PointTinReport* report) {
+  Cdt cdt;
+  size_t triangles = 0;
+  cdt.InsertVerticesInBands(points, bands, order, [&](TriangleBatch batch) {
+    triangles += batch.triangles.size();
+    finished(std::move(batch));
+  });
+  report->kept = points.size();
+  report->triangles = triangles;
+  if (triangles == 0) return NoTriangles(path, *report);
+  return Status::Ok();
 }
 
 Result<PointTin> BuildPointTin(const std::string& path, const PointTinOptions& options,

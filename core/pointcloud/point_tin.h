@@ -19,6 +19,7 @@
 #include "core/pointcloud/point_cloud.h"
 #include "core/pointcloud/voronoi_thinning.h"
 #include "core/tin/tin.h"
+#include "core/tin/triangle_batch.h"
 
 namespace tinbase {
 
@@ -70,6 +71,15 @@ Result<PointSet> ReadPoints(const std::string& path, const PointTinOptions& opti
 // triangle. REQUIRES: no two points at the same x, y (as ReadPoints gives them).
 Result<Tin> TriangulatePoints(const std::string& path, const std::vector<TinVertex>& points,
                               PointTinReport* report);
+
+// TriangulatePoints, handing the triangles to `finished` in batches as they become final
+// (Cdt::InsertVerticesInBands with `bands` bands, sorted by `order`) instead of returning them, so
+// a store can write rows while the triangulation runs. Fills report->kept and report->triangles.
+// InvalidArgument as TriangulatePoints, once every (then empty) batch is handed over.
+// REQUIRES: as TriangulatePoints; bands >= 1.
+Status StreamPointTriangles(const std::string& path, const std::vector<TinVertex>& points,
+                            int bands, const TriangleOrder& order, const TriangleSink& finished,
+                            PointTinReport* report);
 
 // Builds the TIN of the file's points (ReadPoints, then TriangulatePoints). `target` is the CRS the
 // TIN must be in (the store's), or nullopt to keep the file's; a file without a CRS (XYZ, or LAS

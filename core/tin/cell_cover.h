@@ -1,9 +1,12 @@
 // CellCover: how a TIN's triangles meet a grid DEM's cells, defined once for the builders, the
 // tolerance refiner and the integrity checker (DESIGN.md invariants 6 and 7).
 //
-//   - A triangle covers the cells whose centres lie inside it or on its edges (in the grid's
-//     "centre space", core/raster/grid_geometry.h), so every cell under the surface is covered
-//     by at least one triangle; cells on a shared edge are covered by both.
+//   - A triangle covers the cells whose centres lie inside it or on its edges, decided exactly
+//     in world coordinates (HoldsCellCentre), so every cell under the surface is covered by at
+//     least one triangle; cells on a shared edge are covered by both. ForEachCellSpan finds the
+//     candidates in the grid's "centre space" (core/raster/grid_geometry.h) with a margin for
+//     round-off; a candidate is judged only once it would matter (a new worst error), since
+//     most cells are far inside.
 //   - The triangle's z at a cell centre is its plane through the three vertices' z.
 //   - A triangle lies on data when the cell containing its centroid is valid; a triangle whose
 //     centroid is on nodata (or off the grid) is not part of the visible surface.
@@ -18,6 +21,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/geometry/predicates.h"
 #include "core/raster/cell_source.h"
 #include "core/raster/grid.h"
 #include "core/tin/tin.h"
@@ -97,6 +101,17 @@ void ForEachCellSpan(const CellTriangle& t, int64_t width, int64_t height, SpanF
         std::min<int64_t>(width - 1, static_cast<int64_t>(std::floor(right + kMargin)));
     if (first <= last) span(r, first, last);
   }
+}
+
+// Whether the centre of cell (col, row) lies inside or on the counter-clockwise triangle
+// (a, b, c), exactly. ForEachCellSpan's margin also admits centres a rounding outside, where the
+// plane is extrapolated: beside a ring a hair off a column of cell centres, a sliver's plane
+// there can be metres from the surface, whose vertex at that very centre another triangle holds.
+inline bool HoldsCellCentre(const GridGeometry& g, const TinVertex& a, const TinVertex& b,
+                            const TinVertex& c, int64_t col, int64_t row) {
+  const Point2 p{g.CellCenterX(col), g.CellCenterY(row)};
+  return Orientation({a.x, a.y}, {b.x, b.y}, p) >= 0 &&
+         Orientation({b.x, b.y}, {c.x, c.y}, p) >= 0 && Orientation({c.x, c.y}, {a.x, a.y}, p) >= 0;
 }
 
 // Indices 0..count-1 ordered by the tile (tile x tile cells, row by row) holding point_of(i), a

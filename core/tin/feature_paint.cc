@@ -113,8 +113,8 @@ Paint ComputePaint(const Tin& tin, const std::vector<PaintedFeature>& features) 
     assert(feature.tag == kNoTag ||
            (feature.tag >= 0 && static_cast<size_t>(feature.tag) < tin.tags.size()));
     if (feature.mode == PaintMode::kClip && in_clip.empty()) in_clip.assign(n, 0);
-    if (feature.polygons.empty()) continue;
-    const PolygonLocator locator(feature.polygons);
+    if (!feature.inside || feature.inside->empty()) continue;
+    const PolygonLocator& locator = *feature.inside;
     if (feature.mode == PaintMode::kReplace) {
       // A vertex on the ring is part of the flat replaced area, so boundary counts.
       for (uint32_t v = 0; v < tin.vertices.size(); ++v) {

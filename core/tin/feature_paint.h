@@ -16,11 +16,13 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "core/base/status.h"
 #include "core/geometry/polygon.h"
+#include "core/geometry/polygon_locator.h"
 #include "core/tin/tin.h"
 
 namespace tinbase {
@@ -33,7 +35,9 @@ const char* PaintModeName(PaintMode mode);
 Result<PaintMode> ParsePaintMode(const std::string& name);
 
 struct PaintedFeature {
-  std::vector<Polygon> polygons;  // valid (MakeValidPolygon), in the surface's CRS
+  // The union of the feature's polygons (valid, MakeValidPolygon, in the surface's CRS), shared
+  // because the editor keeps it between transactions; null when none are near the triangles.
+  std::shared_ptr<const PolygonLocator> inside;
   PaintMode mode = PaintMode::kFill;
   int32_t tag = kNoTag;  // fill/replace: index into Tin::tags; kNoTag clears the tag
   double level = 0;      // replace: the z its vertices take
@@ -51,7 +55,7 @@ struct Paint {
 };
 
 // The paint `features` (in order) give `tin`'s triangles and vertices, starting from all
-// visible and untagged. Linear in triangles x features after an O(edges) index per feature.
+// visible and untagged. Each feature visits the triangles whose centroids lie in its box.
 // REQUIRES: every feature's tag is kNoTag or an index into tin.tags.
 Paint ComputePaint(const Tin& tin, const std::vector<PaintedFeature>& features);
 

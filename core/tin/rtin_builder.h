@@ -23,7 +23,12 @@
 // cell centres, and the conformity argument above is untouched (padding is chosen over tiling
 // because tiles of unequal size would need crack fixing across tile edges). The price is finer
 // triangles along the right and bottom edges where width - 1 or height - 1 has few factors of
-// two. Memory: 4 bytes per padded lattice point (a float error per diamond centre).
+// two. Memory: 8 bytes per padded lattice point (a float error and a float bound on the
+// diamond's own triangles per diamond centre), 5 bytes per cell (vertex marks and numbers) and
+// 16 per output vertex (edge slots for linking neighbours), besides the output.
+//
+// Two threads from a 257^2 lattice up: the error pass splits the lattice at its middle column
+// (grids with nodata excepted), and the output is built from the two root triangles apart.
 //
 // Nodata: as in greedy_builder.h, nodata cells are not approximated, a vertex on a nodata cell
 // takes the mean of the nearest valid cells, and triangles whose centroid lies on nodata are
@@ -31,7 +36,7 @@
 //
 // The result is not a Delaunay triangulation in general (on square cells it passes the
 // empty-circle test up to ties, on rectangular cells it does not): store it as a `free` surface.
-// Thread-safety: pure function.
+// Thread-safety: pure function (its threads are its own and joined before it returns).
 #pragma once
 
 #include <cstdint>

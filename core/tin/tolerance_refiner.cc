@@ -171,17 +171,11 @@ class Refiner {
     return t;
   }
 
-  // The rasteriser's margin admits cell centres a rounding away from the face; the exact test
-  // keeps only those inside or on it, so an insertion never lands outside the region.
+  // Only cells the face truly holds (cell_cover.h), so an insertion never lands outside the
+  // region.
   bool Covers(const std::array<uint32_t, 3>& v, int64_t col, int64_t row) const {
-    const Point2 p{geometry_.CellCenterX(col), geometry_.CellCenterY(row)};
     const std::vector<TinVertex>& vs = cdt_.vertices();
-    for (int i = 0; i < 3; ++i) {
-      const TinVertex& a = vs[v[i]];
-      const TinVertex& b = vs[v[(i + 1) % 3]];
-      if (Orientation({a.x, a.y}, {b.x, b.y}, p) < 0) return false;
-    }
-    return true;
+    return HoldsCellCentre(geometry_, vs[v[0]], vs[v[1]], vs[v[2]], col, row);
   }
 
   bool Skipped(int64_t col, int64_t row) const {

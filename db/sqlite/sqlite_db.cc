@@ -43,6 +43,10 @@ Statement& Statement::Bind(int index, std::string_view text) {
   sqlite3_bind_text(stmt_, index, text.data(), static_cast<int>(text.size()), SQLITE_TRANSIENT);
   return *this;
 }
+Statement& Statement::BindStaticText(int index, const char* text) {
+  sqlite3_bind_text(stmt_, index, text, -1, SQLITE_STATIC);
+  return *this;
+}
 Statement& Statement::BindBlob(int index, const void* data, size_t size) {
   sqlite3_bind_blob64(stmt_, index, data, size, SQLITE_TRANSIENT);
   return *this;

@@ -35,6 +35,9 @@ class Statement {
   Statement& Bind(int index, int64_t value);
   Statement& Bind(int index, double value);
   Statement& Bind(int index, std::string_view text);
+  // Binds `text` without copying it (Bind copies). REQUIRES: `text` is NUL-terminated and
+  // outlives every execution of the statement with this binding (a string literal).
+  Statement& BindStaticText(int index, const char* text);
   Statement& BindBlob(int index, const void* data, size_t size);
   Statement& BindNull(int index);
 

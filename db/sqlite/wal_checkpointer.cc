@@ -20,7 +20,10 @@ WalCheckpointer::~WalCheckpointer() {
 
 int WalCheckpointer::OnCommit(void* self, sqlite3* db, const char* schema, int log_pages) {
   auto* checkpointer = static_cast<WalCheckpointer*>(self);
-  if (log_pages >= kInlinePages) {
+  // A log shorter than at the last commit was restarted (after a full checkpoint) by this one.
+  const int before = log_pages >= checkpointer->log_pages_ ? checkpointer->log_pages_ : 0;
+  checkpointer->log_pages_ = log_pages;
+  if (before >= kInlinePages) {
     // Errors are not the committed transaction's: it is durable in the log either way, and the
     // next commit tries again.
     sqlite3_wal_checkpoint_v2(db, schema, SQLITE_CHECKPOINT_PASSIVE, nullptr, nullptr);

@@ -7,6 +7,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <fstream>
+#include <random>
+
 #include "db/integrity_check.h"
 #include "db/surface_store.h"
 #include "tests/support/test_support.h"
@@ -97,6 +101,40 @@ TEST(PointImport, ThinnedSurfaceIsSmaller) {
   auto info = SurfaceStore(*store).Find("thinned");
   ASSERT_TRUE(info.ok());
   EXPECT_EQ(info->method, "lidar-voronoi-thinned");
+  ExpectStoreIntact(*store);
+}
+
+// An import big enough to be triangulated in bands (its triangle rows written while the next band
+// is inserted, neighbours on a band's edge linked late) stores a checked Delaunay surface.
+TEST(PointImport, BandedImportOfAnXyzFile) {
+  TempDir dir;
+  auto store = NewStore(dir, "EPSG:32632");
+  ASSERT_TRUE(store);
+  const size_t points = 30000;
+  {
+    std::mt19937 rng(17);
+    std::uniform_real_distribution<double> coord(0, 200);
+    std::ofstream out(dir.Path("cloud.xyz"));
+    out.precision(12);
+    for (size_t i = 0; i < points; ++i) {
+      const double x = coord(rng), y = coord(rng);
+      out << 500000 + x << " " << 5200000 + y << " " << 300 + std::sin(x / 9) * y / 50 << "\n";
+    }
+  }
+  PointImportOptions options;
+  options.file = dir.Path("cloud.xyz");
+  options.surface = "cloud";
+  auto report = ImportPoints(*store, options);
+  ASSERT_TRUE(report.ok()) << report.status().ToString();
+  EXPECT_EQ(report->points.kept, points);
+  SurfaceStore surfaces(*store);
+  auto info = surfaces.Find("cloud");
+  ASSERT_TRUE(info.ok());
+  auto counts = surfaces.Count(*info);
+  ASSERT_TRUE(counts.ok());
+  EXPECT_EQ(counts->vertices, static_cast<int64_t>(points));
+  EXPECT_EQ(counts->triangles, static_cast<int64_t>(report->points.triangles));
+  EXPECT_GT(report->points.triangles, 2 * points - 200);
   ExpectStoreIntact(*store);
 }
 

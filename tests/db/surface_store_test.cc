@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <compare>
+#include <functional>
 #include <optional>
 #include <set>
 #include <string>
@@ -290,38 +291,82 @@ TEST_F(SurfaceStoreTest, ReplaceSwapsTheRowsOfOneSurfaceOnly) {
   ExpectStoreIntact(*store_);
 }
 
-// The bulk path (triangles computed on a second thread while the vertices are written) stores
-// what Create stores, block grid included (its first guess at the triangle count is corrected).
-TEST_F(SurfaceStoreTest, CreateWhileTriangulatingStoresWhatCreateStores) {
+// `tin` handed over as a streamed triangulation would: triangles sorted by `order` (stable), in
+// `count` batches, a neighbour in a later batch left open and linked by the batch that holds it.
+// `sorted` receives the Tin in that order, as the store should hold it.
+std::vector<TriangleBatch> InBatches(const Tin& tin, const TriangleOrder& order, size_t count,
+                                     Tin* sorted) {
+  std::vector<uint32_t> by_key(tin.triangles.size());
+  for (uint32_t t = 0; t < by_key.size(); ++t) by_key[t] = t;
+  std::stable_sort(by_key.begin(), by_key.end(), [&](uint32_t a, uint32_t b) {
+    return order(tin.triangles[a]) < order(tin.triangles[b]);
+  });
+  std::vector<int32_t> rank(by_key.size());
+  for (size_t r = 0; r < by_key.size(); ++r) rank[by_key[r]] = static_cast<int32_t>(r);
+  *sorted = tin;
+  for (size_t r = 0; r < by_key.size(); ++r) {
+    sorted->triangles[r] = tin.triangles[by_key[r]];
+    for (int32_t& n : sorted->triangles[r].n)
+      if (n != kNoNeighbour) n = rank[static_cast<size_t>(n)];
+  }
+  const size_t size = (by_key.size() + count - 1) / count;
+  std::vector<TriangleBatch> batches(count);
+  for (size_t b = 0; b < count; ++b) {
+    TriangleBatch& batch = batches[b];
+    batch.first = std::min(b * size, by_key.size());
+    const size_t end = std::min(batch.first + size, by_key.size());
+    for (size_t t = batch.first; t < end; ++t) {
+      TinTriangle tri = sorted->triangles[t];
+      for (int i = 0; i < 3; ++i) {
+        const int32_t n = tri.n[i];
+        if (n == kNoNeighbour || static_cast<size_t>(n) < end) continue;
+        tri.n[i] = kNoNeighbour;
+        batches[static_cast<size_t>(n) / size].links.push_back(
+            {static_cast<uint32_t>(t), i, n});
+      }
+      batch.triangles.push_back(tri);
+      batch.keys.push_back(order(tri));
+    }
+  }
+  return batches;
+}
+
+// The bulk path (triangles handed over in batches from a second thread while the vertices are
+// written) stores the triangulation, its neighbours linked late included, as its rows in batch
+// order.
+TEST_F(SurfaceStoreTest, CreateWhileTriangulatingStoresTheBatchesAndTheirLateLinks) {
   const Tin tin = testing::RandomDelaunayTin({.points = 5000, .seed = 11});
-  const SurfaceInfo reference = CreateSurface("reference", SurfaceKind::kDelaunay, tin);
   auto tx = store_->BeginWrite();
   ASSERT_TRUE(tx.ok());
   SurfaceInfo spec;
   spec.name = "bulk";
   spec.kind = SurfaceKind::kDelaunay;
   spec.method = "test";
-  auto info = SurfaceStore(*store_).CreateWhileTriangulating(spec, tin.vertices,
-                                                             [&]() -> Result<Tin> { return tin; });
+  Tin sorted;
+  size_t links = 0;
+  auto info = SurfaceStore(*store_).CreateWhileTriangulating(
+      spec, tin.vertices, [&](const TriangleOrder& order, const TriangleSink& finished) {
+        for (TriangleBatch& batch : InBatches(tin, order, 4, &sorted)) {
+          links += batch.links.size();
+          finished(std::move(batch));
+        }
+        return Status::Ok();
+      });
   ASSERT_TRUE(info.ok()) << info.status().ToString();
   ASSERT_TRUE((*tx)->Commit().ok());
+  EXPECT_GT(links, 0u);
   auto found = SurfaceStore(*store_).Find("bulk");
   ASSERT_TRUE(found.ok());
-  EXPECT_EQ(found->blocks.origin_x, reference.blocks.origin_x);
-  EXPECT_EQ(found->blocks.origin_y, reference.blocks.origin_y);
-  EXPECT_EQ(found->blocks.size, reference.blocks.size);
   auto loaded = SurfaceStore(*store_).Load(*found);
   ASSERT_TRUE(loaded.ok()) << loaded.status().ToString();
-  ExpectSameTin(tin, loaded->tin);
+  ExpectSameTin(sorted, loaded->tin);
   ExpectStoreIntact(*store_);
 }
 
-// A triangulation that fails, or returns other vertices than those written, leaves nothing once
-// the transaction rolls back.
-TEST_F(SurfaceStoreTest, CreateWhileTriangulatingPassesErrorsOnAndChecksVertices) {
+// A triangulation that fails, or hands over a batch whose indices do not fit, leaves nothing
+// once the transaction rolls back.
+TEST_F(SurfaceStoreTest, CreateWhileTriangulatingPassesErrorsOnAndChecksBatches) {
   const Tin tin = testing::RandomDelaunayTin({.points = 500, .seed = 3});
-  Tin moved = tin;
-  moved.vertices[17].x += 0.25;
   SurfaceInfo spec;
   spec.name = "bulk";
   spec.kind = SurfaceKind::kDelaunay;
@@ -330,18 +375,35 @@ TEST_F(SurfaceStoreTest, CreateWhileTriangulatingPassesErrorsOnAndChecksVertices
     auto tx = store_->BeginWrite();
     ASSERT_TRUE(tx.ok());
     auto failed = SurfaceStore(*store_).CreateWhileTriangulating(
-        spec, tin.vertices, []() -> Result<Tin> { return Status::InvalidArgument("no triangle"); });
+        spec, tin.vertices, [](const TriangleOrder&, const TriangleSink&) {
+          return Status::InvalidArgument("no triangle");
+        });
     EXPECT_EQ(failed.status().message(), "no triangle");
   }
-  {
+  const auto bad_batch = [&](const std::function<void(std::vector<TriangleBatch>&)>& spoil) {
     auto tx = store_->BeginWrite();
-    ASSERT_TRUE(tx.ok());
-    auto other = SurfaceStore(*store_).CreateWhileTriangulating(
-        spec, tin.vertices, [&]() -> Result<Tin> { return moved; });
-    EXPECT_EQ(other.status().code(), StatusCode::kInvalidArgument);
-    EXPECT_EQ(other.status().message(),
-              "surface 'bulk': the triangulation's vertices are not the ones written");
-  }
+    EXPECT_TRUE(tx.ok());
+    return SurfaceStore(*store_)
+        .CreateWhileTriangulating(spec, tin.vertices,
+                                  [&](const TriangleOrder& order, const TriangleSink& finished) {
+                                    Tin sorted;
+                                    auto batches = InBatches(tin, order, 2, &sorted);
+                                    spoil(batches);
+                                    for (TriangleBatch& batch : batches)
+                                      finished(std::move(batch));
+                                    return Status::Ok();
+                                  })
+        .status();
+  };
+  const Status vertex = bad_batch([&](auto& b) { b[1].triangles[3].v[1] = 500; });
+  EXPECT_EQ(vertex.code(), StatusCode::kInvalidArgument);
+  const Status gap = bad_batch([&](auto& b) { b[1].first += 1; });
+  EXPECT_EQ(gap.code(), StatusCode::kInvalidArgument);
+  const Status link = bad_batch([&](auto& b) {
+    ASSERT_FALSE(b[1].links.empty());
+    b[1].links[0].triangle = static_cast<uint32_t>(b[1].first);  // not written yet
+  });
+  EXPECT_EQ(link.code(), StatusCode::kInvalidArgument);
   EXPECT_EQ(SurfaceStore(*store_).Find("bulk").status().code(), StatusCode::kNotFound);
   EXPECT_EQ(*store_->db().QueryInt("SELECT count(*) FROM vertices"), 0);
   ExpectStoreIntact(*store_);

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <random>
@@ -380,6 +381,103 @@ TEST(CdtTest, ManyCrossingConstraintsStayValid) {
     EXPECT_EQ(tin.vertices[i].kind, VertexKind::kSteiner);
     EXPECT_EQ(tin.vertices[i].z, tin.vertices[i].x - tin.vertices[i].y);
   }
+}
+
+// Triangles sorted the way a store writes them: by a 30 m cell of the centroid, row by row.
+int64_t CentroidCell(const std::vector<TinVertex>& points, const TinTriangle& t) {
+  double x = 0, y = 0;
+  for (uint32_t v : t.v) {
+    x += points[v].x;
+    y += points[v].y;
+  }
+  return static_cast<int64_t>(std::floor(y / 30)) * 1000000 +
+         static_cast<int64_t>(std::floor(x / 30));
+}
+
+// Assembles the batches of InsertVerticesInBands into a Tin, checking the hand-over contract on
+// the way: batches continue the numbering, are sorted by their keys, and each link fills a
+// neighbour that was left open. Counts the batches before the last that held triangles.
+Tin AssembleBands(const std::vector<TinVertex>& points, int bands, int* early_batches,
+                  size_t* links) {
+  Tin tin;
+  tin.vertices = points;
+  Cdt cdt;
+  const auto order = [&](const TinTriangle& t) { return CentroidCell(points, t); };
+  int batches = 0;
+  *early_batches = 0;
+  *links = 0;
+  cdt.InsertVerticesInBands(points, bands, order, [&](TriangleBatch batch) {
+    ++batches;
+    EXPECT_EQ(batch.first, tin.triangles.size());
+    EXPECT_EQ(batch.keys.size(), batch.triangles.size());
+    EXPECT_TRUE(std::is_sorted(batch.keys.begin(), batch.keys.end()));
+    for (size_t k = 0; k < batch.triangles.size(); ++k)
+      EXPECT_EQ(batch.keys[k], order(batch.triangles[k]));
+    for (const TriangleBatch::Link& link : batch.links) {
+      ASSERT_LT(link.triangle, batch.first);
+      EXPECT_EQ(tin.triangles[link.triangle].n[link.slot], kNoNeighbour);
+      tin.triangles[link.triangle].n[link.slot] = link.neighbour;
+    }
+    *links += batch.links.size();
+    if (batches < bands && !batch.triangles.empty()) ++*early_batches;
+    tin.triangles.insert(tin.triangles.end(), batch.triangles.begin(), batch.triangles.end());
+  });
+  EXPECT_EQ(batches, bands);
+  EXPECT_EQ(cdt.vertices().size(), points.size());
+  return tin;
+}
+
+// Each triangle as its vertex triple starting at the smallest index.
+std::set<std::array<uint32_t, 3>> TriangleSet(const Tin& tin) {
+  std::set<std::array<uint32_t, 3>> set;
+  for (const TinTriangle& t : tin.triangles) {
+    const int first = static_cast<int>(std::min_element(t.v.begin(), t.v.end()) - t.v.begin());
+    set.insert({t.v[first], t.v[(first + 1) % 3], t.v[(first + 2) % 3]});
+  }
+  return set;
+}
+
+TEST(CdtTest, BandsHandOverTheBulkTriangulationAsItBecomesFinal) {
+  const unsigned seed = std::random_device{}();
+  std::printf("BandsHandOverTheBulkTriangulationAsItBecomesFinal seed %u\n", seed);
+  std::mt19937 rng(seed);
+  const std::vector<TinVertex> points = RandomPoints(5000, rng);
+  int early = 0;
+  size_t links = 0;
+  const Tin banded = AssembleBands(points, 5, &early, &links);
+  ExpectValid(banded);
+  // Points in general position have one Delaunay triangulation: the bulk one.
+  Cdt bulk;
+  bulk.InsertVertices(points);
+  EXPECT_EQ(TriangleSet(banded), TriangleSet(bulk.ToTin()));
+  EXPECT_EQ(early, 4) << "every band but the last hands triangles over";
+  EXPECT_GT(links, 0u) << "triangles on a band's upper edge get their neighbours later";
+}
+
+TEST(CdtTest, BandsOfCoCircularGridPointsStayDelaunay) {
+  // Rows of equal y straddle the band limits, and every cell is four co-circular points.
+  std::vector<TinVertex> points;
+  for (int row = 0; row < 40; ++row)
+    for (int col = 0; col < 40; ++col) points.push_back({10.0 * col, 10.0 * row, 0.5 * col});
+  int early = 0;
+  size_t links = 0;
+  const Tin banded = AssembleBands(points, 3, &early, &links);
+  ExpectValid(banded);
+  EXPECT_EQ(banded.triangles.size(), 2u * 39 * 39);
+  EXPECT_EQ(early, 2);
+}
+
+TEST(CdtTest, OneBandIsOneBatchOfEverything) {
+  std::mt19937 rng(5);
+  const std::vector<TinVertex> points = RandomPoints(300, rng);
+  int early = 0;
+  size_t links = 0;
+  const Tin banded = AssembleBands(points, 1, &early, &links);
+  ExpectValid(banded);
+  EXPECT_EQ(links, 0u);
+  Cdt bulk;
+  bulk.InsertVertices(points);
+  EXPECT_EQ(TriangleSet(banded), TriangleSet(bulk.ToTin()));
 }
 
 TEST(CdtTest, BulkInsertionScales) {

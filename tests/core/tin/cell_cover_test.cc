@@ -1,5 +1,6 @@
 // BoxOnData: a box is on data when every cell any of its points falls in holds data, with the
 // cells found as CentroidCell finds a centroid's (a north-up grid: rows grow southwards).
+// HoldsCellCentre: the exact test behind the rasteriser's margin.
 #include "core/tin/cell_cover.h"
 
 #include <gtest/gtest.h>
@@ -35,6 +36,26 @@ TEST(BoxOnDataTest, AgreesWithTheCentroidTestOfATriangleInside) {
   const TinVertex d{2, 2, 0}, e{8, 2, 0}, f{5, 8, 0};
   EXPECT_TRUE(TriangleOnData(g, d, e, f));
   EXPECT_TRUE(BoxOnData(g, 1, 1, 9, 9));
+}
+
+TEST(HoldsCellCentreTest, TheMarginAdmitsACentreTheTriangleDoesNotHold) {
+  // Cell centres at x = 5, 15, 25, 35. The triangle's left edge runs 1e-10 cells east of the
+  // centre (5, 15): the span's margin takes that centre, the exact test does not.
+  const GridGeometry g{0, 40, 10, -10, 4, 4};
+  const TinVertex a{5 + 1e-9, 5, 0}, b{35, 15, 0}, c{5 + 1e-9, 35, 0};
+  ASSERT_EQ(g.CellCenterX(0), 5.0);
+  ASSERT_EQ(g.CellCenterY(2), 15.0);
+  bool spanned = false;
+  ForEachCellSpan(ToCellSpace(g, a, b, c), 4, 4, [&](int64_t row, int64_t first, int64_t) {
+    spanned |= row == 2 && first == 0;
+  });
+  EXPECT_TRUE(spanned);
+  EXPECT_FALSE(HoldsCellCentre(g, a, b, c, 0, 2));
+  EXPECT_TRUE(HoldsCellCentre(g, a, b, c, 1, 2));
+  // A centre on an edge or at a vertex is held.
+  const TinVertex d{5, 5, 0}, e{35, 15, 0}, f{5, 35, 0};
+  EXPECT_TRUE(HoldsCellCentre(g, d, e, f, 0, 2));
+  EXPECT_TRUE(HoldsCellCentre(g, d, e, f, 0, 3));
 }
 
 }  // namespace

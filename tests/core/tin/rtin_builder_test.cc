@@ -190,6 +190,24 @@ TEST(RtinBuilderTest, SouthUpGrid) {
   BuildAndCheck(dem, 2);
 }
 
+// Large enough for the builder's two threads (errors, selection, emission), with what each of
+// them must get right at once: rows running northwards (mirrored orientation), a padded lattice
+// (601 x 410 in 1025^2) and nodata holes, one of them across the roots' shared diagonal.
+TEST(RtinBuilderTest, LargeSouthUpGridWithNodataOnTwoThreads) {
+  Grid dem = MakeGrid(601, 410, [](double x, double y) {
+    if (std::hypot(x - 2000.0, y + 2000.0) < 300) return kNaN;
+    if (std::fmod(x - 7 * y, 1900.0) < 40) return kNaN;  // y < 0: x - 7 y > 0
+    return Sines(x, y);
+  });
+  dem.geometry.cell_y = 10;
+  for (double tolerance : {0.5, 4.0}) {
+    Tin tin;
+    const RtinReport report = BuildAndCheck(dem, tolerance, &tin);
+    EXPECT_EQ(report.lattice_size, 1025);
+    EXPECT_GT(testing::HiddenTriangles(tin), 0);
+  }
+}
+
 TEST(RtinBuilderTest, RejectsBadInput) {
   const Grid dem = MakeGrid(10, 10, Sines);
   for (double tolerance : {-0.5, kNaN, std::numeric_limits<double>::infinity()}) {

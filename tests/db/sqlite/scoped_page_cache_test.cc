@@ -27,11 +27,32 @@ TEST(ScopedPageCacheTest, RaisedForLargeWritesAndRestored) {
   {
     ScopedPageCache large(**db, ScopedPageCache::kThresholdRows);
     EXPECT_TRUE(large.raised());
-    EXPECT_EQ(CacheSize(**db), ScopedPageCache::kCacheSize);
+    EXPECT_EQ(CacheSize(**db), -ScopedPageCache::kMinCacheKib);
     ScopedPageCache nested(**db, ScopedPageCache::kThresholdRows);
     EXPECT_FALSE(nested.raised()) << "already large enough";
   }
   EXPECT_EQ(CacheSize(**db), before);
+}
+
+TEST(ScopedPageCacheTest, GrowsWithTheWriteUpToTheCap) {
+  EXPECT_EQ(ScopedPageCache::CacheSizeFor(ScopedPageCache::kThresholdRows),
+            -ScopedPageCache::kMinCacheKib);
+  const size_t rows = 12'000'000;  // a 4 M point import
+  EXPECT_EQ(ScopedPageCache::CacheSizeFor(rows),
+            -static_cast<int64_t>(rows / 1024) * ScopedPageCache::kBytesPerRow);
+  EXPECT_EQ(ScopedPageCache::CacheSizeFor(size_t{1} << 40), -ScopedPageCache::kMaxCacheKib);
+  TempDir dir;
+  auto db = SqliteDb::Open(dir.Path("c.db"), SqliteDb::Mode::kCreate);
+  ASSERT_TRUE(db.ok());
+  {
+    ScopedPageCache large(**db, rows);
+    EXPECT_TRUE(large.raised());
+    EXPECT_EQ(CacheSize(**db), ScopedPageCache::CacheSizeFor(rows));
+    ScopedPageCache smaller(**db, rows / 2);
+    EXPECT_FALSE(smaller.raised()) << "already large enough";
+  }
+  EXPECT_LT(CacheSize(**db), 0);
+  EXPECT_GT(CacheSize(**db), -ScopedPageCache::kMinCacheKib);
 }
 
 TEST(ScopedPageCacheTest, CacheInPagesIsLeftAlone) {

@@ -52,6 +52,21 @@ TEST(WalCheckpointer, CopiesALargeLogIntoTheDatabaseFileInTheBackground) {
   EXPECT_EQ(*rows, 2 * WalCheckpointer::kWakePages + 10);
 }
 
+// One transaction longer than kInlinePages (a bulk import) does not pay for the copy inside its
+// COMMIT: the log was short before it, so the thread does the copy.
+TEST(WalCheckpointer, OneBigCommitIsCopiedInTheBackground) {
+  TempDir dir;
+  const std::string path = dir.Path("bulk.db");
+  auto db = WalDb(path);
+  const auto size_before = std::filesystem::file_size(path);
+  WalCheckpointer checkpointer(*db);
+  InsertBlobs(*db, WalCheckpointer::kInlinePages + 100);
+  checkpointer.WaitIdle();
+  EXPECT_EQ(checkpointer.background_checkpoints(), 1);
+  EXPECT_GT(std::filesystem::file_size(path),
+            size_before + uintmax_t{WalCheckpointer::kInlinePages} * 4000);
+}
+
 TEST(WalCheckpointer, LeavesSmallCommitsInTheLog) {
   TempDir dir;
   const std::string path = dir.Path("small.db");
