@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -155,19 +156,25 @@ void PutFirst(const std::vector<TinVertex>& first, Tin& tin) {
     for (uint32_t& v : t.v) v = new_index[v];
 }
 
-// The same result on two threads (core/tin/split_refinement.h).
-Result<Tin> BuildInHalves(const Grid& dem, const GreedyOptions& options) {
+// The same result on two threads (core/tin/split_refinement.h); nullopt when `min_seam_vertices`
+// keeps it on one.
+Result<std::optional<Tin>> BuildInHalves(const Grid& dem, const GreedyOptions& options,
+                                         size_t min_seam_vertices) {
   GridCellSource source(dem);
   TB_ASSIGN_OR_RETURN(std::vector<TinVertex> corners, GridCorners(source));
-  Cdt cdt = RefineInHalves(dem, options.tolerance, [&](int64_t col, int64_t row) {
-    return HullElevation(source, col, row);
-  });
-  Tin tin = cdt.ToTin();
+  std::optional<Cdt> cdt = RefineInHalves(
+      dem, options.tolerance,
+      [&](int64_t col, int64_t row) { return HullElevation(source, col, row); },
+      min_seam_vertices);
+  if (!cdt) return std::optional<Tin>();
+  Tin tin = cdt->ToTin();
   PutFirst(corners, tin);
-  return tin;
+  return std::optional<Tin>(std::move(tin));
 }
 
-bool RefinesInHalves(const Grid& dem, const GreedyOptions& options) {
+// Whether the options and the grid allow a split at all (its seam may still keep an automatic
+// build on one thread).
+bool MaySplit(const Grid& dem, const GreedyOptions& options) {
   if (options.threads == 1 || options.max_points > 0 || options.tile > 0) return false;
   const GridGeometry& g = dem.geometry;
   return options.threads == 2 ? std::max(g.width, g.height) >= 3 : WorthSplitting(g);
@@ -234,8 +241,13 @@ Result<Tin> BuildGreedyTin(const Grid& dem, const GreedyOptions& options, Greedy
                                    std::to_string(dem.geometry.height) + " geometry");
   }
   GridCellSource source(dem);
-  if (!RefinesInHalves(dem, options)) return BuildGreedyTin(source, options, report);
-  TB_ASSIGN_OR_RETURN(Tin tin, BuildInHalves(dem, options));
+  std::optional<Tin> halves;
+  if (MaySplit(dem, options)) {
+    TB_ASSIGN_OR_RETURN(halves,
+                        BuildInHalves(dem, options, options.threads == 2 ? size_t{0} : kMinSeamVertices));
+  }
+  if (!halves) return BuildGreedyTin(source, options, report);
+  Tin tin = std::move(*halves);
   if (report != nullptr) {
     PaintAndMeasure(source, tin, report);
   } else {

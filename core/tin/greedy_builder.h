@@ -26,9 +26,11 @@ struct GreedyOptions {
   // that does not fit the block cache.
   int64_t tile = 0;
   // 1: refine on one thread. 2: on two (core/tin/split_refinement.h) when the DEM is a grid in
-  // memory and neither max_points nor tile is set. 0: two when that applies and the grid is
-  // large enough to pay for it (WorthSplitting), else one. The result keeps the same bound
-  // either way; the point sets differ a little (the two-thread one holds its seam's vertices).
+  // memory and neither max_points nor tile is set. 0: two when that applies, the grid is large
+  // enough to pay for it (WorthSplitting) and the seam's chain has at least kMinSeamVertices
+  // vertices (a shorter one would weigh on a small TIN), else one. The result keeps the same
+  // bound either way; the point sets differ a little (the two-thread one holds its seam's
+  // vertices).
   int threads = 0;
 };
 

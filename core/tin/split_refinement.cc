@@ -1,6 +1,8 @@
 #include "core/tin/split_refinement.h"
 
+#include <algorithm>
 #include <cmath>
+#include <optional>
 #include <thread>
 #include <utility>
 #include <vector>
@@ -26,12 +28,6 @@ struct Seam {
   }
 };
 
-// Across the longer side, through its middle cell centre, so the halves have equal extents.
-Seam MiddleSeam(const GridGeometry& g) {
-  const bool vertical = g.width >= g.height;
-  return Seam{vertical, ((vertical ? g.width : g.height) - 1) / 2, vertical ? g.height : g.width};
-}
-
 TinVertex VertexAt(const GridGeometry& g, int64_t col, int64_t row, double z) {
   return TinVertex{g.CellCenterX(col), g.CellCenterY(row), z, VertexKind::kDem};
 }
@@ -42,10 +38,12 @@ TinVertex VertexAt(const GridGeometry& g, int64_t col, int64_t row, double z) {
 // worst-first order would. Returns the chain's vertices in order along the seam.
 std::vector<TinVertex> SeamChain(const Grid& dem, const Seam& seam, double tolerance,
                                  const BoundaryElevationFn& boundary_z) {
-  const auto value = [&](int64_t t) {
+  // The line's cells copied once: a column is a stride through the grid, read at every depth.
+  std::vector<double> value(static_cast<size_t>(seam.length));
+  for (int64_t t = 0; t < seam.length; ++t) {
     const auto [c, r] = seam.CellAt(t);
-    return static_cast<double>(dem.At(c, r));
-  };
+    value[static_cast<size_t>(t)] = static_cast<double>(dem.At(c, r));
+  }
   const int64_t last = seam.length - 1;
   std::vector<double> z(static_cast<size_t>(seam.length), std::nan(""));
   z[0] = boundary_z(seam.CellAt(0).first, seam.CellAt(0).second);
@@ -57,14 +55,14 @@ std::vector<TinVertex> SeamChain(const Grid& dem, const Seam& seam, double toler
     double worst = tolerance;
     int64_t worst_t = -1;
     for (int64_t t = i + 1; t < j; ++t) {
-      const double v = value(t);
+      const double v = value[static_cast<size_t>(t)];
       if (std::isnan(v)) continue;
       const double error = std::fabs(
           z[i] + (z[j] - z[i]) * static_cast<double>(t - i) / static_cast<double>(j - i) - v);
       if (error > worst) worst = error, worst_t = t;
     }
     if (worst_t < 0) continue;
-    z[worst_t] = value(worst_t);
+    z[worst_t] = value[static_cast<size_t>(worst_t)];
     segments.insert(segments.end(), {{i, worst_t}, {worst_t, j}});
   }
   std::vector<TinVertex> chain;
@@ -74,6 +72,27 @@ std::vector<TinVertex> SeamChain(const Grid& dem, const Seam& seam, double toler
     chain.push_back(VertexAt(dem.geometry, c, r, z[t]));
   }
   return chain;
+}
+
+// ChooseSeam's line and its chain.
+std::pair<Seam, std::vector<TinVertex>> ShortestSeamNearMiddle(
+    const Grid& dem, double tolerance, const BoundaryElevationFn& boundary_z) {
+  const GridGeometry& g = dem.geometry;
+  const bool vertical = g.width >= g.height;
+  const int64_t across = vertical ? g.width : g.height;
+  const int64_t middle = (across - 1) / 2;
+  const int64_t reach = across / 20, step = std::max<int64_t>(1, across / 200);
+  Seam best{vertical, middle, vertical ? g.height : g.width};
+  std::vector<TinVertex> best_chain = SeamChain(dem, best, tolerance, boundary_z);
+  for (int64_t offset = step; offset <= reach; offset += step) {
+    for (const int64_t at : {middle - offset, middle + offset}) {
+      if (at < 1 || at > across - 2) continue;
+      const Seam seam{vertical, at, best.length};
+      std::vector<TinVertex> chain = SeamChain(dem, seam, tolerance, boundary_z);
+      if (chain.size() < best_chain.size()) best = seam, best_chain = std::move(chain);
+    }
+  }
+  return {best, std::move(best_chain)};
 }
 
 // Half `side` (0: columns or rows up to the seam, 1: from it) before refinement: its two
@@ -111,10 +130,19 @@ bool WorthSplitting(const GridGeometry& g) {
   return std::max(g.width, g.height) >= 3 && g.CellCount() >= kMinCellsToSplit;
 }
 
-Cdt RefineInHalves(const Grid& dem, double tolerance, const BoundaryElevationFn& boundary_z) {
+SeamChoice ChooseSeam(const Grid& dem, double tolerance, const BoundaryElevationFn& boundary_z) {
+  const auto [seam, chain] = ShortestSeamNearMiddle(dem, tolerance, boundary_z);
+  return SeamChoice{seam.vertical, seam.at, chain.size()};
+}
+
+std::optional<Cdt> RefineInHalves(const Grid& dem, double tolerance,
+                                  const BoundaryElevationFn& boundary_z,
+                                  size_t min_seam_vertices) {
   const GridGeometry& g = dem.geometry;
-  const Seam seam = MiddleSeam(g);
-  const std::vector<TinVertex> chain = SeamChain(dem, seam, tolerance, boundary_z);
+  const auto found = ShortestSeamNearMiddle(dem, tolerance, boundary_z);
+  const Seam& seam = found.first;
+  const std::vector<TinVertex>& chain = found.second;
+  if (chain.size() < min_seam_vertices) return std::nullopt;
   Cdt first = StartHalf(g, seam, 0, chain, boundary_z);
   Cdt second = StartHalf(g, seam, 1, chain, boundary_z);
   std::thread helper([&] { RefineHalf(second, dem, seam, tolerance); });

@@ -68,8 +68,11 @@ TEST_F(FullCheckTest, TwoThreadGreedySurfaceKeepsTolerance) {
   auto grid = testing::ReadGridWithGdal(DataPath("dem/elev_vinschgau.tif"));
   ASSERT_TRUE(grid.ok());
   ASSERT_TRUE(WorthSplitting(grid->geometry));
+  auto one = BuildGreedyTin(*grid, {.tolerance = 2.0, .threads = 1});
   auto two = BuildGreedyTin(*grid, {.tolerance = 2.0, .threads = 2});
-  ASSERT_TRUE(two.ok());
+  ASSERT_TRUE(one.ok() && two.ok());
+  // Told apart by their counts, so the counts below show which one was stored.
+  ASSERT_NE(one->vertices.size(), two->vertices.size());
   EXPECT_EQ(Int("SELECT count(*) FROM triangles"), static_cast<int64_t>(two->triangles.size()));
   EXPECT_EQ(Int("SELECT count(*) FROM vertices"), static_cast<int64_t>(two->vertices.size()));
   testing::ExpectStoreIntact(*store_, /*full=*/true);

@@ -9,6 +9,7 @@
 #include <limits>
 #include <random>
 
+#include "core/tin/split_refinement.h"
 #include "tests/support/read_grid.h"
 #include "tests/support/test_support.h"
 #include "tests/support/tin_checks.h"
@@ -219,6 +220,34 @@ TEST(GreedyBuilderTest, TwoThreadsOnRandomTerrains) {
     auto tin = BuildGreedyTin(dem, {.tolerance = tolerance, .threads = 2}, &report);
     ASSERT_TRUE(tin.ok()) << tin.status().ToString();
     ExpectValidGreedyTin(*tin, dem, tolerance, report);
+  }
+}
+
+// Automatic threads split only when the seam's chain is long (core/tin/split_refinement.h): a
+// coarse tolerance, whose chain is short, gives exactly the one-thread TIN, a fine one exactly
+// the two-thread TIN.
+TEST(GreedyBuilderTest, AutomaticThreadsSplitOnlyOnALongSeam) {
+  const Grid dem = MakeGrid(400, 300, Sines);
+  ASSERT_TRUE(WorthSplitting(dem.geometry));
+  const BoundaryElevationFn z = [&](int64_t c, int64_t r) { return double{dem.At(c, r)}; };
+  const auto same = [](const Tin& a, const Tin& b) {
+    if (a.vertices.size() != b.vertices.size() || a.triangles.size() != b.triangles.size())
+      return false;
+    for (size_t i = 0; i < a.vertices.size(); ++i) {
+      if (a.vertices[i].x != b.vertices[i].x || a.vertices[i].y != b.vertices[i].y) return false;
+    }
+    return true;
+  };
+  for (const double tolerance : {100.0, 0.5}) {
+    SCOPED_TRACE("tolerance " + std::to_string(tolerance));
+    const bool long_seam = ChooseSeam(dem, tolerance, z).chain_vertices >= kMinSeamVertices;
+    EXPECT_EQ(long_seam, tolerance < 1);  // the premise: one case of each
+    auto automatic = BuildGreedyTin(dem, {.tolerance = tolerance});
+    auto one = BuildGreedyTin(dem, {.tolerance = tolerance, .threads = 1});
+    auto two = BuildGreedyTin(dem, {.tolerance = tolerance, .threads = 2});
+    ASSERT_TRUE(automatic.ok() && one.ok() && two.ok());
+    ASSERT_FALSE(same(*one, *two));  // else the comparison below tells nothing
+    EXPECT_TRUE(same(*automatic, long_seam ? *two : *one));
   }
 }
 
