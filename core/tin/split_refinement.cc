@@ -74,18 +74,51 @@ std::vector<TinVertex> SeamChain(const Grid& dem, const Seam& seam, double toler
   return chain;
 }
 
+// The line that splits the refinement's work evenly, estimated from kBalanceSamples lines, one
+// in the middle of each of as many equal strips across the grid. The vertices a strip ends with
+// are taken as proportional to the square of its line's chain length: a chain counts the
+// breaks a line needs, which grow with the square root of the vertex density around it.
+// (SRTM N43E007's 1025^2 window at 1 m: 70 % of that estimate lies west of the middle column.)
+constexpr int kBalanceSamples = 32;
+
+int64_t BalanceLine(const Grid& dem, bool vertical, double tolerance,
+                    const BoundaryElevationFn& boundary_z) {
+  const GridGeometry& g = dem.geometry;
+  const int64_t across = vertical ? g.width : g.height, length = vertical ? g.height : g.width;
+  const int samples = static_cast<int>(std::min<int64_t>(kBalanceSamples, across));
+  std::vector<double> weight(static_cast<size_t>(samples));
+  double total = 0;
+  for (int i = 0; i < samples; ++i) {
+    const Seam line{vertical, (2 * i + 1) * across / (2 * samples), length};
+    const double k = static_cast<double>(SeamChain(dem, line, tolerance, boundary_z).size());
+    total += weight[static_cast<size_t>(i)] = k * k;
+  }
+  // Positions in cell widths from the grid's first edge: strip i spans [i, i + 1) * width.
+  const double width = static_cast<double>(across) / samples;
+  double below = 0, at = static_cast<double>(across) / 2;
+  for (int i = 0; i < samples && total > 0; ++i) {
+    const double w = weight[static_cast<size_t>(i)];
+    if (below + w >= total / 2) {
+      at = (i + (total / 2 - below) / w) * width;
+      break;
+    }
+    below += w;
+  }
+  return std::clamp<int64_t>(static_cast<int64_t>(std::floor(at)), 1, across - 2);
+}
+
 // ChooseSeam's line and its chain.
-std::pair<Seam, std::vector<TinVertex>> ShortestSeamNearMiddle(
+std::pair<Seam, std::vector<TinVertex>> ShortestSeamNearBalance(
     const Grid& dem, double tolerance, const BoundaryElevationFn& boundary_z) {
   const GridGeometry& g = dem.geometry;
   const bool vertical = g.width >= g.height;
   const int64_t across = vertical ? g.width : g.height;
-  const int64_t middle = (across - 1) / 2;
+  const int64_t balance = BalanceLine(dem, vertical, tolerance, boundary_z);
   const int64_t reach = across / 20, step = std::max<int64_t>(1, across / 200);
-  Seam best{vertical, middle, vertical ? g.height : g.width};
+  Seam best{vertical, balance, vertical ? g.height : g.width};
   std::vector<TinVertex> best_chain = SeamChain(dem, best, tolerance, boundary_z);
   for (int64_t offset = step; offset <= reach; offset += step) {
-    for (const int64_t at : {middle - offset, middle + offset}) {
+    for (const int64_t at : {balance - offset, balance + offset}) {
       if (at < 1 || at > across - 2) continue;
       const Seam seam{vertical, at, best.length};
       std::vector<TinVertex> chain = SeamChain(dem, seam, tolerance, boundary_z);
@@ -131,7 +164,7 @@ bool WorthSplitting(const GridGeometry& g) {
 }
 
 SeamChoice ChooseSeam(const Grid& dem, double tolerance, const BoundaryElevationFn& boundary_z) {
-  const auto [seam, chain] = ShortestSeamNearMiddle(dem, tolerance, boundary_z);
+  const auto [seam, chain] = ShortestSeamNearBalance(dem, tolerance, boundary_z);
   return SeamChoice{seam.vertical, seam.at, chain.size()};
 }
 
@@ -139,7 +172,7 @@ std::optional<Cdt> RefineInHalves(const Grid& dem, double tolerance,
                                   const BoundaryElevationFn& boundary_z,
                                   size_t min_seam_vertices) {
   const GridGeometry& g = dem.geometry;
-  const auto found = ShortestSeamNearMiddle(dem, tolerance, boundary_z);
+  const auto found = ShortestSeamNearBalance(dem, tolerance, boundary_z);
   const Seam& seam = found.first;
   const std::vector<TinVertex>& chain = found.second;
   if (chain.size() < min_seam_vertices) return std::nullopt;

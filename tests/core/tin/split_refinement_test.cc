@@ -54,8 +54,8 @@ TEST(SplitRefinementTest, SeamStaysInTheMiddleWhenNoLineIsShorter) {
 }
 
 TEST(SplitRefinementTest, SeamCrossesTheLongerSideWithinATwentiethOfTheMiddle) {
-  // Taller than wide: the seam is a row. Every row near the middle has the zigzag's cell
-  // pattern except none; the busy row is the middle one, so the seam moves off it.
+  // Taller than wide: the seam is a row; the zigzag runs along the middle row, so the seam
+  // moves off it, but no further than 1/20 of the height.
   const Grid dem = PlaneWithZigzag(200, 1001, /*vertical=*/false, 500);
   const SeamChoice seam = ChooseSeam(dem, 1.0, CellValue(dem));
   EXPECT_FALSE(seam.vertical);
