@@ -1,5 +1,6 @@
-// The seam a split refinement cuts along (core/tin/split_refinement.h): the line near the middle
-// with the shortest chain, and no split when even that chain is short and the caller asks so.
+// The seam a split refinement cuts along (core/tin/split_refinement.h): the line with the
+// shortest chain near the one that splits the work evenly, and no split when even that chain is
+// short and the caller asks so.
 // The bound of split results is checked cell by cell in greedy_builder_test.cc.
 #include "core/tin/split_refinement.h"
 
@@ -62,6 +63,19 @@ TEST(SplitRefinementTest, SeamCrossesTheLongerSideWithinATwentiethOfTheMiddle) {
   EXPECT_NE(seam.at, 500);
   EXPECT_LE(std::abs(seam.at - 500), 1001 / 20);
   EXPECT_EQ(seam.chain_vertices, 2u);
+}
+
+TEST(SplitRefinementTest, SeamMovesToWhereTheWorkSplitsEvenly) {
+  // Rough in the first 100 of 401 columns (a checkerboard of 50 m: every cell a vertex), a plane
+  // elsewhere: nearly all the work lies west of column 100, so the seam does too.
+  const Grid dem = MakeGrid(401, 300, [](int64_t c, int64_t r) {
+    const double plane = 100 + 0.5 * static_cast<double>(c) + 0.25 * static_cast<double>(r);
+    return c < 100 ? plane + 50.0 * static_cast<double>((c + r) % 2) : plane;
+  });
+  const SeamChoice seam = ChooseSeam(dem, 1.0, CellValue(dem));
+  EXPECT_TRUE(seam.vertical);
+  EXPECT_GE(seam.at, 1);
+  EXPECT_LT(seam.at, 100);
 }
 
 TEST(SplitRefinementTest, ShortSeamKeepsOneThreadOnlyWhenAsked) {
