@@ -201,7 +201,7 @@ Row GreedyWithStore(const std::string& dir, double tolerance) {
 }
 
 int Measure(const std::string& dir, const std::vector<double>& errors, bool all_methods,
-            bool store) {
+            bool store, int threads) {
   const Grid grid = LoadTerrain(dir);
   std::map<std::pair<std::string, double>, double> peer_seconds;
   std::ifstream peers(dir + "/peers.jsonl");
@@ -214,12 +214,14 @@ int Measure(const std::string& dir, const std::vector<double>& errors, bool all_
   std::printf("| method         | error | triangles | true max |     RMS |  seconds |\n");
   std::printf("|---|---|---|---|---|---|\n");
   for (double e : errors) {
+    // value() of the temporary moves the mesh out (`*` would copy it inside the timed region).
     Tin greedy;
-    const double greedy_s = Time([&] { greedy = *BuildGreedyTin(grid, {.tolerance = e}); });
+    const double greedy_s = TimeLikePeers(grid, [&] {
+      greedy = BuildGreedyTin(grid, {.tolerance = e, .threads = threads}).value();
+    });
     Print(Measured("greedy", e, greedy, grid, greedy_s), csv);
     if (store) Print(GreedyWithStore(dir, e), csv);
     Tin rtin;
-    // value() of the temporary moves the mesh out (`*` would copy it inside the timed region).
     const double rtin_s =
         TimeLikePeers(grid, [&] { rtin = BuildRtinTin(grid, {.tolerance = e}).value(); });
     Print(Measured("rtin", e, rtin, grid, rtin_s), csv);
@@ -232,7 +234,8 @@ int Measure(const std::string& dir, const std::vector<double>& errors, bool all_
       if (std::string(peer) == "delatin") {
         // tinbase greedy held to the error delatin really kept: triangles at equal true error.
         Tin same;
-        const double s = Time([&] { same = *BuildGreedyTin(grid, {.tolerance = row.max_error}); });
+        const double s =
+            Time([&] { same = BuildGreedyTin(grid, {.tolerance = row.max_error}).value(); });
         Print(Measured("greedy@delatin", e, same, grid, s), csv);
       }
     }
@@ -343,7 +346,10 @@ int main(int argc, char** argv) {
   measure->add_option("--errors", errors);
   measure->add_flag("--all", all, "Also VIP (threshold = error) and collapse (greedy's faces)");
   measure->add_flag("--store", store, "Also greedy through a store: build + write");
-  measure->callback([&] { rc = tinbase::Measure(dir, tinbase::ParseList(errors), all, store); });
+  int threads = 0;
+  measure->add_option("--threads", threads, "greedy: GreedyOptions::threads (0: automatic)");
+  measure->callback(
+      [&] { rc = tinbase::Measure(dir, tinbase::ParseList(errors), all, store, threads); });
   CLI::App* delaunay = app.add_subcommand("delaunay", "CGAL alone against points -> store");
   delaunay->add_option("--points", points);
   delaunay->add_option("--dir", dir)->required();

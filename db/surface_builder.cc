@@ -34,18 +34,27 @@ Change BuildChange(const SurfaceInfo& surface, const Tin& tin) {
   return change;
 }
 
-// Greedy insertion reads the DEM block by block as it goes, so it is bounded by the TIN's size
-// and the block cache, not by the DEM's: DEMs larger than memory build.
+// Greedy insertion of a DEM the block cache can hold works on its grid in memory, so it can
+// refine on two threads (a DemCellSource serves one). A larger DEM is read block by block as the
+// refinement goes, so the build is bounded by the TIN's size and the block cache, not by the
+// DEM's: DEMs larger than memory build.
+Result<Tin> GreedyTinOfStoredDem(DemStore& dems, const DemInfo& dem, GreedyOptions greedy,
+                                 GreedyReport* report) {
+  const double dem_bytes = static_cast<double>(dem.geometry.CellCount()) * sizeof(float);
+  if (dem_bytes <= static_cast<double>(DemBlockCache::Instance().capacity())) {
+    TB_ASSIGN_OR_RETURN(Grid grid, dems.ReadGrid(dem));
+    return BuildGreedyTin(grid, greedy, report);
+  }
+  // Tile by tile, so blocks are decoded a few times each rather than once per insertion that
+  // lands far from the last.
+  greedy.tile = dem.block_size;
+  DemCellSource source(dems, dem);
+  return BuildGreedyTin(source, greedy, report);
+}
+
 Result<Tin> BuildGreedy(DemStore& dems, const DemInfo& dem, const SurfaceBuildOptions& options,
                         SurfaceInfo* spec, SurfaceBuildReport* report) {
-  DemCellSource source(dems, dem);
-  GreedyOptions greedy = options.greedy;
-  // A DEM the block cache cannot hold is refined tile by tile, so blocks are decoded a few
-  // times each rather than once per insertion that lands far from the last.
-  const double dem_bytes = static_cast<double>(dem.geometry.CellCount()) * sizeof(float);
-  if (dem_bytes > static_cast<double>(DemBlockCache::Instance().capacity()))
-    greedy.tile = dem.block_size;
-  TB_ASSIGN_OR_RETURN(Tin tin, BuildGreedyTin(source, greedy, &report->quality));
+  TB_ASSIGN_OR_RETURN(Tin tin, GreedyTinOfStoredDem(dems, dem, options.greedy, &report->quality));
   spec->kind = SurfaceKind::kDelaunay;
   // A point budget may stop greedy early: record the tolerance the surface really keeps, so
   // invariant 7 is a promise and not a wish.

@@ -14,7 +14,10 @@
 #include <cassert>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <numeric>
+#include <set>
+#include <unordered_map>
 
 namespace tinbase {
 namespace {
@@ -128,6 +131,61 @@ struct Cdt::Impl {
     for (FaceHandle f : beyond)
       if (!f->has_vertex(v) && std::find(out.begin(), out.end(), f) == out.end()) out.push_back(f);
     return out;
+  }
+
+  // The infinite faces, one per hull edge.
+  std::vector<FaceHandle> HullFaces() const {
+    std::vector<FaceHandle> faces;
+    Triangulation::Face_circulator fc = cdt.incident_faces(cdt.infinite_vertex());
+    const Triangulation::Face_circulator done = fc;
+    do {
+      faces.push_back(fc);
+    } while (++fc != done);
+    return faces;
+  }
+
+  // Links each infinite face to the two infinite faces beside it: across its edge from the
+  // infinite vertex to a hull vertex w lies the other infinite face holding w.
+  void LinkAroundInfinity(const std::vector<FaceHandle>& hull_faces) {
+    const VertexHandle inf = cdt.infinite_vertex();
+    std::unordered_map<const void*, std::pair<FaceHandle, int>> first_at;
+    for (FaceHandle f : hull_faces) {
+      const int i = f->index(inf);
+      for (const int k : {Triangulation::ccw(i), Triangulation::cw(i)}) {
+        // The edge opposite vertex k joins the infinite vertex to w.
+        const VertexHandle w = f->vertex(3 - i - k);
+        const auto [it, first] = first_at.try_emplace(&*w, f, k);
+        if (first) continue;
+        f->set_neighbor(k, it->second.first);
+        it->second.first->set_neighbor(it->second.second, f);
+      }
+    }
+    inf->set_face(hull_faces.front());
+  }
+
+  // Lawson's flips from the edges `to_check`: an edge whose opposite vertex lies strictly inside
+  // its face's circle is flipped and the quad's four sides checked in turn. A triangulation
+  // that is locally Delaunay everywhere is Delaunay, and only the region around the checked
+  // edges changes. Returns the faces flips made (each flip remakes its two faces in place).
+  std::vector<FaceHandle> FlipUntilDelaunay(std::vector<std::pair<VertexHandle, VertexHandle>> to_check) {
+    std::vector<FaceHandle> flipped;
+    while (!to_check.empty()) {
+      const auto [a, b] = to_check.back();
+      to_check.pop_back();
+      FaceHandle f;
+      int i;
+      if (!cdt.is_edge(a, b, f, i)) continue;
+      const FaceHandle g = f->neighbor(i);
+      if (cdt.is_infinite(f) || cdt.is_infinite(g)) continue;
+      const VertexHandle c = f->vertex(i);
+      const VertexHandle d = g->vertex(cdt.mirror_index(f, i));
+      if (cdt.side_of_oriented_circle(f, d->point(), false) != CGAL::ON_POSITIVE_SIDE) continue;
+      cdt.flip(f, i);
+      flipped.push_back(f);
+      flipped.push_back(g);
+      to_check.insert(to_check.end(), {{a, c}, {c, b}, {b, d}, {d, a}});
+    }
+    return flipped;
   }
 };
 
@@ -284,6 +342,136 @@ uint32_t Cdt::InsertVertex(const TinVertex& point, FaceRef hint, std::vector<Fac
     }
   }
   return v->info().index;
+}
+
+// The join copies `other`'s faces into this TDS (CGAL cannot move faces between triangulations)
+// and links them to this one's faces across the shared hull edges, whose infinite faces on both
+// sides go. Both were Delaunay, so only edges near the boundary can fail the test; the flips
+// start from the joined edges.
+std::vector<uint32_t> Cdt::Absorb(Cdt&& other, std::vector<FaceRef>* changed) {
+  Triangulation& cdt = impl_->cdt;
+  Triangulation& src = other.impl_->cdt;
+  assert(cdt.dimension() == 2 && src.dimension() == 2);
+  Tds& tds = cdt.tds();
+  const VertexHandle inf = cdt.infinite_vertex();
+  const auto xy = [](VertexHandle v) { return std::pair{v->point().x(), v->point().y()}; };
+  const auto edge_key = [](VertexHandle a, VertexHandle b) {
+    return &*a < &*b ? std::pair{&*a, &*b} : std::pair{&*b, &*a};
+  };
+  const auto finite_edge = [](FaceHandle f, VertexHandle infinite) {
+    const int i = f->index(infinite);
+    return std::pair{f->vertex(Triangulation::ccw(i)), f->vertex(Triangulation::cw(i))};
+  };
+
+  // Our hull: its vertices by position, its infinite faces by their finite edge.
+  std::map<std::pair<double, double>, VertexHandle> hull_vertex;
+  std::map<std::pair<const void*, const void*>, FaceHandle> hull_face;
+  const std::vector<FaceHandle> our_hull = impl_->HullFaces();
+  for (FaceHandle f : our_hull) {
+    const auto [a, b] = finite_edge(f, inf);
+    hull_vertex.emplace(xy(a), a);
+    hull_face.emplace(edge_key(a, b), f);
+  }
+
+  // Vertices: other's on the shared boundary map to ours, the others are copied.
+  std::vector<VertexHandle> to(other.impl_->handles.size());
+  std::vector<VertexHandle> shared;
+  for (FaceHandle f : other.impl_->HullFaces()) {
+    const VertexHandle v = finite_edge(f, src.infinite_vertex()).first;
+    if (const auto it = hull_vertex.find(xy(v)); it != hull_vertex.end()) {
+      to[v->info().index] = it->second;
+      shared.push_back(it->second);
+    }
+  }
+  std::vector<uint32_t> index_map(to.size());
+  for (size_t k = 0; k < to.size(); ++k) {
+    if (to[k] == VertexHandle()) {
+      to[k] = tds.create_vertex();
+      to[k]->set_point(other.impl_->handles[k]->point());
+      to[k]->info().index = static_cast<uint32_t>(vertices_.size());
+      vertices_.push_back(other.vertices_[k]);
+      impl_->handles.push_back(to[k]);
+    }
+    index_map[k] = to[k]->info().index;
+  }
+  const auto map = [&](VertexHandle v) { return src.is_infinite(v) ? inf : to[v->info().index]; };
+
+  // Faces, numbered in their id field: other's infinite faces on the shared boundary are
+  // dropped, with ours across the same edges.
+  std::vector<FaceHandle> faces;
+  for (FaceHandle f : src.all_face_handles()) {
+    f->info().id = static_cast<int32_t>(faces.size());
+    faces.push_back(f);
+  }
+  std::vector<FaceHandle> made(faces.size());
+  std::vector<FaceHandle> ours_across(faces.size());  // by a dropped face of other's
+  std::set<FaceHandle> dropped;
+  for (FaceHandle f : faces) {
+    if (src.is_infinite(f)) {
+      const auto [a, b] = finite_edge(f, src.infinite_vertex());
+      if (const auto it = hull_face.find(edge_key(map(a), map(b))); it != hull_face.end()) {
+        ours_across[f->info().id] = it->second;
+        dropped.insert(it->second);
+        continue;
+      }
+    }
+    made[f->info().id] =
+        tds.create_face(map(f->vertex(0)), map(f->vertex(1)), map(f->vertex(2)));
+  }
+  std::vector<FaceHandle> hull_faces;
+  for (FaceHandle f : our_hull)
+    if (!dropped.count(f)) hull_faces.push_back(f);
+  std::vector<std::pair<VertexHandle, VertexHandle>> joined;
+  for (FaceHandle f : faces) {
+    const FaceHandle copy = made[f->info().id];
+    if (copy == FaceHandle()) continue;
+    if (src.is_infinite(f)) hull_faces.push_back(copy);
+    for (int i = 0; i < 3; ++i) {
+      const int n = f->neighbor(i)->info().id;
+      if (made[n] != FaceHandle()) {
+        copy->set_neighbor(i, made[n]);
+      } else if (!src.is_infinite(f)) {
+        // Across the shared boundary: our face beyond our dropped infinite face.
+        const FaceHandle gone = ours_across[n];
+        const FaceHandle ours = gone->neighbor(gone->index(inf));
+        copy->set_neighbor(i, ours);
+        ours->set_neighbor(ours->index(gone), copy);
+        joined.emplace_back(copy->vertex(Triangulation::ccw(i)),
+                            copy->vertex(Triangulation::cw(i)));
+      }  // else: an infinite face beside a dropped one, linked by LinkAroundInfinity
+    }
+  }
+  for (size_t k = 0; k < to.size(); ++k) {
+    const FaceHandle copy = made[other.impl_->handles[k]->face()->info().id];
+    if (copy != FaceHandle()) to[k]->set_face(copy);
+  }
+  for (FaceHandle gone : dropped) {
+    for (int i = 0; i < 3; ++i) {
+      const VertexHandle v = gone->vertex(i);
+      if (v != inf && v->face() == gone) v->set_face(gone->neighbor(gone->index(inf)));
+    }
+    tds.delete_face(gone);
+  }
+  impl_->LinkAroundInfinity(hull_faces);
+  other.impl_ = std::make_unique<Impl>();
+  other.vertices_.clear();
+
+  std::vector<FaceHandle> touched = impl_->FlipUntilDelaunay(std::move(joined));
+  if (changed != nullptr) {
+    for (VertexHandle v : shared) {
+      Triangulation::Face_circulator fc = cdt.incident_faces(v);
+      const Triangulation::Face_circulator done = fc;
+      do {
+        touched.push_back(fc);
+      } while (++fc != done);
+    }
+    std::sort(touched.begin(), touched.end());
+    touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+    changed->clear();
+    for (FaceHandle f : touched)
+      if (!cdt.is_infinite(f)) changed->push_back(Impl::Ref(f));
+  }
+  return index_map;
 }
 
 // CGAL constrains a->b by walking from a, splitting at vertices on the segment and at crossing

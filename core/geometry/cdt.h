@@ -85,6 +85,21 @@ class Cdt {
   uint32_t InsertVertex(const TinVertex& point, FaceRef hint = {},
                         std::vector<FaceRef>* incident = nullptr);
 
+  // Moves `other`'s vertices and faces into this triangulation, the two joined along the hull
+  // edges they share, then flips every edge that is then not Delaunay until the whole is (an
+  // edge is flipped only when the opposite vertex lies strictly inside the circle, so a
+  // co-circular quad keeps the diagonal it had, as InsertVertex keeps it). For triangulations
+  // built apart, e.g. on two threads, over regions that meet along a boundary. Returns, by
+  // `other`'s vertex index, the index the vertex has here: a vertex on the shared boundary maps
+  // to this one's vertex there (keeping this one's z and kind), the others get new indices
+  // after this one's, in `other`'s order. When `changed` is not null it receives the finite
+  // faces that have a vertex on the shared boundary or that a flip made; every other face is a
+  // face of one of the two inputs, the same vertices in the same order. `other` is left empty.
+  // REQUIRES: both have dimension 2 and no constraints; the hull edges of `other` whose two
+  // vertices are hull vertices of this one too (same x, y) are hull edges of this one and form
+  // the shared boundary; the two hulls' interiors are disjoint and their union is convex.
+  std::vector<uint32_t> Absorb(Cdt&& other, std::vector<FaceRef>* changed = nullptr);
+
   // Constrains the segment between vertices a and b. Vertices lying on the segment split it;
   // crossings with other constraints create vertices whose index and z are assigned by
   // ToTin. REQUIRES: a, b < vertices().size() and a != b.

@@ -3,12 +3,14 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "core/geometry/cdt.h"
 #include "core/tin/cell_cover.h"
+#include "core/tin/split_refinement.h"
 #include "core/tin/tolerance_refiner.h"
 
 namespace tinbase {
@@ -46,6 +48,10 @@ Status ValidateOptions(const GreedyOptions& options) {
     return Status::InvalidArgument(
         "greedy TIN: tolerance must be a positive number of metres, got " +
         std::to_string(options.tolerance));
+  }
+  if (options.threads < 0 || options.threads > 2) {
+    return Status::InvalidArgument("greedy TIN: threads must be 0 (automatic), 1 or 2, got " +
+                                   std::to_string(options.threads));
   }
   if (options.max_points < 0 || (options.max_points > 0 && options.max_points < 4)) {
     return Status::InvalidArgument(
@@ -87,22 +93,34 @@ void AddSeedLattice(CellSource& dem, int64_t tile, std::vector<TinVertex>* verti
   }
 }
 
-// The four grid corners (a corner on nodata takes the mean of its nearest valid cells), then
-// tolerance refinement over the whole grid. InvalidArgument when the grid has no valid cell.
-Result<Tin> BuildFromCorners(CellSource& dem, const GreedyOptions& options) {
+// The z a vertex on the grid's hull takes: the cell's value, or on nodata the mean of the valid
+// cells nearest to it (NaN when the grid has none).
+double HullElevation(CellSource& dem, int64_t col, int64_t row) {
+  return dem.IsValid(col, row) ? dem.At(col, row) : MeanOfNearestValid(dem, col, row);
+}
+
+// The four grid corners, in the order the TIN lists them first. InvalidArgument when the grid
+// has no valid cell.
+Result<std::vector<TinVertex>> GridCorners(CellSource& dem) {
   const GridGeometry& g = dem.geometry();
   std::vector<TinVertex> corners;
   for (auto [c, r] : {std::pair<int64_t, int64_t>{0, 0},
                       {g.width - 1, 0},
                       {0, g.height - 1},
                       {g.width - 1, g.height - 1}}) {
-    const double z = dem.IsValid(c, r) ? dem.At(c, r) : MeanOfNearestValid(dem, c, r);
+    const double z = HullElevation(dem, c, r);
     if (std::isnan(z)) {
       TB_RETURN_IF_ERROR(dem.status());
       return Status::InvalidArgument("greedy TIN: the DEM has no valid cell (all nodata)");
     }
     corners.push_back(TinVertex{g.CellCenterX(c), g.CellCenterY(r), z, VertexKind::kDem});
   }
+  return corners;
+}
+
+// The four grid corners, then tolerance refinement over the whole grid, on one thread.
+Result<Tin> BuildFromCorners(CellSource& dem, const GreedyOptions& options) {
+  TB_ASSIGN_OR_RETURN(std::vector<TinVertex> corners, GridCorners(dem));
   if (options.tile > 0) AddSeedLattice(dem, options.tile, &corners);
   Cdt cdt;
   cdt.InsertVertices(corners);  // distinct, so indices 0..3 are the corners in this order
@@ -112,6 +130,54 @@ Result<Tin> BuildFromCorners(CellSource& dem, const GreedyOptions& options) {
   refine.tile = options.tile;
   if (options.max_points != 4) RefineToTolerance(cdt, dem, refine);
   return cdt.ToTin();
+}
+
+// Renumbers the vertices so that `first` (vertices of the TIN, by position) come first in that
+// order, the others keeping theirs.
+void PutFirst(const std::vector<TinVertex>& first, Tin& tin) {
+  std::vector<uint32_t> new_index(tin.vertices.size(), UINT32_MAX);
+  std::vector<TinVertex> ordered;
+  ordered.reserve(tin.vertices.size());
+  for (const TinVertex& want : first) {
+    for (uint32_t i = 0; i < tin.vertices.size(); ++i) {
+      if (tin.vertices[i].x != want.x || tin.vertices[i].y != want.y) continue;
+      new_index[i] = static_cast<uint32_t>(ordered.size());
+      ordered.push_back(tin.vertices[i]);
+      break;
+    }
+  }
+  for (uint32_t i = 0; i < tin.vertices.size(); ++i) {
+    if (new_index[i] != UINT32_MAX) continue;
+    new_index[i] = static_cast<uint32_t>(ordered.size());
+    ordered.push_back(tin.vertices[i]);
+  }
+  tin.vertices = std::move(ordered);
+  for (TinTriangle& t : tin.triangles)
+    for (uint32_t& v : t.v) v = new_index[v];
+}
+
+// The same result on two threads (core/tin/split_refinement.h); nullopt when `min_seam_vertices`
+// keeps it on one.
+Result<std::optional<Tin>> BuildInHalves(const Grid& dem, const GreedyOptions& options,
+                                         size_t min_seam_vertices) {
+  GridCellSource source(dem);
+  TB_ASSIGN_OR_RETURN(std::vector<TinVertex> corners, GridCorners(source));
+  std::optional<Cdt> cdt = RefineInHalves(
+      dem, options.tolerance,
+      [&](int64_t col, int64_t row) { return HullElevation(source, col, row); },
+      min_seam_vertices);
+  if (!cdt) return std::optional<Tin>();
+  Tin tin = cdt->ToTin();
+  PutFirst(corners, tin);
+  return std::optional<Tin>(std::move(tin));
+}
+
+// Whether the options and the grid allow a split at all (its seam may still keep an automatic
+// build on one thread).
+bool MaySplit(const Grid& dem, const GreedyOptions& options) {
+  if (options.threads == 1 || options.max_points > 0 || options.tile > 0) return false;
+  const GridGeometry& g = dem.geometry;
+  return options.threads == 2 ? std::max(g.width, g.height) >= 3 : WorthSplitting(g);
 }
 
 // Sets every triangle's visibility (on data or not) and measures the errors over every valid
@@ -175,7 +241,20 @@ Result<Tin> BuildGreedyTin(const Grid& dem, const GreedyOptions& options, Greedy
                                    std::to_string(dem.geometry.height) + " geometry");
   }
   GridCellSource source(dem);
-  return BuildGreedyTin(source, options, report);
+  std::optional<Tin> halves;
+  if (MaySplit(dem, options)) {
+    TB_ASSIGN_OR_RETURN(halves,
+                        BuildInHalves(dem, options, options.threads == 2 ? size_t{0} : kMinSeamVertices));
+  }
+  if (!halves) return BuildGreedyTin(source, options, report);
+  Tin tin = std::move(*halves);
+  if (report != nullptr) {
+    PaintAndMeasure(source, tin, report);
+  } else {
+    // Nothing to measure, and cells in memory need no reading order: no sort by tile.
+    for (TinTriangle& t : tin.triangles) t.visible = TriangleOnData(dem, tin, t);
+  }
+  return tin;
 }
 
 }  // namespace tinbase

@@ -25,6 +25,13 @@ struct GreedyOptions {
   // 0: strict worst-first order; > 0: tiled passes (RefineOptions::tile), for a streamed DEM
   // that does not fit the block cache.
   int64_t tile = 0;
+  // 1: refine on one thread. 2: on two (core/tin/split_refinement.h) when the DEM is a grid in
+  // memory and neither max_points nor tile is set. 0: two when that applies, the grid is large
+  // enough to pay for it (WorthSplitting) and the seam's chain has at least kMinSeamVertices
+  // vertices (a shorter one would weigh on a small TIN), else one. The result keeps the same
+  // bound either way; the point sets differ a little (the two-thread one holds its seam's
+  // vertices).
+  int threads = 0;
 };
 
 struct GreedyReport {
@@ -33,15 +40,17 @@ struct GreedyReport {
   int64_t points = 0;
 };
 
-// Returns the TIN (vertices in insertion order, the four corners first; all of kind kDem) and
-// fills `report` when given. InvalidArgument for a non-positive tolerance, an empty grid or one
-// with no valid cell, a grid narrower than 2 x 2 cells (its corners span no triangle), or a
-// max_points other than 0 below 4 (the corners alone are 4).
+// Returns the TIN (the four corners first, then the other vertices in insertion order, half
+// by half on two threads; all of kind kDem) and fills `report` when given. InvalidArgument for
+// a non-positive tolerance, an empty grid or one with no valid cell, a grid narrower than 2 x 2
+// cells (its corners span no triangle), a max_points other than 0 below 4 (the corners alone
+// are 4), or threads other than 0, 1 or 2.
 Result<Tin> BuildGreedyTin(const Grid& dem, const GreedyOptions& options,
                            GreedyReport* report = nullptr);
 
 // The same over a streamed DEM (core/raster/cell_source.h): the grid is read a span at a time,
-// so it need not fit in memory. Returns the source's error if a block could not be read.
+// so it need not fit in memory, on one thread (a source is not shared between threads).
+// Returns the source's error if a block could not be read.
 Result<Tin> BuildGreedyTin(CellSource& dem, const GreedyOptions& options,
                            GreedyReport* report = nullptr);
 

@@ -115,33 +115,60 @@ class Refiner {
   }
 
   // Gives the face a fresh stamp (invalidating its older queue entries) and queues its worst
-  // sample if that is beyond the tolerance. Exclusions and blocked cells are tested only on a
-  // new maximum, so they cost nothing on the common path.
+  // sample if that is beyond the tolerance.
   void Scan(Cdt::FaceRef face) {
     const uint64_t stamp = next_stamp_++;
     cdt_.SetFaceStamp(face, stamp);
     const std::array<uint32_t, 3> v = cdt_.FaceVertices(face);
-    const std::vector<TinVertex>& vertices = cdt_.vertices();
     if (options_.in_region && !options_.in_region(v)) return;
-    const CellTriangle t = ToCellSpace(geometry_, vertices[v[0]], vertices[v[1]], vertices[v[2]]);
+    const CellTriangle t = InCellSpace(v);
     CellPlane plane;
     if (!PlaneOf(t, &plane)) return;
+    int64_t col = -1, row = -1;
+    double worst = WorstCell(v, t, plane, /*test_each=*/false, &col, &row);
+    // The worst cell of all is nearly always one the face may insert; when it is not, the slow
+    // scan finds the worst of those it may (the same cell the fast one would, when it may).
+    if (col >= 0 && (Skipped(col, row) || !Covers(v, col, row)))
+      worst = WorstCell(v, t, plane, /*test_each=*/true, &col, &row);
+    if (col >= 0) QueueOf(col, row).push(Candidate{worst, face, stamp, col, row});
+  }
+
+  // The largest |plane - DEM| above the tolerance over the valid cells the face covers, and
+  // the first cell that has it (col -1 when none). With test_each, only cells not skipped and
+  // exactly covered count; those tests are made on a new maximum only, which is rare.
+  double WorstCell(const std::array<uint32_t, 3>& v, const CellTriangle& t, const CellPlane& plane,
+                   bool test_each, int64_t* col, int64_t* row) {
     double worst = options_.tolerance;
-    int64_t worst_col = -1, worst_row = -1;
+    *col = *row = -1;
     ForEachCellSpan(
         t, geometry_.width, geometry_.height, [&](int64_t r, int64_t first, int64_t last) {
-          const double row = static_cast<double>(r);
+          const double y = static_cast<double>(r);
           dem_.ForEachCell(r, first, last, [&](int64_t c, float value) {
             if (std::isnan(value)) return;
-            const double error = std::fabs(plane.At(static_cast<double>(c), row) - value);
-            if (error <= worst || Skipped(c, r) || !Covers(v, c, r)) return;
+            const double error = std::fabs(plane.At(static_cast<double>(c), y) - value);
+            if (error <= worst || (test_each && (Skipped(c, r) || !Covers(v, c, r)))) return;
             worst = error;
-            worst_col = c;
-            worst_row = r;
+            *col = c;
+            *row = r;
           });
         });
-    if (worst_col >= 0)
-      QueueOf(worst_col, worst_row).push(Candidate{worst, face, stamp, worst_col, worst_row});
+    return worst;
+  }
+
+  // The face in the grid's centre space; each vertex's position there is computed once.
+  CellTriangle InCellSpace(const std::array<uint32_t, 3>& v) {
+    const std::vector<TinVertex>& vertices = cdt_.vertices();
+    while (cell_xy_.size() < vertices.size()) {
+      const TinVertex& p = vertices[cell_xy_.size()];
+      cell_xy_.push_back({geometry_.ColumnAt(p.x), geometry_.RowAt(p.y)});
+    }
+    CellTriangle t;
+    for (int i = 0; i < 3; ++i) {
+      t.col[i] = cell_xy_[v[i]][0];
+      t.row[i] = cell_xy_[v[i]][1];
+      t.z[i] = vertices[v[i]].z;
+    }
+    return t;
   }
 
   // Only cells the face truly holds (cell_cover.h), so an insertion never lands outside the
@@ -166,6 +193,7 @@ class Refiner {
   std::vector<uint32_t> added_;
   std::vector<Cdt::FaceRef> incident_;
   std::set<std::pair<int64_t, int64_t>> blocked_;
+  std::vector<std::array<double, 2>> cell_xy_;  // vertices in centre space, by index
   uint64_t next_stamp_ = 1;  // 0 is a fresh face's stamp, never queued
 };
 
@@ -175,6 +203,14 @@ std::vector<uint32_t> RefineToTolerance(Cdt& cdt, CellSource& dem, const RefineO
                                         RefineReport* report) {
   Refiner refiner(cdt, dem, options);
   return refiner.Run(cdt.FiniteFaces(), report);
+}
+
+std::vector<uint32_t> RefineFacesToTolerance(Cdt& cdt, CellSource& dem,
+                                             const RefineOptions& options,
+                                             std::vector<Cdt::FaceRef> faces,
+                                             RefineReport* report) {
+  Refiner refiner(cdt, dem, options);
+  return refiner.Run(std::move(faces), report);
 }
 
 std::vector<uint32_t> RefineToTolerance(Cdt& cdt, const Grid& dem, const RefineOptions& options,

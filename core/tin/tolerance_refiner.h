@@ -53,6 +53,13 @@ struct RefineReport {
 // has an index (Cdt::IndexCrossings after constraints crossed), options.tolerance > 0.
 std::vector<uint32_t> RefineToTolerance(Cdt& cdt, CellSource& dem, const RefineOptions& options,
                                         RefineReport* report = nullptr);
+// The same, scanning at first only `faces` (and then those insertions create): for a
+// triangulation whose other faces are known to be within the tolerance, as after joining two
+// refined halves (Cdt::Absorb).
+std::vector<uint32_t> RefineFacesToTolerance(Cdt& cdt, CellSource& dem,
+                                             const RefineOptions& options,
+                                             std::vector<Cdt::FaceRef> faces,
+                                             RefineReport* report = nullptr);
 // The same over a grid in memory. REQUIRES: dem's cells match its geometry.
 std::vector<uint32_t> RefineToTolerance(Cdt& cdt, const Grid& dem, const RefineOptions& options,
                                         RefineReport* report = nullptr);

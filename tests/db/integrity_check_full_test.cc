@@ -10,6 +10,9 @@
 #include "db/integrity_check.h"
 #include "db/polygon_editor.h"
 #include "db/surface_builder.h"
+#include "core/tin/greedy_builder.h"
+#include "core/tin/split_refinement.h"
+#include "tests/support/read_grid.h"
 #include "tests/support/test_support.h"
 #include "tests/support/tin_fixtures.h"
 
@@ -55,6 +58,29 @@ TEST_F(FullCheckTest, GreedySurfaceWithNodataIsIntact) {
   Build("dem/elev.tif", 5.0);
   EXPECT_GT(Int("SELECT count(*) FROM triangles WHERE visible = 0"), 0);
   testing::ExpectStoreIntact(*store_, /*full=*/true);
+}
+
+// A DEM the block cache holds is refined on two threads (core/tin/split_refinement.h): the
+// stored surface is that build, keeps invariant 7 at every cell, and a tolerance below its true
+// max error is caught.
+TEST_F(FullCheckTest, TwoThreadGreedySurfaceKeepsTolerance) {
+  Build("dem/elev_vinschgau.tif", 2.0);
+  auto grid = testing::ReadGridWithGdal(DataPath("dem/elev_vinschgau.tif"));
+  ASSERT_TRUE(grid.ok());
+  ASSERT_TRUE(WorthSplitting(grid->geometry));
+  auto one = BuildGreedyTin(*grid, {.tolerance = 2.0, .threads = 1});
+  auto two = BuildGreedyTin(*grid, {.tolerance = 2.0, .threads = 2});
+  ASSERT_TRUE(one.ok() && two.ok());
+  // Told apart by their counts, so the counts below show which one was stored.
+  ASSERT_NE(one->vertices.size(), two->vertices.size());
+  EXPECT_EQ(Int("SELECT count(*) FROM triangles"), static_cast<int64_t>(two->triangles.size()));
+  EXPECT_EQ(Int("SELECT count(*) FROM vertices"), static_cast<int64_t>(two->vertices.size()));
+  testing::ExpectStoreIntact(*store_, /*full=*/true);
+
+  Sql("UPDATE surfaces SET tolerance = 1.9");
+  const std::vector<Problem> problems = Check();
+  ASSERT_FALSE(problems.empty());
+  for (const Problem& p : problems) EXPECT_EQ(p.code, "tolerance") << p.message;
 }
 
 TEST_F(FullCheckTest, PolygonsAddedKeepPaintAndTolerance) {

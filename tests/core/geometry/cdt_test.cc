@@ -182,6 +182,78 @@ TEST(CdtTest, NewVertexKeepsCoCircularDiagonals) {
   EXPECT_EQ(tied_quads_seen, 0);
 }
 
+// Two triangulations of lattice points (co-circular quads everywhere) on either side of the
+// column `seam`, both holding the same points on it: joined, they are one Delaunay triangulation
+// of every point, and each face not reported changed is a face of an input, the same vertices in
+// the same order.
+TEST(CdtTest, AbsorbJoinsTwoSidesIntoOneDelaunayTriangulation) {
+  const unsigned seed = std::random_device{}();
+  std::printf("AbsorbJoinsTwoSidesIntoOneDelaunayTriangulation seed %u\n", seed);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> unit(0, 1);
+  for (int round = 0; round < 30; ++round) {
+    SCOPED_TRACE("seed " + std::to_string(seed) + " round " + std::to_string(round));
+    const int width = 3 + static_cast<int>(rng() % 40), height = 2 + static_cast<int>(rng() % 40);
+    const int seam = 1 + static_cast<int>(rng() % (width - 2));
+    const double density = unit(rng);
+    const auto at = [&](int c, int r) {
+      return TinVertex{500000.0 + 10 * c, 5000000.0 + 10 * r, 100 * unit(rng)};
+    };
+    std::vector<TinVertex> left, right, on_seam;
+    for (int r = 0; r < height; ++r) {
+      const bool end = r == 0 || r == height - 1;
+      if (end || unit(rng) < density) on_seam.push_back(at(seam, r));
+      for (int c = 0; c < width; ++c) {
+        if (c == seam || !(unit(rng) < density || (end && (c == 0 || c == width - 1)))) continue;
+        (c < seam ? left : right).push_back(at(c, r));
+      }
+    }
+    left.insert(left.end(), on_seam.begin(), on_seam.end());
+    right.insert(right.end(), on_seam.begin(), on_seam.end());
+    Cdt joined, other;
+    joined.InsertVertices(left);
+    other.InsertVertices(right);
+    const Tin left_tin = joined.ToTin(), right_tin = other.ToTin();
+
+    std::vector<Cdt::FaceRef> changed;
+    const std::vector<uint32_t> index = joined.Absorb(std::move(other), &changed);
+    const Tin tin = joined.ToTin();
+    ExpectValid(tin);
+    ASSERT_EQ(tin.vertices.size(), left.size() + right.size() - on_seam.size());
+    ASSERT_EQ(index.size(), right.size());
+    for (size_t k = 0; k < right.size(); ++k) {
+      EXPECT_EQ(tin.vertices[index[k]].x, right_tin.vertices[k].x);
+      EXPECT_EQ(tin.vertices[index[k]].y, right_tin.vertices[k].y);
+    }
+    double area = 0;
+    for (const TinTriangle& t : tin.triangles) {
+      const TinVertex &a = tin.vertices[t.v[0]], &b = tin.vertices[t.v[1]],
+                      &c = tin.vertices[t.v[2]];
+      area += 0.5 * ((b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y));
+    }
+    EXPECT_NEAR(area, 100.0 * (width - 1) * (height - 1), 1e-6);
+
+    // Faces as written, rotated to start at their lowest index (orientation kept).
+    const auto canonical = [](std::array<uint32_t, 3> v) {
+      std::rotate(v.begin(), std::min_element(v.begin(), v.end()), v.end());
+      return v;
+    };
+    std::set<std::array<uint32_t, 3>> inputs, reported;
+    for (const TinTriangle& t : left_tin.triangles) inputs.insert(canonical(t.v));
+    for (const TinTriangle& t : right_tin.triangles)
+      inputs.insert(canonical({index[t.v[0]], index[t.v[1]], index[t.v[2]]}));
+    for (Cdt::FaceRef f : changed) reported.insert(canonical(joined.FaceVertices(f)));
+    const double seam_x = 500000.0 + 10 * seam;
+    for (const TinTriangle& t : tin.triangles) {
+      const auto face = canonical(t.v);
+      if (reported.count(face)) continue;
+      EXPECT_TRUE(inputs.count(face)) << "a changed face was not reported";
+      for (uint32_t v : t.v)
+        EXPECT_NE(tin.vertices[v].x, seam_x) << "a face on the seam was not reported";
+    }
+  }
+}
+
 TEST(CdtTest, CollinearInputHasNoTriangles) {
   Cdt cdt;
   cdt.InsertVertices({{0, 0, 0}, {1, 1, 0}, {2, 2, 0}, {3, 3, 0}});

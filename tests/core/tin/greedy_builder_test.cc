@@ -9,6 +9,7 @@
 #include <limits>
 #include <random>
 
+#include "core/tin/split_refinement.h"
 #include "tests/support/read_grid.h"
 #include "tests/support/test_support.h"
 #include "tests/support/tin_checks.h"
@@ -170,6 +171,88 @@ TEST(GreedyBuilderTest, TiledPassesKeepTheBoundWithFewExtraPoints) {
   }
 }
 
+// Two threads (core/tin/split_refinement.h) keep every promise of one, each checked against
+// every cell, with about as many points: nodata holes and a nodata corner, a south-up grid, and
+// a grid taller than wide (split across its rows).
+TEST(GreedyBuilderTest, TwoThreadsKeepTheBoundCellByCell) {
+  Grid holes = MakeGrid(517, 389, [](double x, double y) {
+    if (std::hypot(x - 2600.0, y + 1900.0) < 400 || x + (-y) < 150) return kNaN;
+    return Sines(x, y);
+  });
+  Grid south_up = MakeGrid(300, 200, Sines);
+  south_up.geometry.cell_y = 10;
+  Grid tall = MakeGrid(150, 420, Sines);
+  for (const Grid* dem : {&holes, &south_up, &tall}) {
+    for (double tolerance : {10.0, 1.0}) {
+      SCOPED_TRACE(std::to_string(dem->geometry.width) + " x " +
+                   std::to_string(dem->geometry.height));
+      GreedyReport one, two;
+      auto a = BuildGreedyTin(*dem, {.tolerance = tolerance, .threads = 1}, &one);
+      auto b = BuildGreedyTin(*dem, {.tolerance = tolerance, .threads = 2}, &two);
+      ASSERT_TRUE(a.ok() && b.ok());
+      ExpectValidGreedyTin(*b, *dem, tolerance, two);
+      // The bound is reached, so the cell-by-cell check above works at its edge.
+      EXPECT_GT(two.max_error, 0.9 * tolerance);
+      // Greedy insertion is not optimal: another insertion order (each half its own) may need a
+      // few per cent fewer points (95 % here on the tall grid at 1 m), never many more.
+      EXPECT_GE(two.points, one.points * 90 / 100);
+      EXPECT_LE(two.points, one.points * 103 / 100 + 4);  // + the seam's ends
+    }
+  }
+}
+
+// The narrowest grids a split allows (3 cells across, 2 along the seam) and random sizes.
+TEST(GreedyBuilderTest, TwoThreadsOnRandomTerrains) {
+  const unsigned seed = std::random_device{}();
+  std::printf("TwoThreadsOnRandomTerrains seed %u\n", seed);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> unit(0, 1);
+  for (int round = 0; round < 12; ++round) {
+    SCOPED_TRACE("seed " + std::to_string(seed) + " round " + std::to_string(round));
+    const int64_t width = round == 0 ? 3 : 2 + static_cast<int64_t>(rng() % 120);
+    const int64_t height = round == 0 ? 2 : 2 + static_cast<int64_t>(rng() % 120);
+    const double a = 200 * unit(rng), fx = 20 + 300 * unit(rng), fy = 20 + 300 * unit(rng);
+    const double noise = 5 * unit(rng);
+    std::mt19937 cell_rng(rng());
+    const Grid dem = MakeGrid(width, height, [&](double x, double y) {
+      return a * std::sin(x / fx) * std::cos(y / fy) + noise * unit(cell_rng);
+    });
+    const double tolerance = 0.5 + 10 * unit(rng);
+    GreedyReport report;
+    auto tin = BuildGreedyTin(dem, {.tolerance = tolerance, .threads = 2}, &report);
+    ASSERT_TRUE(tin.ok()) << tin.status().ToString();
+    ExpectValidGreedyTin(*tin, dem, tolerance, report);
+  }
+}
+
+// Automatic threads split only when the seam's chain is long (core/tin/split_refinement.h): a
+// coarse tolerance, whose chain is short, gives exactly the one-thread TIN, a fine one exactly
+// the two-thread TIN.
+TEST(GreedyBuilderTest, AutomaticThreadsSplitOnlyOnALongSeam) {
+  const Grid dem = MakeGrid(400, 300, Sines);
+  ASSERT_TRUE(WorthSplitting(dem.geometry));
+  const BoundaryElevationFn z = [&](int64_t c, int64_t r) { return double{dem.At(c, r)}; };
+  const auto same = [](const Tin& a, const Tin& b) {
+    if (a.vertices.size() != b.vertices.size() || a.triangles.size() != b.triangles.size())
+      return false;
+    for (size_t i = 0; i < a.vertices.size(); ++i) {
+      if (a.vertices[i].x != b.vertices[i].x || a.vertices[i].y != b.vertices[i].y) return false;
+    }
+    return true;
+  };
+  for (const double tolerance : {100.0, 0.5}) {
+    SCOPED_TRACE("tolerance " + std::to_string(tolerance));
+    const bool long_seam = ChooseSeam(dem, tolerance, z).chain_vertices >= kMinSeamVertices;
+    EXPECT_EQ(long_seam, tolerance < 1);  // the premise: one case of each
+    auto automatic = BuildGreedyTin(dem, {.tolerance = tolerance});
+    auto one = BuildGreedyTin(dem, {.tolerance = tolerance, .threads = 1});
+    auto two = BuildGreedyTin(dem, {.tolerance = tolerance, .threads = 2});
+    ASSERT_TRUE(automatic.ok() && one.ok() && two.ok());
+    ASSERT_FALSE(same(*one, *two));  // else the comparison below tells nothing
+    EXPECT_TRUE(same(*automatic, long_seam ? *two : *one));
+  }
+}
+
 TEST(GreedyBuilderTest, MaxPointsHonoured) {
   const Grid dem = MakeGrid(200, 150, Sines);
   for (int64_t max_points : {4, 5, 37, 200}) {
@@ -203,6 +286,11 @@ TEST(GreedyBuilderTest, RejectsBadInput) {
     EXPECT_EQ(tin.status().code(), StatusCode::kInvalidArgument);
     EXPECT_NE(tin.status().message().find("tolerance"), std::string::npos)
         << tin.status().message();
+  }
+  for (int threads : {-1, 3}) {
+    auto tin = BuildGreedyTin(dem, {.tolerance = 1, .threads = threads});
+    ASSERT_FALSE(tin.ok());
+    EXPECT_NE(tin.status().message().find("threads"), std::string::npos);
   }
   for (int64_t max_points : {-1, 1, 3}) {
     auto tin = BuildGreedyTin(dem, {.tolerance = 1, .max_points = max_points});
@@ -270,7 +358,8 @@ TEST(GreedyBuilderTest, SouthUpGrid) {
 }
 
 // Returns the number of hidden triangles of the last build.
-int CheckRealDem(const std::string& relative, std::initializer_list<double> tolerances) {
+int CheckRealDem(const std::string& relative, std::initializer_list<double> tolerances,
+                 int threads = 0) {
   auto dem = testing::ReadGridWithGdal(DataPath(relative));
   EXPECT_TRUE(dem.ok()) << dem.status().ToString();
   if (!dem.ok()) return -1;
@@ -278,13 +367,14 @@ int CheckRealDem(const std::string& relative, std::initializer_list<double> tole
   for (double tolerance : tolerances) {
     GreedyReport report;
     const auto start = std::chrono::steady_clock::now();
-    auto tin = BuildGreedyTin(*dem, {.tolerance = tolerance}, &report);
+    auto tin = BuildGreedyTin(*dem, {.tolerance = tolerance, .threads = threads}, &report);
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     EXPECT_TRUE(tin.ok()) << tin.status().ToString();
     if (!tin.ok()) return -1;
-    std::printf("%s at %.0f m: %lld points, %zu triangles, max %.3f m, rms %.3f m, %.2f s\n",
-                relative.c_str(), tolerance, static_cast<long long>(report.points),
+    std::printf("%s at %.0f m, threads %d: %lld points, %zu triangles, max %.3f m, rms %.3f m, "
+                "%.2f s\n",
+                relative.c_str(), tolerance, threads, static_cast<long long>(report.points),
                 tin->triangles.size(), report.max_error, report.rms_error, seconds);
     ExpectValidGreedyTin(*tin, *dem, tolerance, report);
     hidden = HiddenTriangles(*tin);
@@ -296,10 +386,12 @@ TEST(GreedyBuilderTest, VinschgauDem) { CheckRealDem("dem/elev_vinschgau.tif", {
 
 // Nodata outside Luxembourg: real holes and nodata corners.
 TEST(GreedyBuilderTest, LuxembourgDemWithNodata) {
-  EXPECT_GT(CheckRealDem("dem/elev.tif", {20.0, 5.0, 1.0}), 0);
+  for (int threads : {1, 2}) EXPECT_GT(CheckRealDem("dem/elev.tif", {20.0, 5.0, 1.0}, threads), 0);
 }
 
-TEST(GreedyBuilderTest, SrtmN43E007) { CheckRealDem("dem/N43E007.hgt", {20.0, 5.0, 1.0}); }
+TEST(GreedyBuilderTest, SrtmN43E007) {
+  for (int threads : {1, 2}) CheckRealDem("dem/N43E007.hgt", {20.0, 5.0, 1.0}, threads);
+}
 
 }  // namespace
 }  // namespace tinbase
