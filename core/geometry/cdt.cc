@@ -232,12 +232,21 @@ void Cdt::InsertVerticesInBands(const std::vector<TinVertex>& points, int bands,
   pts.reserve(points.size());
   for (const TinVertex& v : points) pts.push_back(ToPoint(v));
   // Input positions by y: each band is a run of them, and the first position after a band's run
-  // is the lowest point still to come.
-  std::vector<size_t> by_y(points.size());
-  std::iota(by_y.begin(), by_y.end(), 0);
-  std::sort(by_y.begin(), by_y.end(), [&](size_t a, size_t b) {
-    return points[a].y != points[b].y ? points[a].y < points[b].y : points[a].x < points[b].x;
+  // is the lowest point still to come. Sorted as (y, x, position) records, which the sort moves
+  // in memory, rather than as positions compared through `points`: a cache miss per comparison
+  // made that sort a fifth of this thread's own work beside CGAL's at 1e6 points.
+  struct YKey {
+    double y, x;
+    size_t position;
+  };
+  std::vector<YKey> keys(points.size());
+  for (size_t i = 0; i < points.size(); ++i) keys[i] = {points[i].y, points[i].x, i};
+  std::sort(keys.begin(), keys.end(), [](const YKey& a, const YKey& b) {
+    return a.y != b.y ? a.y < b.y : a.x < b.x;
   });
+  std::vector<size_t> by_y(points.size());
+  for (size_t i = 0; i < keys.size(); ++i) by_y[i] = keys[i].position;
+  keys = {};
   vertices_ = points;
   impl_->handles.assign(points.size(), VertexHandle());
   using SortTraits =
