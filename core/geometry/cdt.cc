@@ -254,9 +254,20 @@ void Cdt::InsertVerticesInBands(const std::vector<TinVertex>& points, int bands,
   FaceHandle hint;
   int32_t next = 0;
   std::vector<std::pair<FaceHandle, int>> unlinked;
+  // Where band b starts, by y rank: n (1 - (1 - b / bands)^2). A store writes the rows of each
+  // batch while the next band is inserted, and of the last only after it, so a small last band
+  // shortens what is left to write once the triangulation is done (at 1e6 points and four
+  // bands: 6 % of the triangles instead of 25 %); the price is a longer first band, while the
+  // store is busy with vertex rows anyway, and a scan of the faces that covers more of them.
+  const auto band_start = [&](int b) {
+    const size_t left = static_cast<size_t>(bands - b);
+    const size_t n = points.size(), all = static_cast<size_t>(bands) * static_cast<size_t>(bands);
+    return by_y.begin() + static_cast<ptrdiff_t>(n - n / all * left * left -
+                                                 n % all * left * left / all);
+  };
   for (int band = 0; band < bands; ++band) {
-    const auto lo = by_y.begin() + static_cast<ptrdiff_t>(points.size() * band / bands);
-    const auto hi = by_y.begin() + static_cast<ptrdiff_t>(points.size() * (band + 1) / bands);
+    const auto lo = band_start(band);
+    const auto hi = band_start(band + 1);
     CGAL::spatial_sort(lo, hi, SortTraits(CGAL::make_property_map(pts)));
     for (auto it = lo; it != hi; ++it) {
       VertexHandle v = impl_->Insert(pts[*it], hint);
