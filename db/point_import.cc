@@ -6,9 +6,11 @@ namespace tinbase {
 namespace {
 
 // Bands of the streamed triangulation: after each, the triangles below it are final and their
-// rows can be written while the next is inserted. Four let the writer, which the vertex rows keep
-// busy for the first part of the triangulation, start on triangle rows when it is free; more
-// cost a scan of the faces each. Small imports, written in moments anyway, go in one band.
+// rows can be written while the next is inserted. Four (shrinking upwards, the last 1/16 of the
+// points: Cdt::InsertVerticesInBands) let the writer, which the vertex rows keep busy for the
+// first part of the triangulation, start on triangle rows when it is free and leave it little
+// to write after the triangulation; more cost a scan of the faces each. Small imports, written
+// in moments anyway, go in one band.
 int TriangulationBands(size_t points) { return points < 20000 ? 1 : 4; }
 
 }  // namespace

@@ -290,12 +290,21 @@ void Cdt::InsertVerticesInBands(const std::vector<TinVertex>& points, int bands,
   pts.reserve(points.size());
   for (const TinVertex& v : points) pts.push_back(ToPoint(v));
   // Input positions by y: each band is a run of them, and the first position after a band's run
-  // is the lowest point still to come.
-  std::vector<size_t> by_y(points.size());
-  std::iota(by_y.begin(), by_y.end(), 0);
-  std::sort(by_y.begin(), by_y.end(), [&](size_t a, size_t b) {
-    return points[a].y != points[b].y ? points[a].y < points[b].y : points[a].x < points[b].x;
+  // is the lowest point still to come. Sorted as (y, x, position) records, which the sort moves
+  // in memory, rather than as positions compared through `points`, a cache miss per comparison
+  // (at 1e6 points: 0.08 s of CPU in a profile, against 0.26 s).
+  struct YKey {
+    double y, x;
+    size_t position;
+  };
+  std::vector<YKey> keys(points.size());
+  for (size_t i = 0; i < points.size(); ++i) keys[i] = {points[i].y, points[i].x, i};
+  std::sort(keys.begin(), keys.end(), [](const YKey& a, const YKey& b) {
+    return a.y != b.y ? a.y < b.y : a.x < b.x;
   });
+  std::vector<size_t> by_y(points.size());
+  for (size_t i = 0; i < keys.size(); ++i) by_y[i] = keys[i].position;
+  keys = {};
   vertices_ = points;
   impl_->handles.assign(points.size(), VertexHandle());
   using SortTraits =
@@ -303,9 +312,20 @@ void Cdt::InsertVerticesInBands(const std::vector<TinVertex>& points, int bands,
   FaceHandle hint;
   int32_t next = 0;
   std::vector<std::pair<FaceHandle, int>> unlinked;
+  // Where band b starts, by y rank: n (1 - (1 - b / bands)^2). A store writes the rows of each
+  // batch while the next band is inserted, and of the last only after it, so a small last band
+  // shortens what is left to write once the triangulation is done (at 1e6 points and four
+  // bands: 6 % of the triangles instead of 25 %); the price is a longer first band, while the
+  // store is busy with vertex rows anyway, and a scan of the faces that covers more of them.
+  const auto band_start = [&](int b) {
+    const size_t left = static_cast<size_t>(bands - b);
+    const size_t n = points.size(), all = static_cast<size_t>(bands) * static_cast<size_t>(bands);
+    return by_y.begin() + static_cast<ptrdiff_t>(n - n / all * left * left -
+                                                 n % all * left * left / all);
+  };
   for (int band = 0; band < bands; ++band) {
-    const auto lo = by_y.begin() + static_cast<ptrdiff_t>(points.size() * band / bands);
-    const auto hi = by_y.begin() + static_cast<ptrdiff_t>(points.size() * (band + 1) / bands);
+    const auto lo = band_start(band);
+    const auto hi = band_start(band + 1);
     CGAL::spatial_sort(lo, hi, SortTraits(CGAL::make_property_map(pts)));
     for (auto it = lo; it != hi; ++it) {
       VertexHandle v = impl_->Insert(pts[*it], hint);

@@ -64,12 +64,15 @@ class Cdt {
   std::vector<uint32_t> InsertVertices(const std::vector<TinVertex>& points);
 
   // Inserts `points` as InsertVertices does, in `bands` bands of increasing y (each spatially
-  // sorted), and hands the triangulation to `finished` while it is built: after each band, the
-  // finite triangles whose closed circumdisk lies strictly below every point still to come
-  // (bounded in interval arithmetic, so the test errs only towards "not yet"), which no later
-  // insertion can flip, and after the last band all the rest. Each batch is sorted by `order`
-  // (ties in CGAL's face order) and numbered on from the last. Together the batches are a Delaunay
-  // triangulation of the points, as ToTin's (co-circular points may take the other diagonal).
+  // sorted; band b ends after 1 - (1 - (b + 1) / bands)^2 of the points by y, so the bands shrink
+  // upwards and the last, whose triangles a consumer can only have once all is done, holds
+  // 1 / bands^2 of the points), and hands the triangulation to `finished` while it is built:
+  // after each band, the finite triangles whose closed circumdisk lies strictly below every
+  // point still to come (bounded in interval arithmetic, so the test errs only towards "not
+  // yet"), which no later insertion can flip, and after the last band all the rest. Each batch
+  // is sorted by `order` (ties in CGAL's face order) and numbered on from the last. Together the
+  // batches are a Delaunay triangulation of the points, as ToTin's (co-circular points may take
+  // the other diagonal).
   // Vertex indices are input positions (vertices() == points). The Cdt is left triangulated, but
   // ToTin renumbers its triangles. REQUIRES: the Cdt is empty; no two points share x, y;
   // bands >= 1.
