@@ -15,28 +15,28 @@ Result<int64_t> MeshCache::DataVersion() { return store_.db().QueryInt("PRAGMA d
 
 Result<bool> MeshCache::Begin(int64_t tx) {
   const bool was_current = committed_tx_ >= 0 && tx == committed_tx_ + 1;
+  const int64_t seen = data_version_;
   committed_tx_ = -1;
-  if (!was_current) {
-    Clear();
-    return false;
-  }
+  // Read inside the edit's transaction: this connection's own commit leaves the value as it is,
+  // so Committed() needs no read transaction of its own after the commit (which would contend
+  // with the checkpointer for the WAL's read locks).
   auto version = DataVersion();
-  if (!version.ok() || *version != data_version_) {
+  if (!version.ok()) {
     Clear();
-    if (!version.ok()) return version.status();
+    return version.status();
+  }
+  pending_version_ = *version;
+  if (!was_current || *version != seen) {
+    Clear();
+    pending_version_ = *version;
     return false;
   }
   return true;
 }
 
 void MeshCache::Committed(int64_t tx) {
-  auto version = DataVersion();
-  if (!version.ok()) {
-    Clear();
-    return;
-  }
   committed_tx_ = tx;
-  data_version_ = *version;
+  data_version_ = pending_version_;
 }
 
 void MeshCache::Clear() {
@@ -45,6 +45,7 @@ void MeshCache::Clear() {
   owners_.clear();
   committed_tx_ = -1;
   data_version_ = -1;
+  pending_version_ = -1;
 }
 
 void MeshCache::ForgetEdge(int64_t a, int64_t b) { owners_.erase(Key(a, b)); }

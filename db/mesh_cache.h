@@ -51,8 +51,7 @@ class MeshCache {
   // only when the store cannot be read (the rows are then dropped).
   Result<bool> Begin(int64_t tx);
   // The edit that Begin() started committed as change `tx`, every row it wrote forgotten.
-  // REQUIRES: called right after the commit, before anything else writes. Drops the rows when
-  // the store cannot be read (the commit stands).
+  // REQUIRES: called right after the commit of the transaction Begin() was called in.
   void Committed(int64_t tx);
   // Drops every row (after a failure or rollback).
   void Clear();
@@ -107,10 +106,12 @@ class MeshCache {
   std::unordered_map<int64_t, MeshTriangle> triangles_;
   std::unordered_map<int64_t, TinVertex> vertices_;
   std::unordered_map<Edge, std::vector<int64_t>, EdgeHash> owners_;
-  // What Committed() saw: the change number and the connection's data_version after it; -1 when
-  // the rows are not known to be current beyond the edit in progress.
+  // The last commit: its change number and the connection's data_version in its transaction
+  // (unchanged by the connection's own commit); -1 when the rows are not known to be current
+  // beyond the edit in progress.
   int64_t committed_tx_ = -1;
   int64_t data_version_ = -1;
+  int64_t pending_version_ = -1;  // read by Begin() in the edit's transaction
 };
 
 }  // namespace tinbase

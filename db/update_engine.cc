@@ -94,14 +94,12 @@ class SegmentIndex {
   std::vector<std::vector<uint32_t>> cells_;
 };
 
-using EdgeSet = std::unordered_set<Edge, EdgeHash>;
-
 // Which triangles of a local triangulation lie in R, from R's outline alone: a triangle with an
 // outline edge in R's direction is inside, with it reversed outside, and the rest take the class
 // of their neighbours across edges that are not on the outline. Purely topological, so a sliver
 // outside R along a nearly straight outline is never taken for part of it.
 
-std::vector<uint8_t> ClassifyInside(const Tin& tin, const EdgeSet& outline) {
+std::vector<uint8_t> ClassifyInside(const Tin& tin, const std::set<Edge>& outline) {
   constexpr uint8_t kUnknown = 2;
   std::vector<uint8_t> inside(tin.triangles.size(), kUnknown);
   std::vector<uint32_t> queue;
@@ -704,7 +702,7 @@ class Edit {
     }
     if (!carried_.empty()) cdt.InsertVertices(carried_);
     for (const OutlineEdge& e : outline_) cdt.InsertConstraint(local.at(e.a), local.at(e.b));
-    EdgeSet done;
+    std::set<Edge> done;
     for (int64_t t : order_) {
       TB_ASSIGN_OR_RETURN(const MeshTriangle* tri, mesh_.Triangle(t));
       for (int i = 0; i < 3; ++i) {
@@ -730,7 +728,7 @@ class Edit {
     const ElevationFn elevation = [this](double x, double y) { return NewZ(x, y); };
     cdt.IndexCrossings(elevation);
 
-    EdgeSet outline_local;  // directed as R's triangles have them
+    std::set<Edge> outline_local;  // directed as R's triangles have them
     for (const OutlineEdge& e : outline_) outline_local.insert({local.at(e.a), local.at(e.b)});
 
     // Refinement inside R only: the faces ClassifyInside finds now, and the faces refinement
