@@ -26,7 +26,7 @@ Result<bool> MeshCache::Begin(int64_t tx) {
     return version.status();
   }
   pending_version_ = *version;
-  if (!was_current || *version != seen) {
+  if (!was_current || *version != seen || triangles_.size() > kMaxKeptTriangles) {
     Clear();
     pending_version_ = *version;
     return false;

@@ -8,8 +8,9 @@
 // and the next edit starts from them instead of reading them again. That is valid only while
 // nobody else wrote in between: Begin() drops everything unless the store's change number is
 // the one after Committed()'s and no other connection has committed since (SQLite's
-// data_version). After a failed or rolled-back edit the caller must Clear() (an edit may have
-// forgotten only part of what it wrote, or read rows it had itself written).
+// data_version), and when it has grown past kMaxKeptTriangles. After a failed or rolled-back edit
+// the caller must Clear() (an edit may have forgotten only part of what it wrote, or read rows it
+// had itself written).
 //
 // Ownership: borrows the Store and SurfaceInfo, which must outlive it. Not thread-safe.
 #pragma once
@@ -41,12 +42,18 @@ class MeshCache {
  public:
   using Edge = std::pair<int64_t, int64_t>;  // (min, max) store vertex ids
 
+  // Rows kept across transactions cost lookups in ever larger hash maps: loading the 1178-polygon
+  // bands map (docs/BENCHMARKS.md) with every row kept was ~15% slower than with a fresh cache
+  // per edit; capped here it measured the same as a fresh cache, within the machine's noise.
+  static constexpr size_t kMaxKeptTriangles = 20000;
+
   MeshCache(Store& store, const SurfaceInfo& surface) : store_(store), surface_(surface) {}
   MeshCache(const MeshCache&) = delete;
   MeshCache& operator=(const MeshCache&) = delete;
 
   // Starts an edit that will become change `tx`: keeps the rows when the last commit this cache
-  // saw was change tx - 1 and no other connection has committed since, else drops them.
+  // saw was change tx - 1, no other connection has committed since and at most
+  // kMaxKeptTriangles triangles are held, else drops them.
   // REQUIRES: inside the edit's WriteTransaction. Returns whether the rows were kept; an error
   // only when the store cannot be read (the rows are then dropped).
   Result<bool> Begin(int64_t tx);
