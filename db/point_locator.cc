@@ -135,14 +135,19 @@ std::string PointText(double x, double y) {
 
 class PointLocator::Walker {
  public:
-  Walker(Store& store, const SurfaceInfo& surface)
-      : store_(store), surface_(surface), surfaces_(store), reader_(store, surface) {}
+  Walker(Store& store, const SurfaceInfo& surface, MeshCache* cache)
+      : store_(store),
+        surface_(surface),
+        surfaces_(store),
+        reader_(store, surface),
+        cache_(cache) {}
 
-  Result<Location> Locate(double x, double y) {
+  Result<Location> Locate(double x, double y, bool paint) {
     TB_ASSIGN_OR_RETURN(auto snapshot, SnapshotUnlessInTransaction(store_));
     TB_ASSIGN_OR_RETURN(int64_t start, Start(x, y));
     TB_ASSIGN_OR_RETURN(Location location, Walk(start, x, y));
     last_ = location.triangle;
+    if (!paint) return location;
     TB_ASSIGN_OR_RETURN(StoredTriangle found, surfaces_.Triangle(surface_, location.triangle));
     location.visible = found.visible;
     location.tag = found.tag;
@@ -153,7 +158,12 @@ class PointLocator::Walker {
   // Where the previous walk ended, while that triangle still exists; else a jump.
   Result<int64_t> Start(double x, double y) {
     if (last_) {
-      TB_ASSIGN_OR_RETURN(bool exists, reader_.Exists(*last_));
+      bool exists = false;
+      if (cache_) {
+        TB_ASSIGN_OR_RETURN(exists, cache_->HasTriangle(*last_));
+      } else {
+        TB_ASSIGN_OR_RETURN(exists, reader_.Exists(*last_));
+      }
       if (exists) return *last_;
     }
     return JumpStart(surfaces_, surface_, x, y);
@@ -180,10 +190,21 @@ class PointLocator::Walker {
         step_limit = std::max(step_limit, 4 * counts.triangles + 16);
         limit_checked = true;
       }
-      TB_ASSIGN_OR_RETURN(WalkTriangle tri, reader_.Triangle(current));
+      WalkTriangle tri;
       std::array<WalkVertex, 3> corner;
-      for (int i = 0; i < 3; ++i) {
-        TB_ASSIGN_OR_RETURN(corner[i], reader_.Vertex(tri.v[i]));
+      if (cache_) {
+        TB_ASSIGN_OR_RETURN(const MeshTriangle* t, cache_->Triangle(current));
+        tri.v = t->v;
+        tri.n = t->n;
+        for (int i = 0; i < 3; ++i) {
+          TB_ASSIGN_OR_RETURN(const TinVertex* v, cache_->Vertex(tri.v[i]));
+          corner[i] = {{v->x, v->y}, v->z};
+        }
+      } else {
+        TB_ASSIGN_OR_RETURN(tri, reader_.Triangle(current));
+        for (int i = 0; i < 3; ++i) {
+          TB_ASSIGN_OR_RETURN(corner[i], reader_.Vertex(tri.v[i]));
+        }
       }
       // Test the edges from a random one; the edge we came through has p on its inner side
       // (it was strictly outside it from the other triangle), so it needs no test.
@@ -225,15 +246,20 @@ class PointLocator::Walker {
   const SurfaceInfo& surface_;
   SurfaceStore surfaces_;
   WalkReader reader_;
+  MeshCache* cache_;  // when given, rows are read through it instead of reader_
   std::optional<int64_t> last_;
 };
 
-PointLocator::PointLocator(Store& store, const SurfaceInfo& surface)
-    : walker_(std::make_unique<Walker>(store, surface)) {}
+PointLocator::PointLocator(Store& store, const SurfaceInfo& surface, MeshCache* cache)
+    : walker_(std::make_unique<Walker>(store, surface, cache)) {}
 
 PointLocator::~PointLocator() = default;
 
-Result<Location> PointLocator::Locate(double x, double y) { return walker_->Locate(x, y); }
+Result<Location> PointLocator::Locate(double x, double y) { return walker_->Locate(x, y, true); }
+
+Result<Location> PointLocator::LocateTriangle(double x, double y) {
+  return walker_->Locate(x, y, false);
+}
 
 Result<Location> LocatePoint(Store& store, const SurfaceInfo& surface, double x, double y) {
   PointLocator locator(store, surface);

@@ -15,6 +15,7 @@
 #include <string>
 
 #include "core/base/status.h"
+#include "db/mesh_cache.h"
 #include "db/store.h"
 #include "db/surface_store.h"
 
@@ -38,15 +39,22 @@ Result<Location> LocatePoint(Store& store, const SurfaceInfo& surface, double x,
 // triangle and the vertices), so the surface must not change while it is in use: hold a
 // ReadSnapshot or a WriteTransaction around the calls (and make a new locator after writing), or
 // answers may mix the states before and after another writer's commit.
+//
+// With a MeshCache (db/mesh_cache.h), the walk reads its rows through it: the update engine shares
+// its cache with the locator, so the rows a walk reads are not read again by the edit (nor by the
+// next edit of a load feature by feature).
 class PointLocator {
  public:
-  PointLocator(Store& store, const SurfaceInfo& surface);
+  // REQUIRES: `cache`, when given, is of `surface` and outlives the locator.
+  PointLocator(Store& store, const SurfaceInfo& surface, MeshCache* cache = nullptr);
   ~PointLocator();
   PointLocator(const PointLocator&) = delete;
   PointLocator& operator=(const PointLocator&) = delete;
 
   // As LocatePoint.
   Result<Location> Locate(double x, double y);
+  // As Locate, without reading the triangle's visibility and tag (left at their defaults).
+  Result<Location> LocateTriangle(double x, double y);
 
  private:
   class Walker;

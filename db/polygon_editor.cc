@@ -12,6 +12,7 @@
 #include "db/change_log.h"
 #include "db/dem_store.h"
 #include "db/feature_store.h"
+#include "db/mesh_cache.h"
 #include "db/point_locator.h"
 #include "db/surface_store.h"
 
@@ -69,47 +70,69 @@ Result<std::vector<EditorFeature>> ReadFeatures(const PolygonAddOptions& o, cons
   return out;
 }
 
-// Every ring and line of `f`, draped and densified, each vertex checked to lie on the surface.
+// InvalidArgument naming the first vertex of `points` (ring or line `where` of `f`) that lies
+// outside the surface; Ok when none does.
+Status CheckOnSurface(Store& store, const SurfaceInfo& surface, const EditorFeature& f,
+                      const std::vector<Point2>& points, const std::string& where) {
+  TB_ASSIGN_OR_RETURN(auto snapshot, SnapshotUnlessInTransaction(store));
+  PointLocator locator(store, surface);
+  for (size_t i = 0; i < points.size(); ++i) {
+    auto located = locator.LocateTriangle(points[i].x, points[i].y);
+    if (located.ok()) continue;
+    if (located.status().code() != StatusCode::kNotFound) return located.status();
+    return Status::InvalidArgument(f.label + ", " + where + ", vertex " + std::to_string(i) + ": " +
+                                   FormatPoint(points[i]) + " lies outside surface '" +
+                                   surface.name + "'");
+  }
+  return Status::Ok();
+}
+
+// Calls `check(points, closed, where)` for every ring and line of `f` in order, until one fails.
+template <typename Check>
+Status ForEachPolyline(const EditorFeature& f, const Check& check) {
+  for (size_t p = 0; p < f.polygons.size(); ++p) {
+    const std::string part = f.polygons.size() > 1 ? "polygon " + std::to_string(p) + ", " : "";
+    TB_RETURN_IF_ERROR(check(f.polygons[p].shell, true, part + "ring 0"));
+    for (size_t h = 0; h < f.polygons[p].holes.size(); ++h)
+      TB_RETURN_IF_ERROR(
+          check(f.polygons[p].holes[h], true, part + "ring " + std::to_string(h + 1)));
+  }
+  for (size_t l = 0; l < f.lines.size(); ++l)
+    TB_RETURN_IF_ERROR(check(f.lines[l], false, "line " + std::to_string(l)));
+  return Status::Ok();
+}
+
+// The first input vertex of `f` outside the surface, as CheckOnSurface.
+Status FeatureOnSurface(Store& store, const SurfaceInfo& surface, const EditorFeature& f) {
+  return ForEachPolyline(f, [&](const std::vector<Point2>& points, bool, const std::string& where) {
+    return CheckOnSurface(store, surface, f, points, where);
+  });
+}
+
+// Every ring and line of `f`, draped and densified. Whether the input vertices lie on the
+// surface is checked only when something fails (here or in the edit: the engine locates every
+// point and refuses any outside), so that the message can name the input vertex: locating every
+// vertex up front cost ~7% of a map load.
 Status DrapeFeature(Store& store, const SurfaceInfo& surface, const EditorFeature& f,
                     const ElevationFn& elevation, const DrapeOptions& base,
                     std::vector<EditPolyline>* out) {
-  // One snapshot for the feature, so the locator may walk on from point to point.
-  TB_ASSIGN_OR_RETURN(auto snapshot, SnapshotUnlessInTransaction(store));
-  PointLocator locator(store, surface);
-  const auto add = [&](const std::vector<Point2>& points, bool closed,
-                       const std::string& where) -> Status {
-    // The input vertices name themselves in messages; points added between two of them lie on
-    // the segment, inside the surface when both ends are (surfaces from the builders are convex;
-    // the engine locates every point again and refuses any outside).
-    for (size_t i = 0; i < points.size(); ++i) {
-      auto located = locator.Locate(points[i].x, points[i].y);
-      if (located.ok()) continue;
-      if (located.status().code() != StatusCode::kNotFound) return located.status();
-      return Status::InvalidArgument(f.label + ", " + where + ", vertex " + std::to_string(i) +
-                                     ": " + FormatPoint(points[i]) + " lies outside surface '" +
-                                     surface.name + "'");
-    }
-    DrapeOptions options = base;
-    options.closed = closed;
-    auto draped = DrapePolyline(points, elevation, options);
-    if (!draped.ok()) return draped.status().WithContext(f.label + ", " + where);
-    out->push_back({std::move(*draped), closed, 0});
-    return Status::Ok();
-  };
-  for (size_t p = 0; p < f.polygons.size(); ++p) {
-    const std::string part = f.polygons.size() > 1 ? "polygon " + std::to_string(p) + ", " : "";
-    TB_RETURN_IF_ERROR(add(f.polygons[p].shell, true, part + "ring 0"));
-    for (size_t h = 0; h < f.polygons[p].holes.size(); ++h)
-      TB_RETURN_IF_ERROR(add(f.polygons[p].holes[h], true, part + "ring " + std::to_string(h + 1)));
-  }
-  for (size_t l = 0; l < f.lines.size(); ++l)
-    TB_RETURN_IF_ERROR(add(f.lines[l], false, "line " + std::to_string(l)));
-  return Status::Ok();
+  return ForEachPolyline(
+      f, [&](const std::vector<Point2>& points, bool closed, const std::string& where) -> Status {
+        DrapeOptions options = base;
+        options.closed = closed;
+        auto draped = DrapePolyline(points, elevation, options);
+        if (!draped.ok()) {
+          TB_RETURN_IF_ERROR(CheckOnSurface(store, surface, f, points, where));
+          return draped.status().WithContext(f.label + ", " + where);
+        }
+        out->push_back({std::move(*draped), closed, 0});
+        return Status::Ok();
+      });
 }
 
 // What every edit of one surface needs: the surface, its DEM and the draping rules.
 struct SurfaceSession {
-  explicit SurfaceSession(Store& s) : store(s), dems(s) {}
+  explicit SurfaceSession(Store& s) : store(s), dems(s), mesh(s, surface) {}
   Store& store;
   SurfaceInfo surface;
   DemStore dems;
@@ -123,6 +146,10 @@ struct SurfaceSession {
   // are consecutive); -1 when not known.
   std::vector<EditorFeature> features;
   int64_t features_tx = -1;
+  // The surface's mesh rows the edits read, kept across the transactions of a load feature by
+  // feature under the same rule (db/mesh_cache.h checks it), dropped after any failure.
+  MeshCache mesh;
+  bool verify_mesh = false;  // PolygonAddOptions::verify_mesh
 };
 
 Result<std::unique_ptr<SurfaceSession>> OpenSession(Store& store, const SurfaceInfo& surface) {
@@ -159,10 +186,11 @@ Result<NewFeature> Prepare(SurfaceSession& session, EditorFeature f) {
 }
 
 // One transaction: the new features' rows, the engine's local edit (their constraints in, the
-// removed features' constraints out), the removed features' rows gone, one `changes` row.
-Result<PolygonAddReport> ApplyEdit(SurfaceSession& session, std::vector<NewFeature> added,
-                                   const std::vector<int64_t>& removed, const std::string& action,
-                                   const FaultHook& hook) {
+// removed features' constraints out), the removed features' rows gone, one `changes` row. The
+// lines of `added` are moved into the edit; their features stay.
+Result<PolygonAddReport> ApplyEditOnce(SurfaceSession& session, std::vector<NewFeature>& added,
+                                       const std::vector<int64_t>& removed,
+                                       const std::string& action, const FaultHook& hook) {
   Store& store = session.store;
   TB_ASSIGN_OR_RETURN(auto tx, store.BeginWrite());
   Change change;
@@ -170,6 +198,9 @@ Result<PolygonAddReport> ApplyEdit(SurfaceSession& session, std::vector<NewFeatu
   change.action = action;
   PolygonAddReport report;
   TB_ASSIGN_OR_RETURN(report.tx, AppendChange(store, change));
+  TB_ASSIGN_OR_RETURN(bool mesh_kept, session.mesh.Begin(report.tx));
+  report.mesh_kept = mesh_kept ? 1 : 0;
+  if (mesh_kept && session.verify_mesh) TB_RETURN_IF_ERROR(session.mesh.VerifyAgainstStore());
   std::vector<EditorFeature> existing;
   if (session.features_tx >= 0 && report.tx == session.features_tx + 1) {
     existing = std::move(session.features);
@@ -210,6 +241,7 @@ Result<PolygonAddReport> ApplyEdit(SurfaceSession& session, std::vector<NewFeatu
   }
   UpdateEngine engine(store, session.surface, session.dems, session.dem);
   engine.set_fault_hook(hook);
+  engine.set_mesh_cache(&session.mesh);
   TB_ASSIGN_OR_RETURN(EditResult result, engine.Apply(edit));
   for (int64_t id : removed) TB_RETURN_IF_ERROR(DeleteFeature(store, id));
 
@@ -230,6 +262,7 @@ Result<PolygonAddReport> ApplyEdit(SurfaceSession& session, std::vector<NewFeatu
   TB_RETURN_IF_ERROR(tx->Commit());
   session.features = std::move(edit.features);
   session.features_tx = report.tx;
+  session.mesh.Committed(report.tx);
 
   report.features = static_cast<int64_t>(added.size());
   report.removed = result.removed;
@@ -238,6 +271,24 @@ Result<PolygonAddReport> ApplyEdit(SurfaceSession& session, std::vector<NewFeatu
   report.first_feature_id = added.empty() ? 0 : added.front().feature.id;
   report.visible = result.visible_added;
   return report;
+}
+
+// ApplyEditOnce, with what a failure needs: the cached rows dropped (the rollback undid what the
+// edit wrote, and it may have forgotten only part of it), and an input vertex outside the surface
+// named (the engine names only the draped point).
+Result<PolygonAddReport> ApplyEdit(SurfaceSession& session, std::vector<NewFeature> added,
+                                   const std::vector<int64_t>& removed, const std::string& action,
+                                   const FaultHook& hook) {
+  if (hook) TB_RETURN_IF_ERROR(hook(0));
+  auto report = ApplyEditOnce(session, added, removed, action, hook);
+  if (report.ok()) return report;
+  session.mesh.Clear();
+  session.features_tx = -1;
+  if (report.status().code() == StatusCode::kInvalidArgument) {
+    for (const NewFeature& n : added)
+      TB_RETURN_IF_ERROR(FeatureOnSurface(session.store, session.surface, n.feature));
+  }
+  return report.status();
 }
 
 Result<SurfaceInfo> SurfaceOfFeature(Store& store, int64_t id) {
@@ -260,6 +311,7 @@ Result<PolygonAddReport> AddPolygons(Store& store, const PolygonAddOptions& opti
   TB_RETURN_IF_ERROR(CheckModeOptions(options));
   TB_ASSIGN_OR_RETURN(SurfaceInfo surface, SurfaceStore(store).Find(options.surface));
   TB_ASSIGN_OR_RETURN(auto session, OpenSession(store, surface));
+  session->verify_mesh = options.verify_mesh;
   PolygonAddReport total;
   TB_ASSIGN_OR_RETURN(
       std::vector<EditorFeature> features,
@@ -294,6 +346,7 @@ Result<PolygonAddReport> AddPolygons(Store& store, const PolygonAddOptions& opti
     total.added += one->added;
     total.refinement_points += one->refinement_points;
     total.visible += one->visible;
+    total.mesh_kept += one->mesh_kept;
     total.tx = one->tx;
   }
   return total;

@@ -33,6 +33,7 @@ struct PolygonAddOptions {
   bool repair = false;          // GEOS MakeValid before validation (core/vector/polygon_source)
   bool each = false;            // one transaction per feature; failures are reported, not fatal
   FaultHook fault_hook;         // tests: called before each write step of the engine
+  bool verify_mesh = false;     // tests: each edit checks the mesh rows it kept against the store
 };
 
 struct PolygonAddReport {
@@ -44,6 +45,9 @@ struct PolygonAddReport {
   int64_t first_feature_id = 0;
   int64_t tx = 0;  // the (last) transaction
   int64_t refinement_points = 0;
+  // Edits that began from the mesh rows the edit before left in memory (db/mesh_cache.h): with
+  // `each`, all but the first unless another writer came between or an edit failed.
+  int64_t mesh_kept = 0;
   std::vector<std::string> failures;  // with `each`: "label: message" of features not added
 };
 

@@ -16,6 +16,7 @@
 #include "core/tin/feature_paint.h"
 #include "core/tin/ring_blocks.h"
 #include "core/tin/tolerance_refiner.h"
+#include "db/mesh_cache.h"
 #include "db/point_locator.h"
 #include "db/sqlite/unchecked_foreign_keys.h"
 
@@ -34,170 +35,6 @@ struct EdgeHash {
 };
 
 using Corners3 = std::array<Point2, 3>;
-
-struct MeshTriangle {
-  std::array<int64_t, 3> v{};
-  std::array<std::optional<int64_t>, 3> n;
-  bool visible = true;
-  std::optional<int64_t> tag;
-};
-
-// The stored rows an edit reads, loaded on demand by id and kept for the edit's life (all reads
-// happen before the first write, inside the caller's transaction).
-class StoredMesh {
- public:
-  StoredMesh(Store& store, const SurfaceInfo& surface) : store_(store), surface_(surface) {}
-
-  Result<const MeshTriangle*> Triangle(int64_t id) {
-    if (auto it = triangles_.find(id); it != triangles_.end()) return &it->second;
-    TB_ASSIGN_OR_RETURN(Statement * stmt,
-                        store_.db().Cached("SELECT v0, v1, v2, n0, n1, n2, visible, tag FROM "
-                                           "triangles WHERE id = ? AND surface = ?"));
-    stmt->Bind(1, id).Bind(2, surface_.id);
-    TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
-    if (!row) {
-      stmt->Reset();
-      return Status::Corruption("surface '" + surface_.name + "': triangle " + std::to_string(id) +
-                                " is linked but missing");
-    }
-    const MeshTriangle* t = Remember(id, *stmt, 0);
-    stmt->Reset();
-    return t;
-  }
-
-  Result<const TinVertex*> Vertex(int64_t id) {
-    if (auto it = vertices_.find(id); it != vertices_.end()) return &it->second;
-    TB_ASSIGN_OR_RETURN(Statement * stmt, store_.db().Cached("SELECT x, y, z, kind FROM vertices "
-                                                             "WHERE id = ? AND surface = ?"));
-    stmt->Bind(1, id).Bind(2, surface_.id);
-    TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
-    if (!row) {
-      stmt->Reset();
-      return Status::Corruption("surface '" + surface_.name + "': vertex " + std::to_string(id) +
-                                " is used but missing");
-    }
-    TinVertex v{stmt->ColumnDouble(0), stmt->ColumnDouble(1), stmt->ColumnDouble(2)};
-    if (!ParseVertexKind(stmt->ColumnText(3), &v.kind)) v.kind = VertexKind::kUser;
-    stmt->Reset();
-    return &vertices_.emplace(id, v).first->second;
-  }
-
-  Result<Point2> At(int64_t vertex) {
-    TB_ASSIGN_OR_RETURN(const TinVertex* v, Vertex(vertex));
-    return Point2{v->x, v->y};
-  }
-
-  // The features owning constrained edge (a, b), 0 for a row without feature; empty when the
-  // edge is not constrained.
-  Result<const std::vector<int64_t>*> Owners(int64_t a, int64_t b) {
-    const Edge e = Key(a, b);
-    if (auto it = owners_.find(e); it != owners_.end()) return &it->second;
-    TB_ASSIGN_OR_RETURN(Statement * stmt,
-                        store_.db().Cached("SELECT coalesce(feature, 0) FROM constraints WHERE "
-                                           "surface = ? AND va = ? AND vb = ?"));
-    stmt->Bind(1, surface_.id).Bind(2, e.first).Bind(3, e.second);
-    std::vector<int64_t> owners;
-    for (;;) {
-      TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
-      if (!row) break;
-      owners.push_back(stmt->ColumnInt(0));
-    }
-    stmt->Reset();
-    return &owners_.emplace(e, std::move(owners)).first->second;
-  }
-
-  // Every constrained edge of `feature`.
-  Result<std::vector<Edge>> EdgesOf(int64_t feature) {
-    TB_ASSIGN_OR_RETURN(Statement * stmt,
-                        store_.db().Cached("SELECT va, vb FROM constraints WHERE surface = ? AND "
-                                           "feature = ?"));
-    stmt->Bind(1, surface_.id).Bind(2, feature);
-    std::vector<Edge> edges;
-    for (;;) {
-      TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
-      if (!row) break;
-      edges.push_back(Key(stmt->ColumnInt(0), stmt->ColumnInt(1)));
-    }
-    stmt->Reset();
-    return edges;
-  }
-
-  // The triangles whose centroid block meets `box` (through the block index).
-  Result<std::vector<int64_t>> TrianglesInBox(const Box& box) {
-    const BlockGrid& g = surface_.blocks;
-    const int64_t bx0 = g.ColumnOf(box.min_x), bx1 = g.ColumnOf(box.max_x);
-    std::vector<int64_t> ids;
-    for (int64_t by = g.RowOf(box.min_y); by <= g.RowOf(box.max_y); ++by)
-      TB_RETURN_IF_ERROR(TrianglesInBlocks(by, bx0, bx1, &ids));
-    return ids;
-  }
-
-  // Appends the triangles whose centroid block is one of (bx0..bx1, by) to `ids`.
-  Status TrianglesInBlocks(int64_t by, int64_t bx0, int64_t bx1, std::vector<int64_t>* ids) {
-    TB_ASSIGN_OR_RETURN(
-        Statement * stmt,
-        store_.db().Cached("SELECT v0, v1, v2, n0, n1, n2, visible, tag, id FROM "
-                           "triangles WHERE surface = ? AND block BETWEEN ? AND ?"));
-    stmt->Bind(1, surface_.id).Bind(2, BlockGrid::Pack(bx0, by)).Bind(3, BlockGrid::Pack(bx1, by));
-    for (;;) {
-      TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
-      if (!row) break;
-      const int64_t id = stmt->ColumnInt(8);
-      if (!triangles_.count(id)) Remember(id, *stmt, 0);
-      ids->push_back(id);
-    }
-    stmt->Reset();
-    return Status::Ok();
-  }
-
-  // The triangles around `vertex`, starting from `start` (one of them), counter-clockwise;
-  // `closed` is false when the vertex lies on the domain boundary.
-  Result<std::vector<int64_t>> Star(int64_t vertex, int64_t start, bool* closed) {
-    std::vector<int64_t> star;
-    *closed = true;
-    for (int direction : {1, 2}) {  // across edge (v, next) ccw, then (v, previous) cw
-      int64_t t = start;
-      for (size_t guard = 0; guard < 100000; ++guard) {
-        TB_ASSIGN_OR_RETURN(const MeshTriangle* tri, Triangle(t));
-        int i = 0;
-        while (i < 3 && tri->v[i] != vertex) ++i;
-        if (i == 3)
-          return Status::Corruption("surface '" + surface_.name + "': triangle " +
-                                    std::to_string(t) + " is linked around vertex " +
-                                    std::to_string(vertex) + " but does not use it");
-        if (direction == 1 || t != start) star.push_back(t);
-        const std::optional<int64_t> next = tri->n[(i + direction) % 3];
-        if (!next) {
-          *closed = false;
-          break;
-        }
-        if (*next == start) return star;  // went all the way round
-        t = *next;
-      }
-    }
-    std::sort(star.begin(), star.end());
-    star.erase(std::unique(star.begin(), star.end()), star.end());
-    return star;
-  }
-
- private:
-  const MeshTriangle* Remember(int64_t id, const Statement& row, int first) {
-    MeshTriangle t;
-    for (int i = 0; i < 3; ++i) {
-      t.v[i] = row.ColumnInt(first + i);
-      if (!row.ColumnIsNull(first + 3 + i)) t.n[i] = row.ColumnInt(first + 3 + i);
-    }
-    t.visible = row.ColumnInt(first + 6) != 0;
-    if (!row.ColumnIsNull(first + 7)) t.tag = row.ColumnInt(first + 7);
-    return &triangles_.emplace(id, t).first->second;
-  }
-
-  Store& store_;
-  const SurfaceInfo& surface_;
-  std::unordered_map<int64_t, MeshTriangle> triangles_;
-  std::unordered_map<int64_t, TinVertex> vertices_;
-  std::unordered_map<Edge, std::vector<int64_t>, EdgeHash> owners_;
-};
 
 // True when the closed segment pq and the closed counter-clockwise triangle abc share a point:
 // no separating line among pq's and the triangle's edges (exact).
@@ -261,6 +98,7 @@ class SegmentIndex {
 // outline edge in R's direction is inside, with it reversed outside, and the rest take the class
 // of their neighbours across edges that are not on the outline. Purely topological, so a sliver
 // outside R along a nearly straight outline is never taken for part of it.
+
 std::vector<uint8_t> ClassifyInside(const Tin& tin, const std::set<Edge>& outline) {
   constexpr uint8_t kUnknown = 2;
   std::vector<uint8_t> inside(tin.triangles.size(), kUnknown);
@@ -336,7 +174,8 @@ struct LocalPatch {
 class Edit {
  public:
   Edit(Store& store, const SurfaceInfo& surface, DemStore& dems, const DemInfo& dem,
-       const LocalEdit& edit, const FaultHook& hook, std::unique_ptr<ScopedPageCache>& page_cache)
+       const LocalEdit& edit, const FaultHook& hook, std::unique_ptr<ScopedPageCache>& page_cache,
+       MeshCache& mesh)
       : store_(store),
         surface_(surface),
         dems_(dems),
@@ -344,8 +183,8 @@ class Edit {
         edit_(edit),
         hook_(hook),
         page_cache_(page_cache),
-        mesh_(store, surface),
-        locator_(store, surface),
+        mesh_(mesh),
+        locator_(store, surface, &mesh),
         levels_(edit.features),
         lines_(edit.add) {
     for (const EditorFeature& f : edit.features)
@@ -399,7 +238,7 @@ class Edit {
   // `what` names the point in the error (called only then: it is built for every ring point).
   template <typename Describe>
   Result<int64_t> Locate(const Point2& p, const Describe& what) {
-    auto located = locator_.Locate(p.x, p.y);
+    auto located = locator_.LocateTriangle(p.x, p.y);
     if (located.ok()) return located->triangle;
     if (located.status().code() == StatusCode::kNotFound)
       return Status::InvalidArgument(what() + ": " + FormatPoint(p) + " lies outside surface '" +
@@ -1084,6 +923,7 @@ class Edit {
       TB_RETURN_IF_ERROR(insert_vertex->Run());
       ids[i] = db.LastInsertRowId();
       new_ids.insert(ids[i]);
+      mesh_.ForgetVertex(ids[i]);
     }
     TB_RETURN_IF_ERROR(Step());
     TB_ASSIGN_OR_RETURN(Statement * set_z, db.Cached("UPDATE vertices SET z = ? WHERE id = ?"));
@@ -1092,6 +932,7 @@ class Edit {
       TB_ASSIGN_OR_RETURN(const TinVertex* stored, mesh_.Vertex(patch.store_ids[i]));
       if (stored->z == tin.vertices[i].z) continue;
       TB_RETURN_IF_ERROR(set_z->Bind(1, tin.vertices[i].z).Bind(2, patch.store_ids[i]).Run());
+      mesh_.ForgetVertex(patch.store_ids[i]);
     }
 
     // R's triangles go, the patch's inside triangles come with fresh ids: above every id in the
@@ -1100,9 +941,15 @@ class Edit {
                         db.QueryInt("SELECT coalesce(max(id), 0) + 1 FROM triangles"));
     TB_RETURN_IF_ERROR(Step());
     TB_ASSIGN_OR_RETURN(Statement * del, db.Cached("DELETE FROM triangles WHERE id = ?"));
-    for (int64_t t : order_) TB_RETURN_IF_ERROR(del->Bind(1, t).Run());
+    for (int64_t t : order_) {
+      TB_RETURN_IF_ERROR(del->Bind(1, t).Run());
+      mesh_.ForgetTriangle(t);
+    }
     TB_ASSIGN_OR_RETURN(Statement * del_vertex, db.Cached("DELETE FROM vertices WHERE id = ?"));
-    for (int64_t v : dropped_) TB_RETURN_IF_ERROR(del_vertex->Bind(1, v).Run());
+    for (int64_t v : dropped_) {
+      TB_RETURN_IF_ERROR(del_vertex->Bind(1, v).Run());
+      mesh_.ForgetVertex(v);
+    }
     result_.removed = static_cast<int64_t>(order_.size());
 
     std::vector<int64_t> new_id(tin.triangles.size(), 0);
@@ -1187,6 +1034,7 @@ class Edit {
                       &c = tin.vertices[tri.v[2]];
       insert->Bind(11, CentroidBlock(surface_.blocks, a.x, a.y, b.x, b.y, c.x, c.y));
       TB_RETURN_IF_ERROR(insert->Run());
+      mesh_.ForgetTriangle(new_id[t]);
       ++k;
     }
 
@@ -1223,6 +1071,7 @@ class Edit {
           relink->BindNull(1 + i);
       }
       TB_RETURN_IF_ERROR(relink->Bind(4, id).Run());
+      mesh_.ForgetTriangle(id);
     }
 
     // Constraints: the removed features' rows go; kept constraints split by new points or
@@ -1232,6 +1081,7 @@ class Edit {
                         db.Cached("DELETE FROM constraints WHERE surface = ? AND feature = ?"));
     for (int64_t f : edit_.remove)
       TB_RETURN_IF_ERROR(del_feature->Bind(1, surface_.id).Bind(2, f).Run());
+    if (!edit_.remove.empty()) mesh_.ForgetAllOwners();
     std::unordered_map<uint32_t, std::vector<uint32_t>> graph;
     for (const auto& [a, b] : tin.constraints) graph[a].push_back(b), graph[b].push_back(a);
     TB_ASSIGN_OR_RETURN(
@@ -1254,6 +1104,7 @@ class Edit {
         else
           add_edge->BindNull(4);
         TB_RETURN_IF_ERROR(add_edge->Run());
+        mesh_.ForgetEdge(e.first, e.second);
       }
       return Status::Ok();
     };
@@ -1267,6 +1118,7 @@ class Edit {
       }
       TB_RETURN_IF_ERROR(
           del_edge->Bind(1, surface_.id).Bind(2, edge.first).Bind(3, edge.second).Run());
+      mesh_.ForgetEdge(edge.first, edge.second);
       for (int64_t f : owners) TB_RETURN_IF_ERROR(write_pieces(a, b, f));
     }
     for (size_t l = 0; l < lines_.size(); ++l) {
@@ -1314,6 +1166,7 @@ class Edit {
       const double z = TargetZ(*stored);
       if (z == stored->z) continue;
       TB_RETURN_IF_ERROR(set_z->Bind(1, z).Bind(2, id).Run());
+      mesh_.ForgetVertex(id);
     }
     return Status::Ok();
   }
@@ -1352,6 +1205,7 @@ class Edit {
       TB_RETURN_IF_ERROR(
           repaint->Bind(3, repaints[first].triangle).Bind(4, repaints[last].triangle).Run());
       result_.repainted += store_.db().Changes();
+      for (size_t k = first; k <= last; ++k) mesh_.ForgetTriangle(repaints[k].triangle);
       first = last + 1;
     }
     return Status::Ok();
@@ -1401,7 +1255,7 @@ class Edit {
   const LocalEdit& edit_;
   const FaultHook& hook_;
   std::unique_ptr<ScopedPageCache>& page_cache_;  // the engine's: it outlives the commit
-  StoredMesh mesh_;
+  MeshCache& mesh_;       // the caller's (kept across edits) or the engine's own
   PointLocator locator_;  // valid until Write: every lookup comes before it
   ReplaceLevels levels_;
   std::vector<Polygon> replace_polygons_;
@@ -1441,7 +1295,13 @@ UpdateEngine::UpdateEngine(Store& store, const SurfaceInfo& surface, DemStore& d
 UpdateEngine::~UpdateEngine() = default;
 
 Result<EditResult> UpdateEngine::Apply(const LocalEdit& edit) {
-  Edit run(store_, surface_, dems_, dem_, edit, fault_hook_, page_cache_);
+  std::unique_ptr<MeshCache> own;
+  MeshCache* mesh = mesh_cache_;
+  if (!mesh) {
+    own = std::make_unique<MeshCache>(store_, surface_);
+    mesh = own.get();
+  }
+  Edit run(store_, surface_, dems_, dem_, edit, fault_hook_, page_cache_, *mesh);
   return run.Run();
 }
 

@@ -34,6 +34,7 @@
 #include "core/tin/tin.h"
 #include "db/dem_store.h"
 #include "db/feature_store.h"
+#include "db/mesh_cache.h"
 #include "db/sqlite/scoped_page_cache.h"
 #include "db/store.h"
 #include "db/surface_store.h"
@@ -79,7 +80,9 @@ struct EditResult {
 };
 
 // Called before each write step (numbered 1, 2, ... within one Apply); a non-OK Status aborts
-// the edit with that Status. The atomicity tests inject failures with it.
+// the edit with that Status. The atomicity tests inject failures with it. The polygon editor
+// also calls it with step 0 before each edit's transaction begins (a test writes from another
+// connection there).
 using FaultHook = std::function<Status(int step)>;
 
 class UpdateEngine {
@@ -89,6 +92,10 @@ class UpdateEngine {
   ~UpdateEngine();
 
   void set_fault_hook(FaultHook hook) { fault_hook_ = std::move(hook); }
+  // Reads the stored rows through `cache` (db/mesh_cache.h) instead of a cache of its own for
+  // each Apply, and forgets there every row it writes. The caller keeps the cache current: Begin
+  // before Apply, Committed after the commit, Clear after any failure.
+  void set_mesh_cache(MeshCache* cache) { mesh_cache_ = cache; }
 
   // Applies `edit`. InvalidArgument naming the feature and point when a new point lies outside
   // the surface; Corruption when stored rows are inconsistent; the hook's Status when it fails.
@@ -101,6 +108,7 @@ class UpdateEngine {
   DemStore& dems_;
   const DemInfo& dem_;
   FaultHook fault_hook_;
+  MeshCache* mesh_cache_ = nullptr;
   std::unique_ptr<ScopedPageCache> page_cache_;
 };
 

@@ -610,6 +610,104 @@ TEST_F(UpdateEngineTest, EachForgetsTheFeatureOfAFailedTransaction) {
   testing::ExpectStoreIntact(*store_, /*full=*/true);
 }
 
+// `--each` keeps the mesh rows the edits read from one transaction to the next
+// (db/mesh_cache.h): every edit after the first begins from them, and with verify_mesh each
+// compares every kept row with the store before using it.
+TEST_F(UpdateEngineTest, EachKeepsTheMeshRowsBetweenTransactions) {
+  PolygonAddOptions o;
+  o.surface = "terrain";
+  o.mode = "fill";
+  o.tag_field = "unit";
+  o.each = true;
+  o.verify_mesh = true;
+  std::vector<std::vector<PointList>> rings;
+  for (int k = 0; k < 8; ++k)
+    rings.push_back(
+        {Ngon(kCx + (k % 4) * 3 * kCell, kCy + (k / 4) * 3 * kCell, 4 * kCell, 13 + k)});
+  o.file = WritePolygons(dir_, "eight.geojson", rings);
+  auto report = AddPolygons(*store_, o);
+  ASSERT_TRUE(report.ok()) << report.status().ToString();
+  EXPECT_EQ(report->features, 8);
+  EXPECT_TRUE(report->failures.empty());
+  EXPECT_EQ(report->mesh_kept, 7);
+  testing::ExpectStoreIntact(*store_, /*full=*/true);
+}
+
+// A failure injected at each write step of the third of five edits: the kept rows go with the
+// rollback (the failed edit may have forgotten only part of what it wrote), the fourth edit reads
+// everything again, the fifth keeps the fourth's rows, and no kept row differs from the store.
+TEST_F(UpdateEngineTest, EachDropsTheMeshRowsAfterAFailedTransaction) {
+  for (int fail_at = 1; fail_at <= 7; ++fail_at) {
+    SCOPED_TRACE("failure at write step " + std::to_string(fail_at));
+    PolygonAddOptions o;
+    o.surface = "terrain";
+    o.mode = "fill";
+    o.tag_field = "unit";
+    o.each = true;
+    o.verify_mesh = true;
+    std::vector<std::vector<PointList>> rings;
+    for (int k = 0; k < 5; ++k)
+      rings.push_back(
+          {Ngon(kCx + k * 2 * kCell, kCy + (fail_at - 4) * 6 * kCell, 5 * kCell, 14 + fail_at)});
+    o.file = WritePolygons(dir_, "five_" + std::to_string(fail_at) + ".geojson", rings);
+    int edits = 0;
+    o.fault_hook = [&edits, fail_at](int step) {
+      if (step == 0) ++edits;
+      return edits == 3 && step == fail_at ? Status::IOError("injected failure in the third edit")
+                                           : Status::Ok();
+    };
+    auto report = AddPolygons(*store_, o);
+    ASSERT_TRUE(report.ok()) << report.status().ToString();
+    EXPECT_EQ(report->features, 4);
+    ASSERT_EQ(report->failures.size(), 1u);
+    EXPECT_NE(report->failures[0].find("injected failure"), std::string::npos)
+        << report->failures[0];
+    EXPECT_EQ(report->mesh_kept, 2);  // the second and the fifth edit
+    testing::ExpectStoreIntact(*store_, /*full=*/true);
+  }
+}
+
+// Another connection commits between two edits of a load feature by feature: a polygon edit (a
+// new change number) before the third, a write without a `changes` row before the fifth (SQLite's
+// data_version). Both times the next edit reads every row again.
+TEST_F(UpdateEngineTest, EachDropsTheMeshRowsWhenAnotherWriterCommits) {
+  auto first = Add(WritePolygons(dir_, "under.geojson", {{Ngon(kCx, kCy, 9 * kCell, 17)}}), "fill");
+  ASSERT_TRUE(first.ok()) << first.status().ToString();
+  const int64_t under = first->first_feature_id;
+  PolygonAddOptions o;
+  o.surface = "terrain";
+  o.mode = "fill";
+  o.tag_field = "unit";
+  o.each = true;
+  o.verify_mesh = true;
+  std::vector<std::vector<PointList>> rings;
+  for (int k = 0; k < 5; ++k)
+    rings.push_back({Ngon(kCx + (k - 2) * 3 * kCell, kCy + kCell, 4 * kCell, 15)});
+  o.file = WritePolygons(dir_, "over.geojson", rings);
+  const std::string path = dir_.Path("s.tinbase");
+  int edits = 0;
+  o.fault_hook = [&](int step) -> Status {
+    if (step != 0) return Status::Ok();
+    ++edits;
+    if (edits != 3 && edits != 5) return Status::Ok();
+    TB_ASSIGN_OR_RETURN(auto other, Store::Open(path));
+    if (edits == 3) return RemovePolygon(*other, under).status();
+    // Flipped and back: SQLite does not rewrite a row whose bytes stay the same.
+    TB_ASSIGN_OR_RETURN(auto tx, other->BeginWrite());
+    for (int flip = 0; flip < 2; ++flip)
+      TB_RETURN_IF_ERROR(other->db().Exec(
+          "UPDATE triangles SET visible = 1 - visible WHERE id = (SELECT max(id) FROM triangles)"));
+    return tx->Commit();
+  };
+  auto report = AddPolygons(*store_, o);
+  ASSERT_TRUE(report.ok()) << report.status().ToString();
+  EXPECT_EQ(report->features, 5);
+  EXPECT_TRUE(report->failures.empty());
+  EXPECT_EQ(report->mesh_kept, 2);  // the second and the fourth edit
+  EXPECT_EQ(Int("SELECT count(*) FROM features WHERE id = " + std::to_string(under)), 0);
+  testing::ExpectStoreIntact(*store_, /*full=*/true);
+}
+
 TEST_F(UpdateEngineTest, EachReportsInvalidFeaturesAndAddsTheOthers) {
   // Feature 1 is a bow tie: without --each it fails the whole file; with --each it is reported,
   // naming the feature and ring, and features 0 and 2 are added.

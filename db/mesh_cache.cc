@@ -1,0 +1,230 @@
+#include "db/mesh_cache.h"
+
+#include <algorithm>
+#include <string>
+
+namespace tinbase {
+
+namespace {
+
+MeshCache::Edge Key(int64_t a, int64_t b) { return {std::min(a, b), std::max(a, b)}; }
+
+}  // namespace
+
+Result<int64_t> MeshCache::DataVersion() { return store_.db().QueryInt("PRAGMA data_version"); }
+
+Result<bool> MeshCache::Begin(int64_t tx) {
+  const bool was_current = committed_tx_ >= 0 && tx == committed_tx_ + 1;
+  const int64_t seen = data_version_;
+  committed_tx_ = -1;
+  // Read inside the edit's transaction: this connection's own commit leaves the value as it is,
+  // so Committed() needs no read transaction of its own after the commit (which would contend
+  // with the checkpointer for the WAL's read locks).
+  auto version = DataVersion();
+  if (!version.ok()) {
+    Clear();
+    return version.status();
+  }
+  pending_version_ = *version;
+  if (!was_current || *version != seen || triangles_.size() > kMaxKeptTriangles) {
+    Clear();
+    pending_version_ = *version;
+    return false;
+  }
+  return true;
+}
+
+void MeshCache::Committed(int64_t tx) {
+  committed_tx_ = tx;
+  data_version_ = pending_version_;
+}
+
+void MeshCache::Clear() {
+  triangles_.clear();
+  vertices_.clear();
+  owners_.clear();
+  committed_tx_ = -1;
+  data_version_ = -1;
+  pending_version_ = -1;
+}
+
+void MeshCache::ForgetEdge(int64_t a, int64_t b) { owners_.erase(Key(a, b)); }
+
+Result<const MeshTriangle*> MeshCache::Triangle(int64_t id) {
+  if (auto it = triangles_.find(id); it != triangles_.end()) return &it->second;
+  TB_ASSIGN_OR_RETURN(Statement * stmt,
+                      store_.db().Cached("SELECT v0, v1, v2, n0, n1, n2, visible, tag FROM "
+                                         "triangles WHERE id = ? AND surface = ?"));
+  stmt->Bind(1, id).Bind(2, surface_.id);
+  TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
+  if (!row) {
+    stmt->Reset();
+    return Status::Corruption("surface '" + surface_.name + "': triangle " + std::to_string(id) +
+                              " is linked but missing");
+  }
+  const MeshTriangle* t = Remember(id, *stmt);
+  stmt->Reset();
+  return t;
+}
+
+Result<bool> MeshCache::HasTriangle(int64_t id) {
+  if (triangles_.count(id)) return true;
+  TB_ASSIGN_OR_RETURN(Statement * stmt,
+                      store_.db().Cached("SELECT 1 FROM triangles WHERE id = ? AND surface = ?"));
+  stmt->Bind(1, id).Bind(2, surface_.id);
+  TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
+  stmt->Reset();
+  return row;
+}
+
+Result<const TinVertex*> MeshCache::Vertex(int64_t id) {
+  if (auto it = vertices_.find(id); it != vertices_.end()) return &it->second;
+  TB_ASSIGN_OR_RETURN(Statement * stmt, store_.db().Cached("SELECT x, y, z, kind FROM vertices "
+                                                           "WHERE id = ? AND surface = ?"));
+  stmt->Bind(1, id).Bind(2, surface_.id);
+  TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
+  if (!row) {
+    stmt->Reset();
+    return Status::Corruption("surface '" + surface_.name + "': vertex " + std::to_string(id) +
+                              " is used but missing");
+  }
+  TinVertex v{stmt->ColumnDouble(0), stmt->ColumnDouble(1), stmt->ColumnDouble(2)};
+  if (!ParseVertexKind(stmt->ColumnText(3), &v.kind)) v.kind = VertexKind::kUser;
+  stmt->Reset();
+  return &vertices_.emplace(id, v).first->second;
+}
+
+Result<Point2> MeshCache::At(int64_t vertex) {
+  TB_ASSIGN_OR_RETURN(const TinVertex* v, Vertex(vertex));
+  return Point2{v->x, v->y};
+}
+
+Result<const std::vector<int64_t>*> MeshCache::Owners(int64_t a, int64_t b) {
+  const Edge e = Key(a, b);
+  if (auto it = owners_.find(e); it != owners_.end()) return &it->second;
+  TB_ASSIGN_OR_RETURN(Statement * stmt,
+                      store_.db().Cached("SELECT coalesce(feature, 0) FROM constraints WHERE "
+                                         "surface = ? AND va = ? AND vb = ?"));
+  stmt->Bind(1, surface_.id).Bind(2, e.first).Bind(3, e.second);
+  std::vector<int64_t> owners;
+  for (;;) {
+    TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
+    if (!row) break;
+    owners.push_back(stmt->ColumnInt(0));
+  }
+  stmt->Reset();
+  return &owners_.emplace(e, std::move(owners)).first->second;
+}
+
+Result<std::vector<MeshCache::Edge>> MeshCache::EdgesOf(int64_t feature) {
+  TB_ASSIGN_OR_RETURN(Statement * stmt,
+                      store_.db().Cached("SELECT va, vb FROM constraints WHERE surface = ? AND "
+                                         "feature = ?"));
+  stmt->Bind(1, surface_.id).Bind(2, feature);
+  std::vector<Edge> edges;
+  for (;;) {
+    TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
+    if (!row) break;
+    edges.push_back(Key(stmt->ColumnInt(0), stmt->ColumnInt(1)));
+  }
+  stmt->Reset();
+  return edges;
+}
+
+Result<std::vector<int64_t>> MeshCache::TrianglesInBox(const Box& box) {
+  const BlockGrid& g = surface_.blocks;
+  const int64_t bx0 = g.ColumnOf(box.min_x), bx1 = g.ColumnOf(box.max_x);
+  std::vector<int64_t> ids;
+  for (int64_t by = g.RowOf(box.min_y); by <= g.RowOf(box.max_y); ++by)
+    TB_RETURN_IF_ERROR(TrianglesInBlocks(by, bx0, bx1, &ids));
+  return ids;
+}
+
+Status MeshCache::TrianglesInBlocks(int64_t by, int64_t bx0, int64_t bx1,
+                                    std::vector<int64_t>* ids) {
+  TB_ASSIGN_OR_RETURN(Statement * stmt,
+                      store_.db().Cached("SELECT v0, v1, v2, n0, n1, n2, visible, tag, id FROM "
+                                         "triangles WHERE surface = ? AND block BETWEEN ? AND ?"));
+  stmt->Bind(1, surface_.id).Bind(2, BlockGrid::Pack(bx0, by)).Bind(3, BlockGrid::Pack(bx1, by));
+  for (;;) {
+    TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
+    if (!row) break;
+    const int64_t id = stmt->ColumnInt(8);
+    if (!triangles_.count(id)) Remember(id, *stmt);
+    ids->push_back(id);
+  }
+  stmt->Reset();
+  return Status::Ok();
+}
+
+Result<std::vector<int64_t>> MeshCache::Star(int64_t vertex, int64_t start, bool* closed) {
+  std::vector<int64_t> star;
+  *closed = true;
+  for (int direction : {1, 2}) {  // across edge (v, next) ccw, then (v, previous) cw
+    int64_t t = start;
+    for (size_t guard = 0; guard < 100000; ++guard) {
+      TB_ASSIGN_OR_RETURN(const MeshTriangle* tri, Triangle(t));
+      int i = 0;
+      while (i < 3 && tri->v[i] != vertex) ++i;
+      if (i == 3)
+        return Status::Corruption("surface '" + surface_.name + "': triangle " + std::to_string(t) +
+                                  " is linked around vertex " + std::to_string(vertex) +
+                                  " but does not use it");
+      if (direction == 1 || t != start) star.push_back(t);
+      const std::optional<int64_t> next = tri->n[(i + direction) % 3];
+      if (!next) {
+        *closed = false;
+        break;
+      }
+      if (*next == start) return star;  // went all the way round
+      t = *next;
+    }
+  }
+  std::sort(star.begin(), star.end());
+  star.erase(std::unique(star.begin(), star.end()), star.end());
+  return star;
+}
+
+Status MeshCache::VerifyAgainstStore() {
+  MeshCache fresh(store_, surface_);
+  const std::string where = "surface '" + surface_.name + "': cached ";
+  for (const auto& [id, t] : triangles_) {
+    auto stored = fresh.Triangle(id);
+    if (!stored.ok())
+      return Status::Corruption(where + "triangle " + std::to_string(id) + " is not stored");
+    const MeshTriangle& s = **stored;
+    if (s.v != t.v || s.n != t.n || s.visible != t.visible || s.tag != t.tag)
+      return Status::Corruption(where + "triangle " + std::to_string(id) + " differs from its row");
+  }
+  for (const auto& [id, v] : vertices_) {
+    auto stored = fresh.Vertex(id);
+    if (!stored.ok())
+      return Status::Corruption(where + "vertex " + std::to_string(id) + " is not stored");
+    const TinVertex& s = **stored;
+    if (s.x != v.x || s.y != v.y || s.z != v.z || s.kind != v.kind)
+      return Status::Corruption(where + "vertex " + std::to_string(id) + " differs from its row");
+  }
+  for (const auto& [e, owners] : owners_) {
+    TB_ASSIGN_OR_RETURN(const std::vector<int64_t>* stored, fresh.Owners(e.first, e.second));
+    std::vector<int64_t> a = owners, b = *stored;
+    std::sort(a.begin(), a.end());
+    std::sort(b.begin(), b.end());
+    if (a != b)
+      return Status::Corruption(where + "owners of edge (" + std::to_string(e.first) + ", " +
+                                std::to_string(e.second) + ") differ from the constraint rows");
+  }
+  return Status::Ok();
+}
+
+const MeshTriangle* MeshCache::Remember(int64_t id, const Statement& row) {
+  MeshTriangle t;
+  for (int i = 0; i < 3; ++i) {
+    t.v[i] = row.ColumnInt(i);
+    if (!row.ColumnIsNull(3 + i)) t.n[i] = row.ColumnInt(3 + i);
+  }
+  t.visible = row.ColumnInt(6) != 0;
+  if (!row.ColumnIsNull(7)) t.tag = row.ColumnInt(7);
+  return &triangles_.emplace(id, t).first->second;
+}
+
+}  // namespace tinbase

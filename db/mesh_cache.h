@@ -1,0 +1,124 @@
+// MeshCache: the stored mesh rows of one surface that local edits and point location read
+// (triangles with their links and paint, vertices, constraint owners), loaded on demand by id and
+// kept in memory.
+//
+// Within one edit every read happens before the first write, so the rows stay current. A load
+// feature by feature (`polygon add --each`) keeps one cache across its transactions: the engine
+// forgets every row it writes (Forget*), so after a commit the cache holds only rows as stored,
+// and the next edit starts from them instead of reading them again. That is valid only while
+// nobody else wrote in between: Begin() drops everything unless the store's change number is
+// the one after Committed()'s and no other connection has committed since (SQLite's
+// data_version), and when it has grown past kMaxKeptTriangles. After a failed or rolled-back edit
+// the caller must Clear() (an edit may have forgotten only part of what it wrote, or read rows it
+// had itself written).
+//
+// Ownership: borrows the Store and SurfaceInfo, which must outlive it. Not thread-safe.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+#include "core/base/status.h"
+#include "core/geometry/predicates.h"
+#include "core/tin/tin.h"
+#include "db/feature_store.h"
+#include "db/store.h"
+#include "db/surface_store.h"
+
+namespace tinbase {
+
+struct MeshTriangle {
+  std::array<int64_t, 3> v{};
+  std::array<std::optional<int64_t>, 3> n;
+  bool visible = true;
+  std::optional<int64_t> tag;  // tags.id
+};
+
+class MeshCache {
+ public:
+  using Edge = std::pair<int64_t, int64_t>;  // (min, max) store vertex ids
+
+  // Rows kept across transactions cost lookups in ever larger hash maps: loading the 1178-polygon
+  // bands map (docs/BENCHMARKS.md) with every row kept was ~15% slower than with a fresh cache
+  // per edit; capped here it measured the same as a fresh cache, within the machine's noise.
+  static constexpr size_t kMaxKeptTriangles = 20000;
+
+  MeshCache(Store& store, const SurfaceInfo& surface) : store_(store), surface_(surface) {}
+  MeshCache(const MeshCache&) = delete;
+  MeshCache& operator=(const MeshCache&) = delete;
+
+  // Starts an edit that will become change `tx`: keeps the rows when the last commit this cache
+  // saw was change tx - 1, no other connection has committed since and at most
+  // kMaxKeptTriangles triangles are held, else drops them.
+  // REQUIRES: inside the edit's WriteTransaction. Returns whether the rows were kept; an error
+  // only when the store cannot be read (the rows are then dropped).
+  Result<bool> Begin(int64_t tx);
+  // The edit that Begin() started committed as change `tx`, every row it wrote forgotten.
+  // REQUIRES: called right after the commit of the transaction Begin() was called in.
+  void Committed(int64_t tx);
+  // Drops every row (after a failure or rollback).
+  void Clear();
+
+  // Rows by id. Corruption naming the surface when the row is missing.
+  Result<const MeshTriangle*> Triangle(int64_t id);
+  Result<const TinVertex*> Vertex(int64_t id);
+  Result<Point2> At(int64_t vertex);
+  // Whether triangle `id` exists (from memory when it is cached).
+  Result<bool> HasTriangle(int64_t id);
+
+  // The features owning constrained edge (a, b), 0 for a row without feature; empty when the
+  // edge is not constrained.
+  Result<const std::vector<int64_t>*> Owners(int64_t a, int64_t b);
+  // Every constrained edge of `feature` (read from the store, not kept).
+  Result<std::vector<Edge>> EdgesOf(int64_t feature);
+
+  // The triangles whose centroid block meets `box` (through the block index); their rows are
+  // cached on the way.
+  Result<std::vector<int64_t>> TrianglesInBox(const Box& box);
+  // Appends the triangles whose centroid block is one of (bx0..bx1, by) to `ids`.
+  Status TrianglesInBlocks(int64_t by, int64_t bx0, int64_t bx1, std::vector<int64_t>* ids);
+
+  // The triangles around `vertex`, starting from `start` (one of them), counter-clockwise;
+  // `closed` is false when the vertex lies on the domain boundary.
+  Result<std::vector<int64_t>> Star(int64_t vertex, int64_t start, bool* closed);
+
+  // A row the current edit writes (or deletes): read again from the store when next asked for.
+  void ForgetTriangle(int64_t id) { triangles_.erase(id); }
+  void ForgetVertex(int64_t id) { vertices_.erase(id); }
+  void ForgetEdge(int64_t a, int64_t b);
+  void ForgetAllOwners() { owners_.clear(); }
+
+  size_t triangles_cached() const { return triangles_.size(); }
+
+  // Tests: reads every cached row again from the store; Corruption naming the first row that
+  // differs from (or is missing in) the store.
+  Status VerifyAgainstStore();
+
+ private:
+  struct EdgeHash {
+    size_t operator()(const Edge& e) const {
+      return std::hash<int64_t>()(e.first) * 1000003u ^ std::hash<int64_t>()(e.second);
+    }
+  };
+
+  const MeshTriangle* Remember(int64_t id, const Statement& row);
+  Result<int64_t> DataVersion();
+
+  Store& store_;
+  const SurfaceInfo& surface_;
+  std::unordered_map<int64_t, MeshTriangle> triangles_;
+  std::unordered_map<int64_t, TinVertex> vertices_;
+  std::unordered_map<Edge, std::vector<int64_t>, EdgeHash> owners_;
+  // The last commit: its change number and the connection's data_version in its transaction
+  // (unchanged by the connection's own commit); -1 when the rows are not known to be current
+  // beyond the edit in progress.
+  int64_t committed_tx_ = -1;
+  int64_t data_version_ = -1;
+  int64_t pending_version_ = -1;  // read by Begin() in the edit's transaction
+};
+
+}  // namespace tinbase
