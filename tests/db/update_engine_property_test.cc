@@ -110,6 +110,15 @@ std::string RandomMode() {
   }
 }
 
+// A private copy of the base store in `dir`, opened: each case edits its own.
+std::unique_ptr<Store> OpenCopyOfBaseStore(const TempDir& dir) {
+  const std::string path = dir.Path("p.tinbase");
+  std::filesystem::copy_file(BaseStore(), path);
+  auto opened = Store::Open(path);
+  RC_ASSERT(opened.ok());
+  return std::move(*opened);
+}
+
 // Fails the property with the first problem of the full check.
 void AssertIntact(Store& store, const std::string& after) {
   auto problems = CheckStore(store, {.surface = {}, .full = true});
@@ -137,11 +146,8 @@ void AssertSameAsFromScratch(Store& store) {
 
 RC_GTEST_PROP(UpdateEngineProperty, RandomEditSequencesKeepEveryInvariant, ()) {
   TempDir dir;
-  const std::string path = dir.Path("p.tinbase");
-  std::filesystem::copy_file(BaseStore(), path);
-  auto opened = Store::Open(path);
-  RC_ASSERT(opened.ok());
-  Store& store = **opened;
+  const std::unique_ptr<Store> opened = OpenCopyOfBaseStore(dir);
+  Store& store = *opened;
   struct Alive {
     int64_t id;
     std::string mode;
@@ -195,11 +201,8 @@ RC_GTEST_PROP(UpdateEngineProperty, RandomEditSequencesKeepEveryInvariant, ()) {
 // ends fully intact and equal to a from-scratch CDT.
 RC_GTEST_PROP(UpdateEngineProperty, LoadsFeatureByFeatureKeepOnlyCurrentRows, ()) {
   TempDir dir;
-  const std::string path = dir.Path("p.tinbase");
-  std::filesystem::copy_file(BaseStore(), path);
-  auto opened = Store::Open(path);
-  RC_ASSERT(opened.ok());
-  Store& store = **opened;
+  const std::unique_ptr<Store> opened = OpenCopyOfBaseStore(dir);
+  Store& store = *opened;
   std::vector<std::vector<PointList>> polygons;
   std::vector<PointList> rings;
   const int count = *rc::gen::inRange(3, 8);

@@ -144,6 +144,20 @@ class UpdateEngineTest : public ::testing::Test {
     EXPECT_EQ((*changes)[0].added, report.added);
   }
 
+  // A feature-by-feature fill load of `rings` (written to `name`) tagged by "unit", with every
+  // mesh row kept between its transactions compared with the store before use.
+  PolygonAddOptions EachFillOptions(const std::string& name,
+                                    const std::vector<std::vector<PointList>>& rings) {
+    PolygonAddOptions o;
+    o.surface = "terrain";
+    o.mode = "fill";
+    o.tag_field = "unit";
+    o.each = true;
+    o.verify_mesh = true;
+    o.file = WritePolygons(dir_, name, rings);
+    return o;
+  }
+
   void Reopen() {
     auto store = Store::Open(dir_.Path("s.tinbase"));
     ASSERT_TRUE(store.ok()) << store.status().ToString();
@@ -614,17 +628,11 @@ TEST_F(UpdateEngineTest, EachForgetsTheFeatureOfAFailedTransaction) {
 // (db/mesh_cache.h): every edit after the first begins from them, and with verify_mesh each
 // compares every kept row with the store before using it.
 TEST_F(UpdateEngineTest, EachKeepsTheMeshRowsBetweenTransactions) {
-  PolygonAddOptions o;
-  o.surface = "terrain";
-  o.mode = "fill";
-  o.tag_field = "unit";
-  o.each = true;
-  o.verify_mesh = true;
   std::vector<std::vector<PointList>> rings;
   for (int k = 0; k < 8; ++k)
     rings.push_back(
         {Ngon(kCx + (k % 4) * 3 * kCell, kCy + (k / 4) * 3 * kCell, 4 * kCell, 13 + k)});
-  o.file = WritePolygons(dir_, "eight.geojson", rings);
+  PolygonAddOptions o = EachFillOptions("eight.geojson", rings);
   auto report = AddPolygons(*store_, o);
   ASSERT_TRUE(report.ok()) << report.status().ToString();
   EXPECT_EQ(report->features, 8);
@@ -639,17 +647,12 @@ TEST_F(UpdateEngineTest, EachKeepsTheMeshRowsBetweenTransactions) {
 TEST_F(UpdateEngineTest, EachDropsTheMeshRowsAfterAFailedTransaction) {
   for (int fail_at = 1; fail_at <= 7; ++fail_at) {
     SCOPED_TRACE("failure at write step " + std::to_string(fail_at));
-    PolygonAddOptions o;
-    o.surface = "terrain";
-    o.mode = "fill";
-    o.tag_field = "unit";
-    o.each = true;
-    o.verify_mesh = true;
     std::vector<std::vector<PointList>> rings;
     for (int k = 0; k < 5; ++k)
       rings.push_back(
           {Ngon(kCx + k * 2 * kCell, kCy + (fail_at - 4) * 6 * kCell, 5 * kCell, 14 + fail_at)});
-    o.file = WritePolygons(dir_, "five_" + std::to_string(fail_at) + ".geojson", rings);
+    PolygonAddOptions o =
+        EachFillOptions("five_" + std::to_string(fail_at) + ".geojson", rings);
     int edits = 0;
     o.fault_hook = [&edits, fail_at](int step) {
       if (step == 0) ++edits;
@@ -674,16 +677,10 @@ TEST_F(UpdateEngineTest, EachDropsTheMeshRowsWhenAnotherWriterCommits) {
   auto first = Add(WritePolygons(dir_, "under.geojson", {{Ngon(kCx, kCy, 9 * kCell, 17)}}), "fill");
   ASSERT_TRUE(first.ok()) << first.status().ToString();
   const int64_t under = first->first_feature_id;
-  PolygonAddOptions o;
-  o.surface = "terrain";
-  o.mode = "fill";
-  o.tag_field = "unit";
-  o.each = true;
-  o.verify_mesh = true;
   std::vector<std::vector<PointList>> rings;
   for (int k = 0; k < 5; ++k)
     rings.push_back({Ngon(kCx + (k - 2) * 3 * kCell, kCy + kCell, 4 * kCell, 15)});
-  o.file = WritePolygons(dir_, "over.geojson", rings);
+  PolygonAddOptions o = EachFillOptions("over.geojson", rings);
   const std::string path = dir_.Path("s.tinbase");
   int edits = 0;
   o.fault_hook = [&](int step) -> Status {
