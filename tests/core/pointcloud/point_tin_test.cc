@@ -197,6 +197,45 @@ TEST(PointTin, ReadPointsSortsAndDropsDuplicatesKeepingTheFirst) {
   EXPECT_EQ(built->report.triangles, 4u);
 }
 
+// Large files sort in two halves on two threads: the result must still be the stable order,
+// with the first of each duplicate in file order kept, whether its copies lie in the same half
+// or in the other one.
+TEST(PointTin, LargeFilesSortAndDropDuplicatesAsSmallOnes) {
+  testing::TempDir dir;
+  const std::string path = dir.Path("many.xyz");
+  constexpr int kSide = 400;  // 160 000 distinct points, then copies
+  std::vector<std::array<int, 3>> lines;  // x, y, z (z = line number, to tell copies apart)
+  for (int i = 0; i < kSide * kSide; ++i) {
+    const int k = static_cast<int>((static_cast<int64_t>(i) * 7919) % (kSide * kSide));
+    lines.push_back({k % kSide, k / kSide, 0});
+  }
+  // Copies of points from the first half appended at the end (the other half), and copies of
+  // second-half points placed right after them (the same half).
+  for (int i = 0; i < 3000; ++i) lines.push_back(lines[static_cast<size_t>(i * 17)]);
+  for (int i = 0; i < 3000; ++i)
+    lines.insert(lines.begin() + 100000 + i * 2, lines[static_cast<size_t>(99000 + i * 2)]);
+  {
+    std::ofstream out(path);
+    for (size_t i = 0; i < lines.size(); ++i)
+      out << lines[i][0] << ' ' << lines[i][1] << ' ' << i << '\n';
+  }
+  auto points = ReadPoints(path, {}, std::nullopt);
+  ASSERT_TRUE(points.ok()) << points.status().ToString();
+  EXPECT_EQ(points->report.duplicates, 6000u);
+  ASSERT_EQ(points->vertices.size(), static_cast<size_t>(kSide * kSide));
+  std::vector<double> first_line(static_cast<size_t>(kSide * kSide), -1);
+  for (size_t i = 0; i < lines.size(); ++i) {
+    double& first = first_line[static_cast<size_t>(lines[i][0] * kSide + lines[i][1])];
+    if (first < 0) first = static_cast<double>(i);
+  }
+  for (size_t i = 0; i < points->vertices.size(); ++i) {
+    const TinVertex& v = points->vertices[i];
+    ASSERT_EQ(v.x, static_cast<double>(i / kSide)) << i;
+    ASSERT_EQ(v.y, static_cast<double>(i % kSide)) << i;
+    ASSERT_EQ(v.z, first_line[i]) << "the first of the copies in file order is kept, at " << i;
+  }
+}
+
 TEST(PointTin, ErrorsNameTheFile) {
   PointTinOptions none;
   none.classes = {31};
