@@ -387,7 +387,7 @@ class Edit {
   Status SnapPoints() {
     const double snap =
         kSnapCells * std::max(dem_.geometry.cell_x, std::fabs(dem_.geometry.cell_y));
-    std::map<std::pair<int64_t, int64_t>, std::vector<Point2>> buckets;
+    std::unordered_map<std::pair<int64_t, int64_t>, std::vector<Point2>, EdgeHash> buckets;
     const auto bucket = [snap](double v) { return static_cast<int64_t>(std::floor(v / snap)); };
     for (EditPolyline& line : lines_) {
       located_.emplace_back();
@@ -838,7 +838,11 @@ class Edit {
 
     patch.tin = cdt.ToTin(elevation);
     patch.store_ids.resize(patch.tin.vertices.size(), 0);
-    patch.inside = ClassifyInside(patch.tin, outline_local);
+    // Refinement adds points inside the faces it scans, so a triangulation that was all R stays so.
+    if (every_face_inside)
+      patch.inside.assign(patch.tin.triangles.size(), 1);
+    else
+      patch.inside = ClassifyInside(patch.tin, outline_local);
     local_ = std::move(local);
     return patch;
   }
@@ -1237,18 +1241,23 @@ class Edit {
         if (idx[i] != idx[(i + 1) % n])
           TB_RETURN_IF_ERROR(write_pieces(idx[i], idx[(i + 1) % n], lines_[l].feature));
     }
-    // In the order of the (surface, va, vb) index, for the same reason as the vertices.
+    // In the order of the (surface, va, vb) index, for the same reason as the vertices. Every
+    // key holds: the surface is this one, each feature is an added one (its row is written
+    // before Apply) or an owner of a kept constraint.
     std::sort(added_edges.begin(), added_edges.end());
-    TB_RETURN_IF_ERROR(InsertRows(db, "constraints(surface, va, vb, feature)", 4,
-                                  added_edges.size(), [&](Statement& row, int p, size_t c) {
-                                    const auto& [e, feature] = added_edges[c];
-                                    row.Bind(p, surface_.id).Bind(p + 1, e.first);
-                                    row.Bind(p + 2, e.second);
-                                    if (feature != 0)
-                                      row.Bind(p + 3, feature);
-                                    else
-                                      row.BindNull(p + 3);
-                                  }));
+    {
+      TB_ASSIGN_OR_RETURN(UncheckedForeignKeys unchecked, UncheckedForeignKeys::Begin(db));
+      TB_RETURN_IF_ERROR(InsertRows(db, "constraints(surface, va, vb, feature)", 4,
+                                    added_edges.size(), [&](Statement& row, int p, size_t c) {
+                                      const auto& [e, feature] = added_edges[c];
+                                      row.Bind(p, surface_.id).Bind(p + 1, e.first);
+                                      row.Bind(p + 2, e.second);
+                                      if (feature != 0)
+                                        row.Bind(p + 3, feature);
+                                      else
+                                        row.BindNull(p + 3);
+                                    }));
+    }
     // R's outline is constrained only in the patch; on the domain boundary new points may split
     // it (it has no triangle across), so its pieces count too.
     for (const OutlineEdge& e : outline_) {
