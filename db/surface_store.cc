@@ -7,10 +7,10 @@
 #include <condition_variable>
 #include <deque>
 #include <future>
-#include <mutex>
-#include <optional>
 #include <limits>
+#include <mutex>
 #include <numeric>
+#include <optional>
 #include <unordered_map>
 
 #include "db/sqlite/bulk_insert.h"

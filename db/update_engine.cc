@@ -1107,8 +1107,8 @@ class Edit {
       // above in this transaction.
       TB_ASSIGN_OR_RETURN(auto unchecked, UncheckedIfWholeSurface());
       TB_RETURN_IF_ERROR(InsertNumberedRows(
-          db, "triangles(surface, v0, v1, v2, n0, n1, n2, visible, tag, block)", 10,
-          written.size(), base, [&](Statement& row, int p, size_t k) {
+          db, "triangles(surface, v0, v1, v2, n0, n1, n2, visible, tag, block)", 10, written.size(),
+          base, [&](Statement& row, int p, size_t k) {
             const uint32_t t = written[k];
             const TinTriangle& tri = tin.triangles[t];
             row.Bind(p, surface_.id);
@@ -1147,9 +1147,9 @@ class Edit {
                           db.Cached("DELETE FROM triangles WHERE surface = ? AND id < ?"));
       TB_RETURN_IF_ERROR(del_all->Bind(1, surface_.id).Bind(2, base).Run());
       if (db.Changes() != static_cast<int64_t>(order_.size()))
-        return Status::Corruption("surface '" + surface_.name + "': " +
-                                  std::to_string(db.Changes()) + " triangle rows instead of " +
-                                  std::to_string(order_.size()) + " were replaced");
+        return Status::Corruption(
+            "surface '" + surface_.name + "': " + std::to_string(db.Changes()) +
+            " triangle rows instead of " + std::to_string(order_.size()) + " were replaced");
     } else {
       // One statement per run of consecutive ids: R's triangles were mostly written together
       // (block order), so a run is often dozens of rows.
@@ -1176,7 +1176,8 @@ class Edit {
     // Outer triangles point across the outline at the new triangles.
     TB_RETURN_IF_ERROR(Step());
     std::unordered_map<Edge, int64_t, EdgeHash> inner_by_edge;  // store (a, b) -> new triangle
-    if (!outer_across.empty()) {  // none when R is the whole surface
+    // R's outline has no triangle across when R is the whole surface.
+    if (!outer_across.empty()) {
       for (uint32_t t : written) {
         const auto& v = tin.triangles[t].v;
         for (int i = 0; i < 3; ++i)
@@ -1432,7 +1433,7 @@ class Edit {
   Grid grid_;
   EditResult result_;
   int step_ = 0;
-  bool whole_surface_ = false;               // R is every triangle (TakeWholeSurface)
+  bool whole_surface_ = false;                // R is every triangle (TakeWholeSurface)
   std::optional<int64_t> surface_triangles_;  // SurfaceTriangles(), once counted
   std::vector<int64_t> surface_ids_;          // every triangle, once the surface is loaded
 };

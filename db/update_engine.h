@@ -90,8 +90,9 @@ struct EditResult {
   int64_t repainted = 0;      // existing triangles outside R whose visibility or tag changed
   int64_t refinement_points = 0;
   int rounds = 0;  // re-triangulations of R until its outline was Delaunay
-  bool whole_surface = false;  // R was the whole surface (kMinWholeSurfaceRegion)
   Box region;      // bbox of R
+  // R was the whole surface (kMinWholeSurfaceRegion).
+  bool whole_surface = false;
 };
 
 // Called before each write step (numbered 1, 2, ... within one Apply); a non-OK Status aborts

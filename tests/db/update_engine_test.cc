@@ -8,8 +8,8 @@
 
 #include <algorithm>
 #include <array>
-#include <cstdint>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -789,7 +789,6 @@ std::vector<std::vector<PointList>> SquareMap(int side, double cells_per_unit) {
   return map;
 }
 
-
 // Visibility and tag at points of a grid over the map, none on a ring: what paint a user sees,
 // equal for any two triangulations of the same constraints whose paint is right.
 std::vector<std::string> PaintSamples(Store& store) {
@@ -811,8 +810,7 @@ std::vector<std::string> PaintSamples(Store& store) {
 }
 
 TEST_F(UpdateEngineTest, ManyFeaturesOverMostOfTheSurfaceReplaceItWhole) {
-  const std::string file =
-      WritePolygons(dir_, "map.geojson", SquareMap(kMapSide, kMapUnitCells));
+  const std::string file = WritePolygons(dir_, "map.geojson", SquareMap(kMapSide, kMapUnitCells));
   const std::string surface = std::to_string(BuildMapSurface());
   const int64_t triangles_before = Int("SELECT count(*) FROM triangles WHERE surface = " + surface);
   const int64_t last_id_before = Int("SELECT max(id) FROM triangles");
@@ -870,8 +868,7 @@ TEST_F(UpdateEngineTest, ManyFeaturesOverMostOfTheSurfaceReplaceItWhole) {
 
 // As FailureAtEveryWriteStepRollsBack, for the whole-surface path.
 TEST_F(UpdateEngineTest, FailureAtEveryWriteStepOfAWholeSurfaceEditRollsBack) {
-  const std::string file =
-      WritePolygons(dir_, "map.geojson", SquareMap(kMapSide, kMapUnitCells));
+  const std::string file = WritePolygons(dir_, "map.geojson", SquareMap(kMapSide, kMapUnitCells));
   const std::string path = dir_.Path("s.tinbase");
   const std::string surface = std::to_string(BuildMapSurface());
   const int64_t triangles_before = Int("SELECT count(*) FROM triangles WHERE surface = " + surface);
