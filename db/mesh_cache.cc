@@ -9,6 +9,18 @@ namespace {
 
 MeshCache::Edge Key(int64_t a, int64_t b) { return {std::min(a, b), std::max(a, b)}; }
 
+// The vertex of a row whose columns from `first` on are x, y, z, kind.
+TinVertex VertexFromRow(const Statement& row, int first) {
+  TinVertex v{row.ColumnDouble(first), row.ColumnDouble(first + 1), row.ColumnDouble(first + 2)};
+  if (!ParseVertexKind(row.ColumnText(first + 3), &v.kind)) v.kind = VertexKind::kUser;
+  return v;
+}
+
+const std::vector<int64_t>& NoOwners() {
+  static const std::vector<int64_t> none;
+  return none;
+}
+
 }  // namespace
 
 Result<int64_t> MeshCache::DataVersion() { return store_.db().QueryInt("PRAGMA data_version"); }
@@ -40,15 +52,27 @@ void MeshCache::Committed(int64_t tx) {
 }
 
 void MeshCache::Clear() {
-  triangles_.clear();
-  vertices_.clear();
-  owners_.clear();
+  ForgetAllRows();
   committed_tx_ = -1;
   data_version_ = -1;
   pending_version_ = -1;
 }
 
-void MeshCache::ForgetEdge(int64_t a, int64_t b) { owners_.erase(Key(a, b)); }
+void MeshCache::ForgetAllRows() {
+  triangles_.clear();
+  vertices_.clear();
+  ForgetAllOwners();
+}
+
+void MeshCache::ForgetEdge(int64_t a, int64_t b) {
+  owners_.erase(Key(a, b));
+  owners_complete_ = false;
+}
+
+void MeshCache::ForgetAllOwners() {
+  owners_.clear();
+  owners_complete_ = false;
+}
 
 Result<const MeshTriangle*> MeshCache::Triangle(int64_t id) {
   if (auto it = triangles_.find(id); it != triangles_.end()) return &it->second;
@@ -88,8 +112,7 @@ Result<const TinVertex*> MeshCache::Vertex(int64_t id) {
     return Status::Corruption("surface '" + surface_.name + "': vertex " + std::to_string(id) +
                               " is used but missing");
   }
-  TinVertex v{stmt->ColumnDouble(0), stmt->ColumnDouble(1), stmt->ColumnDouble(2)};
-  if (!ParseVertexKind(stmt->ColumnText(3), &v.kind)) v.kind = VertexKind::kUser;
+  const TinVertex v = VertexFromRow(*stmt, 0);
   stmt->Reset();
   return &vertices_.emplace(id, v).first->second;
 }
@@ -102,6 +125,7 @@ Result<Point2> MeshCache::At(int64_t vertex) {
 Result<const std::vector<int64_t>*> MeshCache::Owners(int64_t a, int64_t b) {
   const Edge e = Key(a, b);
   if (auto it = owners_.find(e); it != owners_.end()) return &it->second;
+  if (owners_complete_) return &NoOwners();
   TB_ASSIGN_OR_RETURN(Statement * stmt,
                       store_.db().Cached("SELECT coalesce(feature, 0) FROM constraints WHERE "
                                          "surface = ? AND va = ? AND vb = ?"));
@@ -129,6 +153,48 @@ Result<std::vector<MeshCache::Edge>> MeshCache::EdgesOf(int64_t feature) {
   }
   stmt->Reset();
   return edges;
+}
+
+Result<std::vector<int64_t>> MeshCache::LoadSurface() {
+  SqliteDb& db = store_.db();
+  std::vector<int64_t> ids;
+  TB_ASSIGN_OR_RETURN(Statement * triangles,
+                      db.Cached("SELECT t.v0, t.v1, t.v2, t.n0, t.n1, t.n2, t.visible, t.tag, "
+                                "t.id FROM triangles t " +
+                                SurfaceRowsInIdOrder("triangles", "t")));
+  triangles->Bind(1, surface_.id);
+  for (;;) {
+    TB_ASSIGN_OR_RETURN(bool row, triangles->Step());
+    if (!row) break;
+    const int64_t id = triangles->ColumnInt(8);
+    if (!triangles_.count(id)) Remember(id, *triangles);
+    ids.push_back(id);
+  }
+  triangles->Reset();
+  TB_ASSIGN_OR_RETURN(Statement * vertices,
+                      db.Cached("SELECT v.x, v.y, v.z, v.kind, v.id FROM vertices v " +
+                                SurfaceRowsInIdOrder("vertices", "v")));
+  vertices->Bind(1, surface_.id);
+  for (;;) {
+    TB_ASSIGN_OR_RETURN(bool row, vertices->Step());
+    if (!row) break;
+    vertices_.emplace(vertices->ColumnInt(4), VertexFromRow(*vertices, 0));
+  }
+  vertices->Reset();
+  TB_ASSIGN_OR_RETURN(Statement * constraints,
+                      db.Cached("SELECT va, vb, coalesce(feature, 0) FROM constraints WHERE "
+                                "surface = ?"));
+  constraints->Bind(1, surface_.id);
+  owners_.clear();  // rebuilt whole: an entry read before holds the same owners
+  for (;;) {
+    TB_ASSIGN_OR_RETURN(bool row, constraints->Step());
+    if (!row) break;
+    owners_[Key(constraints->ColumnInt(0), constraints->ColumnInt(1))].push_back(
+        constraints->ColumnInt(2));
+  }
+  constraints->Reset();
+  owners_complete_ = true;
+  return ids;
 }
 
 Result<std::vector<int64_t>> MeshCache::TrianglesInBox(const Box& box) {

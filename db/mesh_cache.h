@@ -82,6 +82,12 @@ class MeshCache {
   // Appends the triangles whose centroid block is one of (bx0..bx1, by) to `ids`.
   Status TrianglesInBlocks(int64_t by, int64_t bx0, int64_t bx1, std::vector<int64_t>* ids);
 
+  // Reads every triangle, vertex and constraint row of the surface in one scan each (rows
+  // already held are kept: they are as stored), so that an edit over most of the surface looks
+  // nothing up row by row; Owners() then answers from memory until an edge is forgotten. Returns
+  // the surface's triangle ids in id order.
+  Result<std::vector<int64_t>> LoadSurface();
+
   // The triangles around `vertex`, starting from `start` (one of them), counter-clockwise;
   // `closed` is false when the vertex lies on the domain boundary.
   Result<std::vector<int64_t>> Star(int64_t vertex, int64_t start, bool* closed);
@@ -90,7 +96,10 @@ class MeshCache {
   void ForgetTriangle(int64_t id) { triangles_.erase(id); }
   void ForgetVertex(int64_t id) { vertices_.erase(id); }
   void ForgetEdge(int64_t a, int64_t b);
-  void ForgetAllOwners() { owners_.clear(); }
+  void ForgetAllOwners();
+  // Every row (an edit rewrote the whole surface); unlike Clear() the rows of the next edit may
+  // still be kept (Begin).
+  void ForgetAllRows();
 
   size_t triangles_cached() const { return triangles_.size(); }
 
@@ -113,6 +122,9 @@ class MeshCache {
   std::unordered_map<int64_t, MeshTriangle> triangles_;
   std::unordered_map<int64_t, TinVertex> vertices_;
   std::unordered_map<Edge, std::vector<int64_t>, EdgeHash> owners_;
+  // owners_ holds every constrained edge of the surface (LoadSurface): an edge it lacks is not
+  // constrained. False once any edge is forgotten.
+  bool owners_complete_ = false;
   // The last commit: its change number and the connection's data_version in its transaction
   // (unchanged by the connection's own commit); -1 when the rows are not known to be current
   // beyond the edit in progress.

@@ -7,7 +7,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
+#include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <limits>
@@ -21,6 +24,7 @@
 #include "db/change_log.h"
 #include "db/dem_store.h"
 #include "db/integrity_check.h"
+#include "db/point_locator.h"
 #include "db/polygon_editor.h"
 #include "db/surface_builder.h"
 #include "tests/support/polygon_files.h"
@@ -35,6 +39,14 @@ using testing::TempDir;
 
 // Centre of the Hamersley DEM (EPSG:28350), and its cell size.
 constexpr double kCx = 539300, kCy = 7497340, kCell = 344.404386931320971;
+
+// The whole-surface tests' map (SquareMap): kMapSide^2 square units of kMapUnitCells cells, on
+// a second, coarser surface of the store (the first, "terrain", must keep its rows).
+constexpr int kMapSide = 29;
+constexpr double kMapUnitCells = 6;
+// The map goes on a second, coarser surface of the store ("terrain" must keep its rows).
+constexpr char kMapSurface[] = "coarse";
+constexpr double kMapSurfaceTolerance = 25;
 
 using testing::Ngon;
 using testing::PointList;
@@ -74,6 +86,28 @@ class UpdateEngineTest : public ::testing::Test {
       for (int c = 7; c <= 9; ++c) r.links.push_back(stmt->ColumnInt(c));
       rows[stmt->ColumnInt(0)] = r;
     }
+    return rows;
+  }
+
+  // Builds the map tests' surface (kMapSurface) beside "terrain"; returns its id.
+  int64_t BuildMapSurface() {
+    SurfaceBuildOptions o;
+    o.surface = kMapSurface;
+    o.greedy.tolerance = kMapSurfaceTolerance;
+    auto built = BuildSurfaceFromDem(*store_, o);
+    EXPECT_TRUE(built.ok()) << built.status().ToString();
+    return Int(std::string("SELECT id FROM surfaces WHERE name = '") + kMapSurface + "'");
+  }
+
+  // id, x, y, z of the first `limit` vertices by id (all by default).
+  std::vector<std::array<double, 4>> VertexRows(size_t limit = SIZE_MAX) {
+    std::vector<std::array<double, 4>> rows;
+    auto prepared = store_->db().Prepare("SELECT id, x, y, z FROM vertices ORDER BY id");
+    EXPECT_TRUE(prepared.ok());
+    Statement* stmt = prepared->get();
+    while (rows.size() < limit && *stmt->Step())
+      rows.push_back({static_cast<double>(stmt->ColumnInt(0)), stmt->ColumnDouble(1),
+                      stmt->ColumnDouble(2), stmt->ColumnDouble(3)});
     return rows;
   }
 
@@ -729,6 +763,143 @@ TEST_F(UpdateEngineTest, EachReportsInvalidFeaturesAndAddsTheOthers) {
       << report->failures[0];
   EXPECT_EQ(Int("SELECT count(*) FROM features"), 2);
   testing::ExpectStoreIntact(*store_, /*full=*/true);
+}
+
+// A map of side x side square units tiling most of the DEM (rings through a point every DEM
+// cell, so their segments touch most triangles): loaded in one transaction, its conflict region
+// is more than half of the surface, which the engine then re-triangulates whole
+// (kMinWholeSurfaceRegion).
+std::vector<std::vector<PointList>> SquareMap(int side, double cells_per_unit) {
+  const double unit = cells_per_unit * kCell;
+  const double x0 = kCx - side * unit / 2 + 0.37 * kCell, y0 = kCy - side * unit / 2 + 0.21 * kCell;
+  const int steps = static_cast<int>(cells_per_unit);
+  std::vector<std::vector<PointList>> map;
+  for (int j = 0; j < side; ++j) {
+    for (int i = 0; i < side; ++i) {
+      const double x = x0 + i * unit, y = y0 + j * unit;
+      PointList ring;
+      for (int k = 0; k < steps; ++k) ring.push_back({x + unit * k / steps, y});
+      for (int k = 0; k < steps; ++k) ring.push_back({x + unit, y + unit * k / steps});
+      for (int k = 0; k < steps; ++k) ring.push_back({x + unit * (steps - k) / steps, y + unit});
+      for (int k = 0; k < steps; ++k) ring.push_back({x, y + unit * (steps - k) / steps});
+      ring.push_back(ring.front());
+      map.push_back({ring});
+    }
+  }
+  return map;
+}
+
+// Visibility and tag at points of a grid over the map, none on a ring: what paint a user sees,
+// equal for any two triangulations of the same constraints whose paint is right.
+std::vector<std::string> PaintSamples(Store& store) {
+  auto surface = SurfaceStore(store).Find(kMapSurface);
+  EXPECT_TRUE(surface.ok());
+  std::vector<std::string> samples;
+  if (!surface.ok()) return samples;
+  PointLocator locator(store, *surface);
+  const double half = kMapSide * kMapUnitCells * kCell / 2;
+  for (double y = kCy - half; y < kCy + half; y += 2.9 * kCell) {
+    for (double x = kCx - half; x < kCx + half; x += 3.1 * kCell) {
+      auto at = locator.Locate(x, y);
+      EXPECT_TRUE(at.ok()) << at.status().ToString();
+      if (!at.ok()) continue;
+      samples.push_back(std::to_string(at->visible) + ":" + at->tag.value_or("-"));
+    }
+  }
+  return samples;
+}
+
+TEST_F(UpdateEngineTest, ManyFeaturesOverMostOfTheSurfaceReplaceItWhole) {
+  const std::string file = WritePolygons(dir_, "map.geojson", SquareMap(kMapSide, kMapUnitCells));
+  const std::string surface = std::to_string(BuildMapSurface());
+  const int64_t triangles_before = Int("SELECT count(*) FROM triangles WHERE surface = " + surface);
+  const int64_t last_id_before = Int("SELECT max(id) FROM triangles");
+  const auto vertices_before = VertexRows();
+  const auto terrain_before = Rows();  // both surfaces' rows
+  // The same load feature by feature, every edit local, in a copy of the store.
+  store_.reset();
+  std::filesystem::copy_file(dir_.Path("s.tinbase"), dir_.Path("each.tinbase"));
+  Reopen();
+
+  PolygonAddOptions o;
+  o.surface = kMapSurface;
+  o.file = file;
+  o.mode = "fill";
+  o.tag_field = "unit";
+  auto report = AddPolygons(*store_, o);
+  ASSERT_TRUE(report.ok()) << report.status().ToString();
+  testing::ExpectStoreIntact(*store_, /*full=*/true);
+  EXPECT_EQ(report->features, kMapSide * kMapSide);
+  // The other surface's triangles are as they were.
+  const auto after = Rows();
+  for (const auto& [id, row] : terrain_before) {
+    if (Int("SELECT count(*) FROM triangles WHERE surface = 1 AND id = " + std::to_string(id))) {
+      EXPECT_TRUE(after.count(id) && after.at(id) == row) << "terrain triangle " << id;
+    }
+  }
+  // Every triangle was replaced, by rows with ids above the old ones.
+  EXPECT_EQ(report->removed, triangles_before);
+  EXPECT_EQ(report->added, Int("SELECT count(*) FROM triangles WHERE surface = " + surface));
+  EXPECT_EQ(Int("SELECT count(*) FROM triangles WHERE surface = " + surface +
+                " AND id <= " + std::to_string(last_id_before)),
+            0);
+  // Vertices that stay keep their ids and rows (a fill moves none and drops none).
+  EXPECT_EQ(VertexRows(vertices_before.size()), vertices_before);
+  auto changes = ChangesSince(*store_, report->tx - 1);
+  ASSERT_TRUE(changes.ok());
+  ASSERT_EQ(changes->size(), 1u);
+  EXPECT_EQ((*changes)[0].removed, report->removed);
+  EXPECT_EQ((*changes)[0].added, report->added);
+  EXPECT_EQ(Int("SELECT count(*) FROM features WHERE attributes LIKE '%\"unit\"%'"),
+            kMapSide * kMapSide);
+  const std::vector<std::string> whole = PaintSamples(*store_);
+
+  auto each_store = Store::Open(dir_.Path("each.tinbase"));
+  ASSERT_TRUE(each_store.ok());
+  o.each = true;
+  auto each = AddPolygons(**each_store, o);
+  ASSERT_TRUE(each.ok()) << each.status().ToString();
+  EXPECT_TRUE(each->failures.empty());
+  EXPECT_LT(each->removed, triangles_before * static_cast<int64_t>(kMapSide) * kMapSide / 4)
+      << "feature by feature, each edit stays local";
+  testing::ExpectStoreIntact(**each_store, /*full=*/true);
+  EXPECT_EQ(PaintSamples(**each_store), whole);
+}
+
+// As FailureAtEveryWriteStepRollsBack, for the whole-surface path.
+TEST_F(UpdateEngineTest, FailureAtEveryWriteStepOfAWholeSurfaceEditRollsBack) {
+  const std::string file = WritePolygons(dir_, "map.geojson", SquareMap(kMapSide, kMapUnitCells));
+  const std::string path = dir_.Path("s.tinbase");
+  const std::string surface = std::to_string(BuildMapSurface());
+  const int64_t triangles_before = Int("SELECT count(*) FROM triangles WHERE surface = " + surface);
+  for (int fail_at = 1;; ++fail_at) {
+    ASSERT_LT(fail_at, 50);
+    store_.reset();
+    const auto before = testing::TableChecksums(path);
+    Reopen();
+    PolygonAddOptions o;
+    o.surface = kMapSurface;
+    o.file = file;
+    o.mode = "fill";
+    o.tag_field = "unit";
+    o.fault_hook = [fail_at](int step) {
+      return step == fail_at
+                 ? Status::IOError("injected failure at write step " + std::to_string(step))
+                 : Status::Ok();
+    };
+    auto report = AddPolygons(*store_, o);
+    if (report.ok()) {
+      EXPECT_GT(fail_at, 3);
+      EXPECT_EQ(report->removed, triangles_before) << "not the whole-surface path";
+      testing::ExpectStoreIntact(*store_, /*full=*/true);
+      break;
+    }
+    EXPECT_EQ(report.status().code(), StatusCode::kIOError);
+    store_.reset();
+    EXPECT_EQ(testing::TableChecksums(path), before) << "fail at step " << fail_at;
+    Reopen();
+    testing::ExpectStoreIntact(*store_, /*full=*/true);
+  }
 }
 
 // Fault injection: fail the Nth write step, N = 1, 2, ... until the insert succeeds; every failed
