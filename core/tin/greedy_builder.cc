@@ -128,6 +128,8 @@ Result<Tin> BuildFromCorners(CellSource& dem, const GreedyOptions& options) {
   refine.tolerance = options.tolerance;
   refine.max_points = options.max_points > 0 ? options.max_points - 4 : 0;
   refine.tile = options.tile;
+  // One thread refines; unless told to stay on one, a second helps with the largest scans.
+  refine.parallel_scans = options.threads != 1;
   if (options.max_points != 4) RefineToTolerance(cdt, dem, refine);
   return cdt.ToTin();
 }
