@@ -248,8 +248,12 @@ Result<Tin> BuildGreedyTin(const Grid& dem, const GreedyOptions& options, Greedy
     TB_ASSIGN_OR_RETURN(halves,
                         BuildInHalves(dem, options, options.threads == 2 ? size_t{0} : kMinSeamVertices));
   }
-  if (!halves) return BuildGreedyTin(source, options, report);
-  Tin tin = std::move(*halves);
+  Tin tin;
+  if (halves) {
+    tin = std::move(*halves);
+  } else {
+    TB_ASSIGN_OR_RETURN(tin, BuildFromCorners(source, options));
+  }
   if (report != nullptr) {
     PaintAndMeasure(source, tin, report);
   } else {
