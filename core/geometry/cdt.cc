@@ -77,6 +77,8 @@ struct Cdt::Impl {
   Triangulation cdt;
   // Vertex handle by index, so constraints can be given as index pairs.
   std::vector<VertexHandle> handles;
+  // Whether InsertConstraint ever ran: without constraints ToTin need not walk every edge.
+  bool constrained = false;
 
   static FaceRef Ref(FaceHandle f) { return FaceRef{&*f}; }
   FaceHandle Handle(FaceRef r) const {
@@ -504,6 +506,7 @@ void Cdt::InsertConstraint(uint32_t a, uint32_t b) {
   const VertexHandle va = impl_->handles[a];
   const VertexHandle vb = impl_->handles[b];
   Triangulation& cdt = impl_->cdt;
+  impl_->constrained = true;
   if (cdt.dimension() < 2) {
     cdt.insert_constraint(va, vb);
     return;
@@ -655,6 +658,7 @@ Tin Cdt::ToTin(const ElevationFn& elevation) {
     }
     tin.triangles.push_back(t);
   }
+  if (!impl_->constrained) return tin;
   for (const auto& [f, i] : cdt.finite_edges()) {
     if (!f->is_constrained(i)) continue;
     tin.constraints.emplace_back(f->vertex(Triangulation::cw(i))->info().index,

@@ -32,20 +32,33 @@ class CellSource {
   // The first error met reading cells (those cells read as nodata); OK when none.
   virtual Status status() const { return Status::Ok(); }
 
+  // Whether two threads may call Span at once (a grid in memory: nothing changes on a read).
+  virtual bool ConcurrentReads() const { return false; }
+
   float At(int64_t col, int64_t row) {
     int64_t last = col;
     return *Span(row, col, &last);
   }
   bool IsValid(int64_t col, int64_t row) { return !std::isnan(At(col, row)); }
 
-  // Calls fn(col, value) for every cell of row `row` from `first` to `last`, span by span.
-  template <typename CellFn>
-  void ForEachCell(int64_t row, int64_t first, int64_t last, CellFn&& fn) {
+  // Calls fn(col, cells, count) for each contiguous run of row `row` from `first` to `last`:
+  // cells[0..count) are columns col..col + count - 1.
+  template <typename RunFn>
+  void ForEachRun(int64_t row, int64_t first, int64_t last, RunFn&& fn) {
     for (int64_t c = first; c <= last;) {
       int64_t end = last;
       const float* cells = Span(row, c, &end);
-      for (const int64_t stop = end; c <= stop; ++c, ++cells) fn(c, *cells);
+      fn(c, cells, end - c + 1);
+      c = end + 1;
     }
+  }
+
+  // Calls fn(col, value) for every cell of row `row` from `first` to `last`, span by span.
+  template <typename CellFn>
+  void ForEachCell(int64_t row, int64_t first, int64_t last, CellFn&& fn) {
+    ForEachRun(row, first, last, [&](int64_t col, const float* cells, int64_t count) {
+      for (int64_t i = 0; i < count; ++i) fn(col + i, cells[i]);
+    });
   }
 };
 
@@ -58,6 +71,7 @@ class GridCellSource final : public CellSource {
   const float* Span(int64_t row, int64_t col, int64_t* /*last*/) override {
     return grid_.cells.data() + row * grid_.geometry.width + col;
   }
+  bool ConcurrentReads() const override { return true; }
 
  private:
   const Grid& grid_;

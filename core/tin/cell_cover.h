@@ -66,17 +66,29 @@ inline bool PlaneOf(const CellTriangle& t, CellPlane* plane) {
   return true;
 }
 
-// Calls span(row, first_col, last_col) for every grid row of cell centres inside or on `t`,
-// clipped to width x height. The margin (1e-9 of a cell) absorbs the rounding of world ->
-// centre-space conversion, so a grid point that is a vertex is covered by its triangles.
-template <typename SpanFn>
-void ForEachCellSpan(const CellTriangle& t, int64_t width, int64_t height, SpanFn&& span) {
-  constexpr double kMargin = 1e-9;
+// The margin (1e-9 of a cell) by which ForEachCellSpan widens a triangle: it absorbs the rounding
+// of world -> centre-space conversion, so a grid point that is a vertex is covered by its
+// triangles.
+inline constexpr double kCellSpanMargin = 1e-9;
+
+// The first and last grid rows ForEachCellSpan may call `span` for (first > last: none).
+inline std::pair<int64_t, int64_t> CellSpanRows(const CellTriangle& t, int64_t height) {
   const double lo = std::min({t.row[0], t.row[1], t.row[2]});
   const double hi = std::max({t.row[0], t.row[1], t.row[2]});
-  const int64_t row_min = std::max<int64_t>(0, static_cast<int64_t>(std::ceil(lo - kMargin)));
-  const int64_t row_max =
-      std::min<int64_t>(height - 1, static_cast<int64_t>(std::floor(hi + kMargin)));
+  return {std::max<int64_t>(0, static_cast<int64_t>(std::ceil(lo - kCellSpanMargin))),
+          std::min<int64_t>(height - 1, static_cast<int64_t>(std::floor(hi + kCellSpanMargin)))};
+}
+
+// Calls span(row, first_col, last_col) for every grid row from row_min to row_max of cell centres
+// inside or on `t` (within the margin), clipped to width x height. Splitting a triangle's rows
+// (CellSpanRows) into ranges gives exactly the spans of the whole, range by range.
+template <typename SpanFn>
+void ForEachCellSpanInRows(const CellTriangle& t, int64_t width, int64_t height, int64_t row_min,
+                           int64_t row_max, SpanFn&& span) {
+  constexpr double kMargin = kCellSpanMargin;
+  const auto [first_row, last_row] = CellSpanRows(t, height);
+  row_min = std::max(row_min, first_row);
+  row_max = std::min(row_max, last_row);
   for (int64_t r = row_min; r <= row_max; ++r) {
     double left = std::numeric_limits<double>::infinity();
     double right = -left;
@@ -101,6 +113,13 @@ void ForEachCellSpan(const CellTriangle& t, int64_t width, int64_t height, SpanF
         std::min<int64_t>(width - 1, static_cast<int64_t>(std::floor(right + kMargin)));
     if (first <= last) span(r, first, last);
   }
+}
+
+// Calls span(row, first_col, last_col) for every grid row of cell centres inside or on `t`,
+// clipped to width x height (ForEachCellSpanInRows over all its rows).
+template <typename SpanFn>
+void ForEachCellSpan(const CellTriangle& t, int64_t width, int64_t height, SpanFn&& span) {
+  ForEachCellSpanInRows(t, width, height, 0, height - 1, std::forward<SpanFn>(span));
 }
 
 // Whether the centre of cell (col, row) lies inside or on the counter-clockwise triangle

@@ -128,6 +128,8 @@ Result<Tin> BuildFromCorners(CellSource& dem, const GreedyOptions& options) {
   refine.tolerance = options.tolerance;
   refine.max_points = options.max_points > 0 ? options.max_points - 4 : 0;
   refine.tile = options.tile;
+  // One thread refines; unless told to stay on one, a second helps with the largest scans.
+  refine.parallel_scans = options.threads != 1;
   if (options.max_points != 4) RefineToTolerance(cdt, dem, refine);
   return cdt.ToTin();
 }
@@ -246,8 +248,12 @@ Result<Tin> BuildGreedyTin(const Grid& dem, const GreedyOptions& options, Greedy
     TB_ASSIGN_OR_RETURN(halves,
                         BuildInHalves(dem, options, options.threads == 2 ? size_t{0} : kMinSeamVertices));
   }
-  if (!halves) return BuildGreedyTin(source, options, report);
-  Tin tin = std::move(*halves);
+  Tin tin;
+  if (halves) {
+    tin = std::move(*halves);
+  } else {
+    TB_ASSIGN_OR_RETURN(tin, BuildFromCorners(source, options));
+  }
   if (report != nullptr) {
     PaintAndMeasure(source, tin, report);
   } else {

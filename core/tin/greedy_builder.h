@@ -30,7 +30,9 @@ struct GreedyOptions {
   // enough to pay for it (WorthSplitting) and the seam's chain has at least kMinSeamVertices
   // vertices (a shorter one would weigh on a small TIN), else one. The result keeps the same
   // bound either way; the point sets differ a little (the two-thread one holds its seam's
-  // vertices).
+  // vertices). When a grid in memory is refined on one thread anyway (threads 0 or 2 with
+  // those options set, or 0 with a short seam), a second thread still scans half of each very
+  // large face (RefineOptions::parallel_scans), which changes nothing in the result.
   int threads = 0;
 };
 

@@ -2,12 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <queue>
 #include <set>
 #include <utility>
 
+#include "core/base/helper_thread.h"
 #include "core/geometry/predicates.h"
 #include "core/tin/cell_cover.h"
+#include "core/tin/worst_cell.h"
 
 namespace tinbase {
 
@@ -24,6 +27,7 @@ class Refiner {
     } else {
       queues_.resize(1);
     }
+    if (options.parallel_scans && dem.ConcurrentReads()) helper_.emplace();
   }
 
   std::vector<uint32_t> Run(std::vector<Cdt::FaceRef> region, RefineReport* report) {
@@ -124,32 +128,56 @@ class Refiner {
     const CellTriangle t = InCellSpace(v);
     CellPlane plane;
     if (!PlaneOf(t, &plane)) return;
-    int64_t col = -1, row = -1;
-    double worst = WorstCell(v, t, plane, /*test_each=*/false, &col, &row);
+    WorstCell worst = AnyWorstCell(t, plane);
     // The worst cell of all is nearly always one the face may insert; when it is not, the slow
     // scan finds the worst of those it may (the same cell the fast one would, when it may).
-    if (col >= 0 && (Skipped(col, row) || !Covers(v, col, row)))
-      worst = WorstCell(v, t, plane, /*test_each=*/true, &col, &row);
-    if (col >= 0) QueueOf(col, row).push(Candidate{worst, face, stamp, col, row});
+    if (worst.col >= 0 && (Skipped(worst.col, worst.row) || !Covers(v, worst.col, worst.row)))
+      worst = InsertableWorstCell(v, t, plane);
+    if (worst.col >= 0)
+      QueueOf(worst.col, worst.row).push(Candidate{worst.error, face, stamp, worst.col, worst.row});
   }
 
-  // The largest |plane - DEM| above the tolerance over the valid cells the face covers, and
-  // the first cell that has it (col -1 when none). With test_each, only cells not skipped and
-  // exactly covered count; those tests are made on a new maximum only, which is rare.
-  double WorstCell(const std::array<uint32_t, 3>& v, const CellTriangle& t, const CellPlane& plane,
-                   bool test_each, int64_t* col, int64_t* row) {
-    double worst = options_.tolerance;
-    *col = *row = -1;
+  // The largest |plane - DEM| above the tolerance over the valid cells of the face's spans, at
+  // the first cell that has it (col -1 when none). A face over more than kParallelScanCells
+  // cells is scanned in two row ranges, the second on the helper: the first range's cell wins
+  // a tie, as it would come first in one scan.
+  WorstCell AnyWorstCell(const CellTriangle& t, const CellPlane& plane) {
+    // Below this, handing half a scan over costs about what it saves (a wake-up is ~10-50 us).
+    constexpr double kParallelScanCells = 1 << 17;
+    WorstCell worst{options_.tolerance};
+    const auto [row_min, row_max] = CellSpanRows(t, geometry_.height);
+    if (!helper_ || row_max - row_min < 2 || TriangleCells(t) < kParallelScanCells) {
+      RaiseToWorstInRows(dem_, t, plane, row_min, row_max, &worst);
+      return worst;
+    }
+    const int64_t middle = row_min + (row_max - row_min) / 2;
+    WorstCell lower = worst;
+    helper_->Run([&] { RaiseToWorstInRows(dem_, t, plane, middle + 1, row_max, &lower); });
+    RaiseToWorstInRows(dem_, t, plane, row_min, middle, &worst);
+    helper_->Wait();
+    return lower.error > worst.error ? lower : worst;
+  }
+
+  // The face's area in cells: about how many cells its scan reads.
+  static double TriangleCells(const CellTriangle& t) {
+    return std::fabs((t.col[1] - t.col[0]) * (t.row[2] - t.row[0]) -
+                     (t.col[2] - t.col[0]) * (t.row[1] - t.row[0])) /
+           2;
+  }
+
+  // As AnyWorstCell, counting only cells not skipped and exactly covered; those tests are made
+  // on a new maximum only, which is rare.
+  WorstCell InsertableWorstCell(const std::array<uint32_t, 3>& v, const CellTriangle& t,
+                                const CellPlane& plane) {
+    WorstCell worst{options_.tolerance};
     ForEachCellSpan(
         t, geometry_.width, geometry_.height, [&](int64_t r, int64_t first, int64_t last) {
           const double y = static_cast<double>(r);
           dem_.ForEachCell(r, first, last, [&](int64_t c, float value) {
             if (std::isnan(value)) return;
             const double error = std::fabs(plane.At(static_cast<double>(c), y) - value);
-            if (error <= worst || (test_each && (Skipped(c, r) || !Covers(v, c, r)))) return;
-            worst = error;
-            *col = c;
-            *row = r;
+            if (error <= worst.error || Skipped(c, r) || !Covers(v, c, r)) return;
+            worst = WorstCell{error, c, r};
           });
         });
     return worst;
@@ -194,6 +222,7 @@ class Refiner {
   std::vector<Cdt::FaceRef> incident_;
   std::set<std::pair<int64_t, int64_t>> blocked_;
   std::vector<std::array<double, 2>> cell_xy_;  // vertices in centre space, by index
+  std::optional<HelperThread> helper_;  // with options.parallel_scans on a ConcurrentReads DEM
   uint64_t next_stamp_ = 1;  // 0 is a fresh face's stamp, never queued
 };
 
