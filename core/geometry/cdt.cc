@@ -71,6 +71,13 @@ bool CircumdiskBelow(FaceHandle f, double limit) {
   return top.sup() < limit;
 }
 
+// Edge i of f, constrained, as a TIN constraint.
+void AddConstraint(Tin& tin, FaceHandle f, int i) {
+  assert(f->is_constrained(i));
+  tin.constraints.emplace_back(f->vertex(Triangulation::cw(i))->info().index,
+                               f->vertex(Triangulation::ccw(i))->info().index);
+}
+
 }  // namespace
 
 struct Cdt::Impl {
@@ -646,19 +653,28 @@ Tin Cdt::ToTin(const ElevationFn& elevation) {
   int32_t next_id = 0;
   for (FaceHandle f : cdt.finite_face_handles()) f->info().id = next_id++;
   tin.triangles.reserve(static_cast<size_t>(next_id));
-  for (FaceHandle f : cdt.finite_face_handles()) {
+  if (cdt.dimension() < 2) {
+    // No triangles; the edges CGAL keeps in one dimension may still be constrained.
+    for (const auto& [f, i] : cdt.finite_edges())
+      if (f->is_constrained(i)) AddConstraint(tin, f, i);
+    return tin;
+  }
+  // Triangles and constraints in one walk over all faces, which touches each face once instead of
+  // once more per edge. Constraints come in finite_edges() order: an edge belongs to the face of
+  // its two with the smaller handle (CGAL's edge iterator), and is finite when neither end is
+  // the infinite vertex.
+  for (FaceHandle f : cdt.all_face_handles()) {
+    const bool finite = !cdt.is_infinite(f);
     TinTriangle t;
     for (int i = 0; i < 3; ++i) {
-      t.v[i] = f->vertex(i)->info().index;
       const FaceHandle n = f->neighbor(i);
-      t.n[i] = cdt.is_infinite(n) ? kNoNeighbour : n->info().id;
+      if (finite) {
+        t.v[i] = f->vertex(i)->info().index;
+        t.n[i] = cdt.is_infinite(n) ? kNoNeighbour : n->info().id;
+      }
+      if (f->is_constrained(i) && f < n && !cdt.is_infinite(f, i)) AddConstraint(tin, f, i);
     }
-    tin.triangles.push_back(t);
-  }
-  for (const auto& [f, i] : cdt.finite_edges()) {
-    if (!f->is_constrained(i)) continue;
-    tin.constraints.emplace_back(f->vertex(Triangulation::cw(i))->info().index,
-                                 f->vertex(Triangulation::ccw(i))->info().index);
+    if (finite) tin.triangles.push_back(t);
   }
   return tin;
 }
