@@ -445,9 +445,11 @@ std::vector<uint32_t> Cdt::Absorb(Cdt&& other, std::vector<FaceRef>* changed) {
     made[f->info().id] =
         tds.create_face(map(f->vertex(0)), map(f->vertex(1)), map(f->vertex(2)));
   }
-  std::vector<FaceHandle> hull_faces;
-  for (FaceHandle f : our_hull)
-    if (!dropped.count(f)) hull_faces.push_back(f);
+  // Our hull's order, not the set's (by address), for the deletions below: the slots they free
+  // are reused by later faces, whose order ToTin and the refiner's scans follow, and addresses
+  // differ from run to run.
+  std::vector<FaceHandle> hull_faces, to_delete;
+  for (FaceHandle f : our_hull) (dropped.count(f) ? to_delete : hull_faces).push_back(f);
   std::vector<std::pair<VertexHandle, VertexHandle>> joined;
   for (FaceHandle f : faces) {
     const FaceHandle copy = made[f->info().id];
@@ -472,7 +474,7 @@ std::vector<uint32_t> Cdt::Absorb(Cdt&& other, std::vector<FaceRef>* changed) {
     const FaceHandle copy = made[other.impl_->handles[k]->face()->info().id];
     if (copy != FaceHandle()) to[k]->set_face(copy);
   }
-  for (FaceHandle gone : dropped) {
+  for (FaceHandle gone : to_delete) {
     for (int i = 0; i < 3; ++i) {
       const VertexHandle v = gone->vertex(i);
       if (v != inf && v->face() == gone) v->set_face(gone->neighbor(gone->index(inf)));
@@ -494,9 +496,22 @@ std::vector<uint32_t> Cdt::Absorb(Cdt&& other, std::vector<FaceRef>* changed) {
     }
     std::sort(touched.begin(), touched.end());
     touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+    touched.erase(std::remove_if(touched.begin(), touched.end(),
+                                 [&](FaceHandle f) { return cdt.is_infinite(f); }),
+                  touched.end());
+    // In the order of the faces' vertex indices, not their addresses: the caller scans them in
+    // this order, and on ties in error the scan order picks the point, so an address order
+    // made the TIN differ between runs.
+    const auto key = [](FaceHandle f) {
+      std::array<uint32_t, 3> k{f->vertex(0)->info().index, f->vertex(1)->info().index,
+                                f->vertex(2)->info().index};
+      std::rotate(k.begin(), std::min_element(k.begin(), k.end()), k.end());
+      return k;
+    };
+    std::sort(touched.begin(), touched.end(),
+              [&](FaceHandle a, FaceHandle b) { return key(a) < key(b); });
     changed->clear();
-    for (FaceHandle f : touched)
-      if (!cdt.is_infinite(f)) changed->push_back(Impl::Ref(f));
+    for (FaceHandle f : touched) changed->push_back(Impl::Ref(f));
   }
   return index_map;
 }
