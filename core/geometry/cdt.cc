@@ -71,14 +71,19 @@ bool CircumdiskBelow(FaceHandle f, double limit) {
   return top.sup() < limit;
 }
 
+// Edge i of f, constrained, as a TIN constraint.
+void AddConstraint(Tin& tin, FaceHandle f, int i) {
+  assert(f->is_constrained(i));
+  tin.constraints.emplace_back(f->vertex(Triangulation::cw(i))->info().index,
+                               f->vertex(Triangulation::ccw(i))->info().index);
+}
+
 }  // namespace
 
 struct Cdt::Impl {
   Triangulation cdt;
   // Vertex handle by index, so constraints can be given as index pairs.
   std::vector<VertexHandle> handles;
-  // Whether InsertConstraint ever ran: without constraints ToTin need not walk every edge.
-  bool constrained = false;
 
   static FaceRef Ref(FaceHandle f) { return FaceRef{&*f}; }
   FaceHandle Handle(FaceRef r) const {
@@ -440,9 +445,11 @@ std::vector<uint32_t> Cdt::Absorb(Cdt&& other, std::vector<FaceRef>* changed) {
     made[f->info().id] =
         tds.create_face(map(f->vertex(0)), map(f->vertex(1)), map(f->vertex(2)));
   }
-  std::vector<FaceHandle> hull_faces;
-  for (FaceHandle f : our_hull)
-    if (!dropped.count(f)) hull_faces.push_back(f);
+  // Our hull's order, not the set's (by address), for the deletions below: the slots they free
+  // are reused by later faces, whose order ToTin and the refiner's scans follow, and addresses
+  // differ from run to run.
+  std::vector<FaceHandle> hull_faces, to_delete;
+  for (FaceHandle f : our_hull) (dropped.count(f) ? to_delete : hull_faces).push_back(f);
   std::vector<std::pair<VertexHandle, VertexHandle>> joined;
   for (FaceHandle f : faces) {
     const FaceHandle copy = made[f->info().id];
@@ -467,7 +474,7 @@ std::vector<uint32_t> Cdt::Absorb(Cdt&& other, std::vector<FaceRef>* changed) {
     const FaceHandle copy = made[other.impl_->handles[k]->face()->info().id];
     if (copy != FaceHandle()) to[k]->set_face(copy);
   }
-  for (FaceHandle gone : dropped) {
+  for (FaceHandle gone : to_delete) {
     for (int i = 0; i < 3; ++i) {
       const VertexHandle v = gone->vertex(i);
       if (v != inf && v->face() == gone) v->set_face(gone->neighbor(gone->index(inf)));
@@ -489,9 +496,22 @@ std::vector<uint32_t> Cdt::Absorb(Cdt&& other, std::vector<FaceRef>* changed) {
     }
     std::sort(touched.begin(), touched.end());
     touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+    touched.erase(std::remove_if(touched.begin(), touched.end(),
+                                 [&](FaceHandle f) { return cdt.is_infinite(f); }),
+                  touched.end());
+    // In the order of the faces' vertex indices, not their addresses: the caller scans them in
+    // this order, and on ties in error the scan order picks the point, so an address order
+    // made the TIN differ between runs.
+    const auto key = [](FaceHandle f) {
+      std::array<uint32_t, 3> k{f->vertex(0)->info().index, f->vertex(1)->info().index,
+                                f->vertex(2)->info().index};
+      std::rotate(k.begin(), std::min_element(k.begin(), k.end()), k.end());
+      return k;
+    };
+    std::sort(touched.begin(), touched.end(),
+              [&](FaceHandle a, FaceHandle b) { return key(a) < key(b); });
     changed->clear();
-    for (FaceHandle f : touched)
-      if (!cdt.is_infinite(f)) changed->push_back(Impl::Ref(f));
+    for (FaceHandle f : touched) changed->push_back(Impl::Ref(f));
   }
   return index_map;
 }
@@ -506,7 +526,6 @@ void Cdt::InsertConstraint(uint32_t a, uint32_t b) {
   const VertexHandle va = impl_->handles[a];
   const VertexHandle vb = impl_->handles[b];
   Triangulation& cdt = impl_->cdt;
-  impl_->constrained = true;
   if (cdt.dimension() < 2) {
     cdt.insert_constraint(va, vb);
     return;
@@ -649,20 +668,28 @@ Tin Cdt::ToTin(const ElevationFn& elevation) {
   int32_t next_id = 0;
   for (FaceHandle f : cdt.finite_face_handles()) f->info().id = next_id++;
   tin.triangles.reserve(static_cast<size_t>(next_id));
-  for (FaceHandle f : cdt.finite_face_handles()) {
+  if (cdt.dimension() < 2) {
+    // No triangles; the edges CGAL keeps in one dimension may still be constrained.
+    for (const auto& [f, i] : cdt.finite_edges())
+      if (f->is_constrained(i)) AddConstraint(tin, f, i);
+    return tin;
+  }
+  // Triangles and constraints in one walk over all faces, which touches each face once instead of
+  // once more per edge. Constraints come in finite_edges() order: an edge belongs to the face of
+  // its two with the smaller handle (CGAL's edge iterator), and is finite when neither end is
+  // the infinite vertex.
+  for (FaceHandle f : cdt.all_face_handles()) {
+    const bool finite = !cdt.is_infinite(f);
     TinTriangle t;
     for (int i = 0; i < 3; ++i) {
-      t.v[i] = f->vertex(i)->info().index;
       const FaceHandle n = f->neighbor(i);
-      t.n[i] = cdt.is_infinite(n) ? kNoNeighbour : n->info().id;
+      if (finite) {
+        t.v[i] = f->vertex(i)->info().index;
+        t.n[i] = cdt.is_infinite(n) ? kNoNeighbour : n->info().id;
+      }
+      if (f->is_constrained(i) && f < n && !cdt.is_infinite(f, i)) AddConstraint(tin, f, i);
     }
-    tin.triangles.push_back(t);
-  }
-  if (!impl_->constrained) return tin;
-  for (const auto& [f, i] : cdt.finite_edges()) {
-    if (!f->is_constrained(i)) continue;
-    tin.constraints.emplace_back(f->vertex(Triangulation::cw(i))->info().index,
-                                 f->vertex(Triangulation::ccw(i))->info().index);
+    if (finite) tin.triangles.push_back(t);
   }
   return tin;
 }

@@ -5,6 +5,7 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -223,6 +224,21 @@ void PaintAndMeasure(CellSource& dem, Tin& tin, GreedyReport* report) {
   report->points = static_cast<int64_t>(tin.vertices.size());
 }
 
+// Every triangle's visibility over a grid in memory: no reading order to keep, so no sort by
+// tile. With `two_threads`, the second half of the triangles is done on a helper thread (each
+// triangle's flag depends on it alone, so the result is the same).
+void MarkVisible(const Grid& dem, Tin& tin, bool two_threads) {
+  const auto mark = [&](size_t first, size_t last) {
+    for (size_t i = first; i < last; ++i)
+      tin.triangles[i].visible = TriangleOnData(dem, tin, tin.triangles[i]);
+  };
+  const size_t n = tin.triangles.size();
+  if (!two_threads) return mark(0, n);
+  std::thread helper(mark, n / 2, n);
+  mark(0, n / 2);
+  helper.join();
+}
+
 }  // namespace
 
 Result<Tin> BuildGreedyTin(CellSource& dem, const GreedyOptions& options, GreedyReport* report) {
@@ -257,8 +273,7 @@ Result<Tin> BuildGreedyTin(const Grid& dem, const GreedyOptions& options, Greedy
   if (report != nullptr) {
     PaintAndMeasure(source, tin, report);
   } else {
-    // Nothing to measure, and cells in memory need no reading order: no sort by tile.
-    for (TinTriangle& t : tin.triangles) t.visible = TriangleOnData(dem, tin, t);
+    MarkVisible(dem, tin, /*two_threads=*/halves.has_value());
   }
   return tin;
 }

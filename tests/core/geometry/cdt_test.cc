@@ -55,6 +55,28 @@ std::set<std::pair<uint32_t, uint32_t>> ConstraintSet(const Tin& tin) {
   return set;
 }
 
+// ToTin gathers constraints in its walk over the faces: an edge on the hull, whose other face is
+// infinite, counts as much as an inner one, and each comes out once.
+TEST(CdtTest, ToTinListsEachConstrainedEdgeOnceHullEdgesIncluded) {
+  Cdt cdt;
+  cdt.InsertVertices({{0, 0, 0}, {10, 0, 0}, {10, 10, 0}, {0, 10, 0}, {5, 4, 0}});
+  const std::vector<std::pair<uint32_t, uint32_t>> edges{{0, 1}, {1, 2}, {2, 3},
+                                                         {3, 0}, {0, 4}, {4, 2}};
+  for (const auto& [a, b] : edges) cdt.InsertConstraint(a, b);
+  const Tin tin = cdt.ToTin();
+  ASSERT_EQ(tin.constraints.size(), edges.size());
+  std::set<std::pair<uint32_t, uint32_t>> want;
+  for (const auto& [a, b] : edges) want.insert({std::min(a, b), std::max(a, b)});
+  EXPECT_EQ(ConstraintSet(tin), want);
+  // Collinear vertices: no triangle, the constraint still listed.
+  Cdt line;
+  line.InsertVertices({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}});
+  line.InsertConstraint(0, 2);
+  const Tin on_line = line.ToTin();
+  EXPECT_TRUE(on_line.triangles.empty());
+  EXPECT_EQ(ConstraintSet(on_line), (std::set<std::pair<uint32_t, uint32_t>>{{0, 1}, {1, 2}}));
+}
+
 TEST(CdtTest, BulkInsertionKeepsInputOrderAndData) {
   const unsigned seed = std::random_device{}();
   std::printf("BulkInsertionKeepsInputOrderAndData seed %u\n", seed);
