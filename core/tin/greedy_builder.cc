@@ -262,7 +262,7 @@ Result<Tin> BuildGreedyTin(const Grid& dem, const GreedyOptions& options, Greedy
   std::optional<Tin> halves;
   if (MaySplit(dem, options)) {
     TB_ASSIGN_OR_RETURN(halves,
-                        BuildInHalves(dem, options, options.threads == 2 ? size_t{0} : kMinSeamVertices));
+                        BuildInHalves(dem, options, options.threads == 2 ? size_t{0} : MinSeamVertices(dem.geometry)));
   }
   Tin tin;
   if (halves) {

@@ -171,6 +171,11 @@ SeamChoice ChooseSeam(const Grid& dem, double tolerance, const BoundaryElevation
   return SeamChoice{seam.vertical, seam.at, chain.size()};
 }
 
+size_t MinSeamVertices(const GridGeometry& g) {
+  const int64_t seam_cells = std::min(g.width, g.height);
+  return std::max(kMinSeamVertices, static_cast<size_t>(seam_cells / kMaxSeamCellsPerVertex));
+}
+
 std::optional<Cdt> RefineInHalves(const Grid& dem, double tolerance,
                                   const BoundaryElevationFn& boundary_z,
                                   size_t min_seam_vertices) {

@@ -40,6 +40,17 @@ using BoundaryElevationFn = std::function<double(int64_t col, int64_t row)>;
 // 20 (generated 1025^2 and 2049^2 at 20 m) cost 3.5 % and 1.9 % more triangles than one thread,
 // past or near the 2 % over delatin that issue 4 allows; chains of 48 and longer cost under 1 %.
 inline constexpr size_t kMinSeamVertices = 32;
+// Nor may the chain be sparser than one vertex per this many cells of the seam: a sparse chain
+// means a surface coarse for its grid, where the halves, refined apart, differ most from one
+// greedy run. Measured (2026-11-24): generated 4097^2 at 20 m, a chain of 50 on 4097 cells, cost
+// 2.2 % more triangles than one thread; chains of one vertex per 22 cells or denser (generated
+// 1025^2 at 5 m: 47) cost under 1 %.
+inline constexpr int64_t kMaxSeamCellsPerVertex = 40;
+
+// The chain length below which an automatic build of `g` stays on one thread: kMinSeamVertices,
+// or one vertex per kMaxSeamCellsPerVertex cells of the seam (the grid's shorter side, which the
+// seam runs along), whichever is more.
+size_t MinSeamVertices(const GridGeometry& g);
 
 // True when `dem` is large enough for a split to pay for its thread: at least 3 cells across
 // its longer side, so the seam has a half on each side, and enough cells that the work dwarfs

@@ -78,6 +78,17 @@ TEST(SplitRefinementTest, SeamMovesToWhereTheWorkSplitsEvenly) {
   EXPECT_LT(seam.at, 100);
 }
 
+// The automatic minimum grows with the seam (the grid's shorter side) past kMinSeamVertices.
+TEST(SplitRefinementTest, MinimumChainGrowsWithTheSeam) {
+  const auto minimum = [](int64_t width, int64_t height) {
+    return MinSeamVertices(GridGeometry{0.0, 0.0, 1.0, -1.0, width, height});
+  };
+  EXPECT_EQ(minimum(1025, 1025), kMinSeamVertices);
+  EXPECT_EQ(minimum(8000, 1000), kMinSeamVertices);  // the seam runs along the 1000 rows
+  EXPECT_EQ(minimum(4097, 4097), 4097u / kMaxSeamCellsPerVertex);
+  EXPECT_EQ(minimum(8000, 4000), 4000u / kMaxSeamCellsPerVertex);
+}
+
 TEST(SplitRefinementTest, ShortSeamKeepsOneThreadOnlyWhenAsked) {
   // Every line of a plane has a chain of 2: below any useful minimum.
   const Grid dem = PlaneWithZigzag(300, 300, /*vertical=*/true, -1);
