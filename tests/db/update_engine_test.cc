@@ -198,6 +198,36 @@ class UpdateEngineTest : public ::testing::Test {
     store_ = std::move(*store);
   }
 
+  // Fault injection: runs AddPolygons(options) failing its Nth write step, N = 1, 2, ... until it
+  // succeeds; every failed attempt must leave the store byte-for-byte as it was and intact.
+  // Returns the report of the attempt that succeeded.
+  PolygonAddReport FailEachWriteStepUntilItSucceeds(PolygonAddOptions options) {
+    const std::string path = dir_.Path("s.tinbase");
+    for (int fail_at = 1; fail_at < 50; ++fail_at) {
+      store_.reset();
+      const auto before = testing::TableChecksums(path);
+      Reopen();
+      options.fault_hook = [fail_at](int step) {
+        return step == fail_at
+                   ? Status::IOError("injected failure at write step " + std::to_string(step))
+                   : Status::Ok();
+      };
+      auto report = AddPolygons(*store_, options);
+      if (report.ok()) {
+        EXPECT_GT(fail_at, 3);
+        testing::ExpectStoreIntact(*store_, /*full=*/true);
+        return *report;
+      }
+      EXPECT_EQ(report.status().code(), StatusCode::kIOError);
+      testing::ExpectStoreIntact(*store_, /*full=*/true);
+      store_.reset();
+      EXPECT_EQ(testing::TableChecksums(path), before) << "fail at step " << fail_at;
+      Reopen();
+    }
+    ADD_FAILURE() << "the insert never succeeded";
+    return {};
+  }
+
   TempDir dir_;
   std::unique_ptr<Store> store_;
 };
@@ -869,72 +899,26 @@ TEST_F(UpdateEngineTest, ManyFeaturesOverMostOfTheSurfaceReplaceItWhole) {
 // As FailureAtEveryWriteStepRollsBack, for the whole-surface path.
 TEST_F(UpdateEngineTest, FailureAtEveryWriteStepOfAWholeSurfaceEditRollsBack) {
   const std::string file = WritePolygons(dir_, "map.geojson", SquareMap(kMapSide, kMapUnitCells));
-  const std::string path = dir_.Path("s.tinbase");
   const std::string surface = std::to_string(BuildMapSurface());
   const int64_t triangles_before = Int("SELECT count(*) FROM triangles WHERE surface = " + surface);
-  for (int fail_at = 1;; ++fail_at) {
-    ASSERT_LT(fail_at, 50);
-    store_.reset();
-    const auto before = testing::TableChecksums(path);
-    Reopen();
-    PolygonAddOptions o;
-    o.surface = kMapSurface;
-    o.file = file;
-    o.mode = "fill";
-    o.tag_field = "unit";
-    o.fault_hook = [fail_at](int step) {
-      return step == fail_at
-                 ? Status::IOError("injected failure at write step " + std::to_string(step))
-                 : Status::Ok();
-    };
-    auto report = AddPolygons(*store_, o);
-    if (report.ok()) {
-      EXPECT_GT(fail_at, 3);
-      EXPECT_EQ(report->removed, triangles_before) << "not the whole-surface path";
-      testing::ExpectStoreIntact(*store_, /*full=*/true);
-      break;
-    }
-    EXPECT_EQ(report.status().code(), StatusCode::kIOError);
-    store_.reset();
-    EXPECT_EQ(testing::TableChecksums(path), before) << "fail at step " << fail_at;
-    Reopen();
-    testing::ExpectStoreIntact(*store_, /*full=*/true);
-  }
+  PolygonAddOptions o;
+  o.surface = kMapSurface;
+  o.file = file;
+  o.mode = "fill";
+  o.tag_field = "unit";
+  EXPECT_EQ(FailEachWriteStepUntilItSucceeds(o).removed, triangles_before)
+      << "not the whole-surface path";
 }
 
 // Fault injection: fail the Nth write step, N = 1, 2, ... until the insert succeeds; every failed
 // attempt leaves the store byte-for-byte as it was and intact.
 TEST_F(UpdateEngineTest, FailureAtEveryWriteStepRollsBack) {
   AddChecked(WritePolygons(dir_, "a.geojson", {{Ngon(kCx, kCy, 8 * kCell, 20)}}), "fill");
-  const std::string file =
-      WritePolygons(dir_, "b.geojson", {{Ngon(kCx + 5 * kCell, kCy, 7 * kCell, 19, 0.5)}});
-  const std::string path = dir_.Path("s.tinbase");
-  for (int fail_at = 1;; ++fail_at) {
-    ASSERT_LT(fail_at, 50);
-    store_.reset();
-    const auto before = testing::TableChecksums(path);
-    Reopen();
-    PolygonAddOptions o;
-    o.surface = "terrain";
-    o.file = file;
-    o.mode = "erase";
-    o.fault_hook = [fail_at](int step) {
-      return step == fail_at
-                 ? Status::IOError("injected failure at write step " + std::to_string(step))
-                 : Status::Ok();
-    };
-    auto report = AddPolygons(*store_, o);
-    if (report.ok()) {
-      EXPECT_GT(fail_at, 3);
-      testing::ExpectStoreIntact(*store_, /*full=*/true);
-      break;
-    }
-    EXPECT_EQ(report.status().code(), StatusCode::kIOError);
-    testing::ExpectStoreIntact(*store_, /*full=*/true);
-    store_.reset();
-    EXPECT_EQ(testing::TableChecksums(path), before) << "fail at step " << fail_at;
-    Reopen();
-  }
+  PolygonAddOptions o;
+  o.surface = "terrain";
+  o.file = WritePolygons(dir_, "b.geojson", {{Ngon(kCx + 5 * kCell, kCy, 7 * kCell, 19, 0.5)}});
+  o.mode = "erase";
+  FailEachWriteStepUntilItSucceeds(o);
 }
 
 }  // namespace
