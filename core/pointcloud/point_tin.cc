@@ -45,9 +45,8 @@ size_t SortDroppingDuplicates(std::vector<TinVertex>& vertices) {
     std::stable_sort(vertices.begin(), vertices.end(), by_xy);
   } else {
     const auto middle = vertices.begin() + static_cast<ptrdiff_t>(vertices.size() / 2);
-    std::future<void> first_half = std::async(std::launch::async, [&] {
-      std::stable_sort(vertices.begin(), middle, by_xy);
-    });
+    std::future<void> first_half =
+        std::async(std::launch::async, [&] { std::stable_sort(vertices.begin(), middle, by_xy); });
     std::stable_sort(middle, vertices.end(), by_xy);
     first_half.get();
     std::inplace_merge(vertices.begin(), middle, vertices.end(), by_xy);

@@ -261,8 +261,9 @@ Result<Tin> BuildGreedyTin(const Grid& dem, const GreedyOptions& options, Greedy
   GridCellSource source(dem);
   std::optional<Tin> halves;
   if (MaySplit(dem, options)) {
-    TB_ASSIGN_OR_RETURN(halves,
-                        BuildInHalves(dem, options, options.threads == 2 ? size_t{0} : MinSeamVertices(dem.geometry)));
+    TB_ASSIGN_OR_RETURN(
+        halves, BuildInHalves(dem, options,
+                              options.threads == 2 ? size_t{0} : MinSeamVertices(dem.geometry)));
   }
   Tin tin;
   if (halves) {

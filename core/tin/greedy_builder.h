@@ -28,8 +28,8 @@ struct GreedyOptions {
   // 1: refine on one thread. 2: on two (core/tin/split_refinement.h) when the DEM is a grid in
   // memory and neither max_points nor tile is set. 0: two when that applies, the grid is large
   // enough to pay for it (WorthSplitting) and the seam's chain has at least MinSeamVertices
-  // vertices (a shorter or sparser one would weigh on a small TIN), else one. The result keeps the same
-  // bound either way; the point sets differ a little (the two-thread one holds its seam's
+  // vertices (a shorter or sparser one would weigh on a small TIN), else one. The result keeps the
+  // same bound either way; the point sets differ a little (the two-thread one holds its seam's
   // vertices). When a grid in memory is refined on one thread anyway (threads 0 or 2 with
   // those options set, or 0 with a short seam), a second thread still scans half of each very
   // large face (RefineOptions::parallel_scans), which changes nothing in the result.

@@ -38,7 +38,8 @@ using BoundaryElevationFn = std::function<double(int64_t col, int64_t row)>;
 
 // A chain shorter than this keeps an automatic build on one thread. Measured: chains of 14 and
 // 20 (generated 1025^2 and 2049^2 at 20 m) cost 3.5 % and 1.9 % more triangles than one thread,
-// past or near the 2 % over delatin that issue 4 allows; chains of 48 and longer cost under 1 %.
+// past or near the 2 % over delatin that issue 4 allows; on those grids chains of 48 and longer
+// cost under 1 % (but see kMaxSeamCellsPerVertex for larger grids).
 inline constexpr size_t kMinSeamVertices = 32;
 // Nor may the chain be sparser than one vertex per this many cells of the seam: a sparse chain
 // means a surface coarse for its grid, where the halves, refined apart, differ most from one

@@ -16,9 +16,9 @@ using Bits = int64_t __attribute__((vector_size(32)));
 // Each lane computes error_at of RaiseToRunWorst in the same order of operations; x + 4 stays
 // exact (integers far below 2^53). fabs is the sign bit cleared, as std::fabs does.
 __attribute__((target_clones("avx2", "default"))) double RunMaxError(const CellPlane& plane,
-                                                                      double row_term, double x0,
-                                                                      const float* cells,
-                                                                      int64_t count) {
+                                                                     double row_term, double x0,
+                                                                     const float* cells,
+                                                                     int64_t count) {
   const Doubles z0 = Doubles{} + plane.z0, a = Doubles{} + plane.a, c0 = Doubles{} + plane.c0;
   const Doubles term = Doubles{} + row_term;
   const Bits magnitude = Bits{} + INT64_MAX;

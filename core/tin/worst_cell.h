@@ -69,13 +69,12 @@ inline void RaiseToRunWorst(const CellPlane& plane, int64_t row, int64_t col, co
 inline void RaiseToWorstInRows(CellSource& dem, const CellTriangle& t, const CellPlane& plane,
                                int64_t row_min, int64_t row_max, WorstCell* worst) {
   const GridGeometry& g = dem.geometry();
-  ForEachCellSpanInRows(t, g.width, g.height, row_min, row_max,
-                        [&](int64_t row, int64_t first, int64_t last) {
-                          dem.ForEachRun(row, first, last,
-                                         [&](int64_t col, const float* cells, int64_t count) {
-                                           RaiseToRunWorst(plane, row, col, cells, count, worst);
-                                         });
-                        });
+  ForEachCellSpanInRows(
+      t, g.width, g.height, row_min, row_max, [&](int64_t row, int64_t first, int64_t last) {
+        dem.ForEachRun(row, first, last, [&](int64_t col, const float* cells, int64_t count) {
+          RaiseToRunWorst(plane, row, col, cells, count, worst);
+        });
+      });
 }
 
 }  // namespace tinbase

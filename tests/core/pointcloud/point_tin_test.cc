@@ -203,7 +203,7 @@ TEST(PointTin, ReadPointsSortsAndDropsDuplicatesKeepingTheFirst) {
 TEST(PointTin, LargeFilesSortAndDropDuplicatesAsSmallOnes) {
   testing::TempDir dir;
   const std::string path = dir.Path("many.xyz");
-  constexpr int kSide = 400;  // 160 000 distinct points, then copies
+  constexpr int kSide = 400;              // 160 000 distinct points, then copies
   std::vector<std::array<int, 3>> lines;  // x, y, z (z = line number, to tell copies apart)
   for (int i = 0; i < kSide * kSide; ++i) {
     const int k = static_cast<int>((static_cast<int64_t>(i) * 7919) % (kSide * kSide));

@@ -242,7 +242,8 @@ TEST(GreedyBuilderTest, AutomaticThreadsSplitOnlyOnALongSeam) {
   };
   for (const double tolerance : {100.0, 0.5}) {
     SCOPED_TRACE("tolerance " + std::to_string(tolerance));
-    const bool long_seam = ChooseSeam(dem, tolerance, z).chain_vertices >= MinSeamVertices(dem.geometry);
+    const bool long_seam =
+        ChooseSeam(dem, tolerance, z).chain_vertices >= MinSeamVertices(dem.geometry);
     EXPECT_EQ(long_seam, tolerance < 1);  // the premise: one case of each
     auto automatic = BuildGreedyTin(dem, {.tolerance = tolerance});
     auto one = BuildGreedyTin(dem, {.tolerance = tolerance, .threads = 1});

@@ -26,7 +26,8 @@ Grid TerrainWithHoles(int64_t width, int64_t height) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
   for (int64_t r = 0; r < height; ++r) {
     for (int64_t c = 0; c < width; ++c) {
-      const double dc = static_cast<double>(c - width / 3), dr = static_cast<double>(r - height / 2);
+      const double dc = static_cast<double>(c - width / 3),
+                   dr = static_cast<double>(r - height / 2);
       if (dc * dc + dr * dr < 40 || (r % 5 == 0 && c % 13 == 0))
         grid.cells[static_cast<size_t>(r * width + c)] = nan;
     }
@@ -52,16 +53,16 @@ class ShortRunSource final : public CellSource {
 WorstCell PlainWorstCell(const Grid& grid, const CellTriangle& t, const CellPlane& plane,
                          double floor) {
   WorstCell worst{floor};
-  ForEachCellSpan(t, grid.geometry.width, grid.geometry.height,
-                  [&](int64_t r, int64_t first, int64_t last) {
-                    for (int64_t c = first; c <= last; ++c) {
-                      const float value = grid.At(c, r);
-                      if (std::isnan(value)) continue;
-                      const double error = std::fabs(
-                          plane.At(static_cast<double>(c), static_cast<double>(r)) - value);
-                      if (error > worst.error) worst = WorstCell{error, c, r};
-                    }
-                  });
+  ForEachCellSpan(
+      t, grid.geometry.width, grid.geometry.height, [&](int64_t r, int64_t first, int64_t last) {
+        for (int64_t c = first; c <= last; ++c) {
+          const float value = grid.At(c, r);
+          if (std::isnan(value)) continue;
+          const double error =
+              std::fabs(plane.At(static_cast<double>(c), static_cast<double>(r)) - value);
+          if (error > worst.error) worst = WorstCell{error, c, r};
+        }
+      });
   return worst;
 }
 
