@@ -198,6 +198,7 @@ class Edit {
     TB_RETURN_IF_ERROR(SeedRemovals());
     TB_RETURN_IF_ERROR(LoadSurfaceIfManyPoints());
     TB_RETURN_IF_ERROR(SnapPoints());
+    TB_RETURN_IF_ERROR(SetAsidePresentSegments());
     TB_RETURN_IF_ERROR(SeedPolylines());
     // Growing by circumcircles only saves rounds of the local path; the whole surface needs none.
     TB_ASSIGN_OR_RETURN(whole_surface_, RegionIsMostOfTheSurface());
@@ -391,6 +392,7 @@ class Edit {
     const auto bucket = [snap](double v) { return static_cast<int64_t>(std::floor(v / snap)); };
     for (EditPolyline& line : lines_) {
       located_.emplace_back();
+      snapped_to_.emplace_back();
       std::optional<int64_t> previous;  // the triangle holding the previous point
       for (size_t i = 0; i < line.points.size(); ++i) {
         TinVertex& p = line.points[i];
@@ -410,11 +412,13 @@ class Edit {
         }
         TB_ASSIGN_OR_RETURN(const MeshTriangle* tri, mesh_.Triangle(t));
         bool snapped = false;
+        int64_t vertex = 0;
         for (int64_t v : tri->v) {
           TB_ASSIGN_OR_RETURN(Point2 q, mesh_.At(v));
           if (std::hypot(q.x - p.x, q.y - p.y) > snap) continue;
           p.x = q.x, p.y = q.y;
           snapped = true;
+          vertex = v;
           break;
         }
         const int64_t bx = bucket(p.x), by = bucket(p.y);
@@ -437,6 +441,7 @@ class Edit {
         }
         buckets[{bx, by}].push_back({p.x, p.y});
         located_.back().push_back(t);
+        snapped_to_.back().push_back(vertex);
         previous = t;
       }
     }
@@ -480,6 +485,82 @@ class Edit {
       }
     }
     return false;
+  }
+
+  // A new segment whose ends snapped onto the two ends of a kept constrained edge runs exactly
+  // along it: the shared boundary of neighbouring polygons, half the segments of a map layer
+  // loaded feature by feature. Constraining an edge that already is one leaves the CDT as it is,
+  // so such a segment seeds no conflict region; it only gains an owner (present_), whose row
+  // Write adds, piece by piece if R's re-triangulation splits the edge. The rest of its line
+  // goes on as open chains of the other segments. Off while the surface has replace features
+  // or the edit removes any: both change vertex z, which only R and the paint area settle.
+  Status SetAsidePresentSegments() {
+    if (!replace_polygons_.empty() || !edit_.remove.empty()) return Status::Ok();
+    std::vector<EditPolyline> chains;
+    std::vector<std::vector<int64_t>> chains_located;
+    for (size_t l = 0; l < lines_.size(); ++l) {
+      const EditPolyline& line = lines_[l];
+      const size_t n = line.points.size();
+      const size_t segments = line.closed ? n : (n > 0 ? n - 1 : 0);
+      std::vector<uint8_t> present(segments, 0);
+      for (size_t i = 0; i < segments; ++i) {
+        TB_ASSIGN_OR_RETURN(const bool along, RunsAlongAConstraint(l, i, (i + 1) % n));
+        present[i] = along;
+      }
+      const auto first_present = std::find(present.begin(), present.end(), uint8_t{1});
+      if (first_present == present.end()) {
+        chains.push_back(std::move(lines_[l]));
+        chains_located.push_back(std::move(located_[l]));
+        continue;
+      }
+      // A closed line's chains start after a present segment, so none wraps around.
+      const size_t start =
+          line.closed ? static_cast<size_t>(first_present - present.begin()) + 1 : 0;
+      EditPolyline chain{{}, false, line.feature};
+      std::vector<int64_t> chain_located;
+      const auto end_chain = [&] {
+        if (!chain.points.empty()) {
+          chains.push_back(std::move(chain));
+          chains_located.push_back(std::move(chain_located));
+        }
+        chain = EditPolyline{{}, false, line.feature};
+        chain_located.clear();
+      };
+      for (size_t k = 0; k < segments; ++k) {
+        const size_t i = (start + k) % segments, j = (i + 1) % n;
+        if (present[i]) {
+          const int64_t a = snapped_to_[l][i], b = snapped_to_[l][j];
+          if (a != b) present_[Key(a, b)].push_back(line.feature);
+          end_chain();
+          continue;
+        }
+        if (chain.points.empty()) {
+          chain.points.push_back(line.points[i]);
+          chain_located.push_back(located_[l][i]);
+        }
+        chain.points.push_back(line.points[j]);
+        chain_located.push_back(located_[l][j]);
+      }
+      end_chain();
+    }
+    lines_ = std::move(chains);
+    located_ = std::move(chains_located);
+    snapped_to_.clear();  // no longer matches lines_
+    return Status::Ok();
+  }
+
+  // Whether the segment from point i to point j of line l lies on a kept constrained edge: both
+  // ends snapped onto its vertices (or onto one vertex: a segment of length 0), and no point of
+  // this edit splits it.
+  Result<bool> RunsAlongAConstraint(size_t l, size_t i, size_t j) {
+    const int64_t a = snapped_to_[l][i], b = snapped_to_[l][j];
+    if (a == 0 || b == 0) return false;
+    if (a == b) return true;
+    const Edge e = Key(a, b);
+    if (removed_edges_.count(e) || splits_.count(e) || dropped_.count(a) || dropped_.count(b))
+      return false;
+    TB_ASSIGN_OR_RETURN(const std::vector<int64_t>* owners, mesh_.Owners(a, b));
+    return !owners->empty();
   }
 
   // Every triangle a new segment touches (closed: a segment through a vertex takes its fan),
@@ -1229,30 +1310,42 @@ class Edit {
     std::vector<std::pair<Edge, int64_t>> added_edges;  // (edge, feature), written in bulk below
     std::set<std::pair<Edge, int64_t>> edges_written;
     std::set<Edge> accounted;  // store edges that are constraints after the edit, or R's outline
+    const auto add_row = [&](const Edge& e, int64_t feature) {
+      accounted.insert(e);
+      if (!edges_written.insert({e, feature}).second) return;
+      added_edges.push_back({e, feature});
+      mesh_.ForgetEdge(e.first, e.second);
+    };
     const auto write_pieces = [&](uint32_t a, uint32_t b, int64_t feature) -> Status {
       TB_ASSIGN_OR_RETURN(auto pieces, Pieces(graph, tin, a, b));
-      for (const auto& [u, w] : pieces) {
-        const Edge e = Key(ids[u], ids[w]);
-        accounted.insert(e);
-        if (!edges_written.insert({e, feature}).second) continue;
-        added_edges.push_back({e, feature});
-        mesh_.ForgetEdge(e.first, e.second);
-      }
+      for (const auto& [u, w] : pieces) add_row(Key(ids[u], ids[w]), feature);
       return Status::Ok();
     };
+    // The features that new segments running along a kept constraint add to its owners.
+    std::map<Edge, std::vector<int64_t>> joining = present_;
     for (const auto& [edge, owners] : patch.old_constraints) {
       const uint32_t a = local_.at(edge.first), b = local_.at(edge.second);
+      std::vector<int64_t> joined;
+      if (auto it = joining.find(edge); it != joining.end()) {
+        joined = std::move(it->second);
+        joining.erase(it);
+      }
       bool whole = false;
       for (uint32_t w : graph[a]) whole |= w == b;
       if (whole) {
         accounted.insert(edge);
+        for (int64_t f : joined) add_row(edge, f);
         continue;
       }
       TB_RETURN_IF_ERROR(
           del_edge->Bind(1, surface_.id).Bind(2, edge.first).Bind(3, edge.second).Run());
       mesh_.ForgetEdge(edge.first, edge.second);
       for (int64_t f : owners) TB_RETURN_IF_ERROR(write_pieces(a, b, f));
+      for (int64_t f : joined) TB_RETURN_IF_ERROR(write_pieces(a, b, f));
     }
+    // Outside R the edge is as it was.
+    for (const auto& [edge, features] : joining)
+      for (int64_t f : features) add_row(edge, f);
     for (size_t l = 0; l < lines_.size(); ++l) {
       const std::vector<uint32_t>& idx = patch.lines[l];
       const size_t n = idx.size();
@@ -1412,6 +1505,9 @@ class Edit {
   std::unique_ptr<PolygonLocator> restore_;      // removed replace features: z back from the DEM
   std::vector<EditPolyline> lines_;              // edit.add, snapped
   std::vector<std::vector<int64_t>> located_;    // a triangle holding each point of lines_
+  std::vector<std::vector<int64_t>> snapped_to_;  // the stored vertex each point snapped onto, or 0
+  // Kept constrained edges that new segments run along (SetAsidePresentSegments): their features.
+  std::map<Edge, std::vector<int64_t>> present_;
   std::vector<EditorFeature> removed_features_;  // rows of edit.remove, as stored
   std::vector<int64_t> around_;          // stored triangles of mixed blocks whose paint may change
   std::vector<int64_t> uniform_blocks_;  // blocks repainted whole, in (by, bx) order

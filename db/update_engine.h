@@ -5,6 +5,9 @@
 // The conflict region R is found by walking the stored neighbour links: the triangles each new
 // segment touches (from its located first vertex), the stars of the vertices whose constraints
 // go, grown by every triangle across an unconstrained edge whose circumcircle holds a new point.
+// A new segment whose ends snap onto the ends of a stored constraint runs along it and seeds
+// nothing: constraining an edge that already is one leaves the CDT as it is, so it only gains an
+// owner (a map's shared boundaries: half the segments of a layer loaded feature by feature).
 // R alone is re-triangulated in CGAL (core/geometry/cdt) with its outline constrained (only to
 // keep the patch's boundary; never persisted), the old constraints inside it and the new ones,
 // then refined from the DEM to the surface tolerance (core/tin/tolerance_refiner). When an

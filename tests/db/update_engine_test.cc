@@ -265,6 +265,30 @@ TEST_F(UpdateEngineTest, OverlappingCrossingTouchingFeatures) {
             0);
 }
 
+// A ring that runs along constraints already stored (a map's shared boundaries) changes no
+// triangle: its segments only gain an owner, and paint follows the new feature.
+TEST_F(UpdateEngineTest, RingAlongStoredConstraintsRetriangulatesNothing) {
+  PointList ring = Ngon(kCx, kCy, 10 * kCell, 30);
+  const PolygonAddReport a = AddChecked(WritePolygons(dir_, "a.geojson", {{ring}}), "fill");
+  const std::string count_a =
+      "SELECT count(*) FROM constraints WHERE feature = " + std::to_string(a.first_feature_id);
+  const int64_t edges = Int(count_a);
+  ASSERT_GE(edges, 30);
+  std::reverse(ring.begin(), ring.end());  // the same edges, traversed the other way
+  const int64_t visible = Int("SELECT count(*) FROM triangles WHERE visible");
+  const PolygonAddReport b = AddChecked(WritePolygons(dir_, "b.geojson", {{ring}}), "erase");
+  EXPECT_EQ(b.removed, 0);
+  EXPECT_EQ(b.added, 0);
+  EXPECT_EQ(
+      Int("SELECT count(*) FROM constraints WHERE feature = " + std::to_string(b.first_feature_id)),
+      edges);
+  EXPECT_EQ(Int(count_a), edges);
+  EXPECT_LT(Int("SELECT count(*) FROM triangles WHERE visible"), visible);
+  // Removing either feature leaves the other's ring whole.
+  RemoveChecked(a.first_feature_id);
+  EXPECT_EQ(Int("SELECT count(*) FROM constraints"), edges);
+}
+
 TEST_F(UpdateEngineTest, RemoveAndUpdateAreLocalAndRestoreTheSurface) {
   const PolygonAddReport a =
       AddChecked(WritePolygons(dir_, "a.geojson", {{Ngon(kCx, kCy, 10 * kCell, 30)}}), "fill");
