@@ -69,6 +69,24 @@ void MeshCache::ForgetEdge(int64_t a, int64_t b) {
   owners_complete_ = false;
 }
 
+void MeshCache::Repaint(int64_t id, bool visible, const std::optional<int64_t>& tag) {
+  if (auto it = triangles_.find(id); it != triangles_.end()) {
+    it->second.visible = visible;
+    it->second.tag = tag;
+  }
+}
+
+void MeshCache::AddOwner(int64_t a, int64_t b, int64_t feature) {
+  const Edge e = Key(a, b);
+  if (auto it = owners_.find(e); it != owners_.end()) {
+    it->second.push_back(feature);
+  } else if (owners_complete_) {
+    owners_.emplace(e, std::vector<int64_t>{feature});
+  }  // else unknown: its rows are read when next asked for
+}
+
+void MeshCache::SetUnconstrained(int64_t a, int64_t b) { owners_[Key(a, b)].clear(); }
+
 void MeshCache::ForgetAllOwners() {
   owners_.clear();
   owners_complete_ = false;

@@ -4,8 +4,9 @@
 //
 // Within one edit every read happens before the first write, so the rows stay current. A load
 // feature by feature (`polygon add --each`) keeps one cache across its transactions: the engine
-// forgets every row it writes (Forget*), so after a commit the cache holds only rows as stored,
-// and the next edit starts from them instead of reading them again. That is valid only while
+// puts every row it writes (Put*, Repaint, AddOwner) or forgets it (Forget*), so after a commit
+// the cache holds only rows as stored, and the next edit starts from them instead of reading
+// them again. That is valid only while
 // nobody else wrote in between: Begin() drops everything unless the store's change number is
 // the one after Committed()'s and no other connection has committed since (SQLite's
 // data_version), and when it has grown past kMaxKeptTriangles. After a failed or rolled-back edit
@@ -42,10 +43,10 @@ class MeshCache {
  public:
   using Edge = std::pair<int64_t, int64_t>;  // (min, max) store vertex ids
 
-  // Rows kept across transactions cost lookups in ever larger hash maps: loading the 1178-polygon
-  // bands map (docs/BENCHMARKS.md) with every row kept was ~15% slower than with a fresh cache
-  // per edit; capped here it measured the same as a fresh cache, within the machine's noise.
-  static constexpr size_t kMaxKeptTriangles = 20000;
+  // Bounds the memory rows kept across transactions take (~150 bytes a triangle with its share
+  // of vertices and owners). Kept rows pay because edits write through (Put*): with rows only
+  // forgotten on write, the rows the next edit needed were the ones just forgotten.
+  static constexpr size_t kMaxKeptTriangles = 1000000;
 
   MeshCache(Store& store, const SurfaceInfo& surface) : store_(store), surface_(surface) {}
   MeshCache(const MeshCache&) = delete;
@@ -92,10 +93,22 @@ class MeshCache {
   // `closed` is false when the vertex lies on the domain boundary.
   Result<std::vector<int64_t>> Star(int64_t vertex, int64_t start, bool* closed);
 
-  // A row the current edit writes (or deletes): read again from the store when next asked for.
+  // A row the current edit deletes, or writes without telling its content: read again from the
+  // store when next asked for.
   void ForgetTriangle(int64_t id) { triangles_.erase(id); }
   void ForgetVertex(int64_t id) { vertices_.erase(id); }
   void ForgetEdge(int64_t a, int64_t b);
+  // A row the current edit writes, as written (write-through): the next edit of a load feature by
+  // feature reads the rows the last one wrote more than any other, so they are kept, not
+  // forgotten.
+  void PutTriangle(int64_t id, const MeshTriangle& t) { triangles_[id] = t; }
+  void PutVertex(int64_t id, const TinVertex& v) { vertices_[id] = v; }
+  // Triangle `id`'s paint is now this (a no-op when it is not cached).
+  void Repaint(int64_t id, bool visible, const std::optional<int64_t>& tag);
+  // `feature` now owns constrained edge (a, b) too (one row more).
+  void AddOwner(int64_t a, int64_t b, int64_t feature);
+  // Edge (a, b) has no constraint row now.
+  void SetUnconstrained(int64_t a, int64_t b);
   void ForgetAllOwners();
   // Every row (an edit rewrote the whole surface); unlike Clear() the rows of the next edit may
   // still be kept (Begin).

@@ -1100,7 +1100,7 @@ class Edit {
       for (size_t k = 0; k < fresh.size(); ++k) {
         ids[fresh[k]] = first + static_cast<int64_t>(k);
         new_ids.insert(ids[fresh[k]]);
-        mesh_.ForgetVertex(ids[fresh[k]]);
+        mesh_.PutVertex(ids[fresh[k]], tin.vertices[fresh[k]]);
       }
       TB_RETURN_IF_ERROR(InsertNumberedRows(db, "vertices(surface, x, y, z, kind)", 5, fresh.size(),
                                             first, [&](Statement& row, int p, size_t k) {
@@ -1117,7 +1117,9 @@ class Edit {
       TB_ASSIGN_OR_RETURN(const TinVertex* stored, mesh_.Vertex(patch.store_ids[i]));
       if (stored->z == tin.vertices[i].z) continue;
       TB_RETURN_IF_ERROR(set_z->Bind(1, tin.vertices[i].z).Bind(2, patch.store_ids[i]).Run());
-      mesh_.ForgetVertex(patch.store_ids[i]);
+      TinVertex moved = *stored;
+      moved.z = tin.vertices[i].z;
+      mesh_.PutVertex(patch.store_ids[i], moved);
     }
 
     // The patch's inside triangles get fresh ids above every id in the table, so an id never
@@ -1182,42 +1184,50 @@ class Edit {
       return paint.tag[k] == kNoTag ? std::optional<int64_t>() : tag_ids[paint.tag[k]];
     };
 
+    std::vector<MeshTriangle> rows(written.size());
+    for (size_t k = 0; k < written.size(); ++k) {
+      const TinTriangle& tri = tin.triangles[written[k]];
+      MeshTriangle& row = rows[k];
+      for (int i = 0; i < 3; ++i) {
+        row.v[i] = ids[tri.v[i]];
+        if (tri.n[i] != kNoNeighbour && patch.inside[tri.n[i]]) {
+          row.n[i] = new_id[tri.n[i]];
+        } else {
+          auto it = outer_across.find(Edge{ids[tri.v[(i + 1) % 3]], ids[tri.v[(i + 2) % 3]]});
+          if (it != outer_across.end()) row.n[i] = it->second;
+        }
+      }
+      row.visible = paint.visible[k] != 0;
+      row.tag = tag_of(k);
+    }
     TB_RETURN_IF_ERROR(Step());
     {
       // Every key bound here holds: the surface is the one being edited, the tags were interned
       // above in this transaction.
       TB_ASSIGN_OR_RETURN(auto unchecked, UncheckedIfWholeSurface());
-      TB_RETURN_IF_ERROR(InsertNumberedRows(
-          db, "triangles(surface, v0, v1, v2, n0, n1, n2, visible, tag, block)", 10, written.size(),
-          base, [&](Statement& row, int p, size_t k) {
-            const uint32_t t = written[k];
-            const TinTriangle& tri = tin.triangles[t];
-            row.Bind(p, surface_.id);
-            for (int i = 0; i < 3; ++i) {
-              row.Bind(p + 1 + i, ids[tri.v[i]]);
-              std::optional<int64_t> n;
-              if (tri.n[i] != kNoNeighbour && patch.inside[tri.n[i]]) {
-                n = new_id[tri.n[i]];
-              } else {
-                auto it = outer_across.find(Edge{ids[tri.v[(i + 1) % 3]], ids[tri.v[(i + 2) % 3]]});
-                if (it != outer_across.end()) n = it->second;
-              }
-              if (n)
-                row.Bind(p + 4 + i, *n);
-              else
-                row.BindNull(p + 4 + i);
-            }
-            row.Bind(p + 7, int64_t{paint.visible[k] ? 1 : 0});
-            if (auto tag = tag_of(k))
-              row.Bind(p + 8, *tag);
-            else
-              row.BindNull(p + 8);
-            row.Bind(p + 9, block[t]);
-          }));
+      TB_RETURN_IF_ERROR(
+          InsertNumberedRows(db, "triangles(surface, v0, v1, v2, n0, n1, n2, visible, tag, block)",
+                             10, written.size(), base, [&](Statement& row, int p, size_t k) {
+                               const MeshTriangle& t = rows[k];
+                               row.Bind(p, surface_.id);
+                               for (int i = 0; i < 3; ++i) {
+                                 row.Bind(p + 1 + i, t.v[i]);
+                                 if (t.n[i])
+                                   row.Bind(p + 4 + i, *t.n[i]);
+                                 else
+                                   row.BindNull(p + 4 + i);
+                               }
+                               row.Bind(p + 7, int64_t{t.visible ? 1 : 0});
+                               if (t.tag)
+                                 row.Bind(p + 8, *t.tag);
+                               else
+                                 row.BindNull(p + 8);
+                               row.Bind(p + 9, block[written[k]]);
+                             }));
     }
     for (size_t k = 0; k < written.size(); ++k) {
-      result_.visible_added += paint.visible[k] != 0;
-      mesh_.ForgetTriangle(new_id[written[k]]);
+      result_.visible_added += rows[k].visible;
+      mesh_.PutTriangle(new_id[written[k]], rows[k]);
     }
     size_t k = written.size();  // paint index of the first stored triangle around
 
@@ -1291,7 +1301,7 @@ class Edit {
           relink->BindNull(1 + i);
       }
       TB_RETURN_IF_ERROR(relink->Bind(4, id).Run());
-      mesh_.ForgetTriangle(id);
+      mesh_.PutTriangle(id, t);
     }
 
     // Constraints: the removed features' rows go; kept constraints split by new points or
@@ -1314,7 +1324,7 @@ class Edit {
       accounted.insert(e);
       if (!edges_written.insert({e, feature}).second) return;
       added_edges.push_back({e, feature});
-      mesh_.ForgetEdge(e.first, e.second);
+      mesh_.AddOwner(e.first, e.second, feature);
     };
     const auto write_pieces = [&](uint32_t a, uint32_t b, int64_t feature) -> Status {
       TB_ASSIGN_OR_RETURN(auto pieces, Pieces(graph, tin, a, b));
@@ -1339,7 +1349,7 @@ class Edit {
       }
       TB_RETURN_IF_ERROR(
           del_edge->Bind(1, surface_.id).Bind(2, edge.first).Bind(3, edge.second).Run());
-      mesh_.ForgetEdge(edge.first, edge.second);
+      mesh_.SetUnconstrained(edge.first, edge.second);
       for (int64_t f : owners) TB_RETURN_IF_ERROR(write_pieces(a, b, f));
       for (int64_t f : joined) TB_RETURN_IF_ERROR(write_pieces(a, b, f));
     }
@@ -1370,6 +1380,20 @@ class Edit {
                                       else
                                         row.BindNull(p + 3);
                                     }));
+    }
+    // The new triangles' other edges are unconstrained: said so to the cache, the next edits
+    // need not look their rows up.
+    if (!whole_surface_) {
+      for (uint32_t t : written) {
+        const auto& v = tin.triangles[t].v;
+        for (int i = 0; i < 3; ++i) {
+          const uint32_t a = v[i], b = v[(i + 1) % 3];
+          const auto it = graph.find(a);
+          if (it == graph.end() ||
+              std::find(it->second.begin(), it->second.end(), b) == it->second.end())
+            mesh_.SetUnconstrained(ids[a], ids[b]);
+        }
+      }
     }
     // R's outline is constrained only in the patch; on the domain boundary new points may split
     // it (it has no triangle across), so its pieces count too.
@@ -1408,7 +1432,9 @@ class Edit {
       const double z = TargetZ(*stored);
       if (z == stored->z) continue;
       TB_RETURN_IF_ERROR(set_z->Bind(1, z).Bind(2, id).Run());
-      mesh_.ForgetVertex(id);
+      TinVertex moved = *stored;
+      moved.z = z;
+      mesh_.PutVertex(id, moved);
     }
     return Status::Ok();
   }
@@ -1447,7 +1473,8 @@ class Edit {
       TB_RETURN_IF_ERROR(
           repaint->Bind(3, repaints[first].triangle).Bind(4, repaints[last].triangle).Run());
       result_.repainted += store_.db().Changes();
-      for (size_t k = first; k <= last; ++k) mesh_.ForgetTriangle(repaints[k].triangle);
+      for (size_t k = first; k <= last; ++k)
+        mesh_.Repaint(repaints[k].triangle, repaints[k].visible, repaints[k].tag);
       first = last + 1;
     }
     return Status::Ok();
