@@ -6,6 +6,7 @@
 
 #include "core/geometry/polygon_locator.h"
 #include "core/tin/cell_cover.h"
+#include "core/tin/ring_blocks.h"
 #include "core/vector/feature_wkb.h"
 
 namespace tinbase {
@@ -96,6 +97,17 @@ Box BoxOf(const EditorFeature& f) {
 const std::shared_ptr<const PolygonLocator>& InsideOf(const EditorFeature& f) {
   if (!f.inside_cache) f.inside_cache = std::make_shared<const PolygonLocator>(f.polygons);
   return f.inside_cache;
+}
+
+const std::vector<int64_t>& RingBlocksOf(const EditorFeature& f, const BlockGrid& grid) {
+  const BlockGrid& g = f.ring_blocks_grid;
+  if (!f.ring_blocks_cache || g.origin_x != grid.origin_x || g.origin_y != grid.origin_y ||
+      g.size != grid.size) {
+    f.ring_blocks_cache =
+        std::make_shared<const std::vector<int64_t>>(BlocksNearRings(grid, f.polygons));
+    f.ring_blocks_grid = grid;
+  }
+  return *f.ring_blocks_cache;
 }
 
 Result<std::vector<EditorFeature>> LoadFeatures(Store& store, const SurfaceInfo& surface) {

@@ -19,6 +19,7 @@
 #include "core/geometry/polygon_locator.h"
 #include "core/raster/cell_source.h"
 #include "core/raster/grid.h"
+#include "core/tin/block_grid.h"
 #include "core/tin/feature_paint.h"
 #include "core/tin/tin.h"
 #include "db/store.h"
@@ -58,12 +59,15 @@ struct EditorFeature {
   std::vector<Polygon> polygons;
   std::vector<std::vector<Point2>> lines;
 
-  // Derived from polygons and lines on first use (BoxOf, InsideOf) and shared by later copies:
+  // Derived from polygons and lines on first use (BoxOf, InsideOf, RingBlocksOf) and shared by
+  // later copies:
   // `--each` hands the same features from one transaction to the next, and rebuilding every
   // nearby feature's index in each was a sixth of a feature's cost. Hence polygons and lines
   // must not change once either has been asked for.
   mutable std::optional<Box> box_cache;
   mutable std::shared_ptr<const PolygonLocator> inside_cache;
+  mutable std::shared_ptr<const std::vector<int64_t>> ring_blocks_cache;  // of ring_blocks_grid
+  mutable BlockGrid ring_blocks_grid;
 };
 
 inline bool IsBreakline(const std::string& mode) { return mode == "breakline"; }
@@ -73,6 +77,8 @@ inline bool IsBreakline(const std::string& mode) { return mode == "breakline"; }
 Box BoxOf(const EditorFeature& f);
 // The union of the feature's polygons as a point-in-polygon index.
 const std::shared_ptr<const PolygonLocator>& InsideOf(const EditorFeature& f);
+// The blocks of `grid` the feature's rings come near (core/tin/ring_blocks.h BlocksNearRings).
+const std::vector<int64_t>& RingBlocksOf(const EditorFeature& f, const BlockGrid& grid);
 
 // Every feature of `surface`, in id order (the order their paint applies in).
 Result<std::vector<EditorFeature>> LoadFeatures(Store& store, const SurfaceInfo& surface);

@@ -699,7 +699,7 @@ class Edit {
     for (const EditPolyline& line : edit_.add) added_ids.insert(line.feature);
     std::vector<Polygon> changed;
     bool anywhere = false, per_triangle = false;
-    RingBlocks near_any(g, window);
+    RingBlocks near_any(g, window), near_changed(g, window);
     Box window_box;  // the window's blocks, grown by the margin RingBlocks tests them with
     const double reach = g.size / 2 + RingBlocks::kMargin * g.size;
     const Point2 low = near_any.Centre(window.bx0, window.by0);
@@ -709,16 +709,15 @@ class Edit {
     const auto note = [&](const EditorFeature& f, bool is_changed) {
       if (IsBreakline(f.mode) || !ParsePaintMode(f.mode).ok()) return;
       if (!is_changed && !BoxOf(f).Meets(window_box)) return;  // no ring of it near the window
-      near_any.AddRings(f.polygons);
+      near_any.AddBlocks(RingBlocksOf(f, g));
       if (!is_changed) return;
+      near_changed.AddBlocks(RingBlocksOf(f, g));
       changed.insert(changed.end(), f.polygons.begin(), f.polygons.end());
       anywhere |= f.mode == "clip";
       per_triangle |= f.mode == "replace";
     };
     for (const EditorFeature& f : edit_.features) note(f, added_ids.count(f.id) > 0);
     for (const EditorFeature& f : removed_features_) note(f, true);
-    RingBlocks near_changed(g, window);
-    near_changed.AddRings(changed);
     const PolygonLocator inside_changed(changed);
 
     // The DEM under the window, for the data test of whole blocks; read only if one may be.

@@ -48,6 +48,35 @@ void RingBlocks::AddRings(const std::vector<Polygon>& polygons) {
   }
 }
 
+void RingBlocks::AddBlocks(const std::vector<int64_t>& packed) {
+  for (int64_t id : packed) {
+    const int64_t by = id / BlockGrid::kStride, bx = id % BlockGrid::kStride;
+    if (window_.Contains(bx, by)) near_[Index(bx, by)] = 1;
+  }
+}
+
+std::vector<int64_t> BlocksNearRings(const BlockGrid& grid, const std::vector<Polygon>& polygons) {
+  double min_x = INFINITY, min_y = INFINITY, max_x = -INFINITY, max_y = -INFINITY;
+  for (const Polygon& p : polygons) {
+    for (const Point2& q : p.shell) {
+      min_x = std::min(min_x, q.x), max_x = std::max(max_x, q.x);
+      min_y = std::min(min_y, q.y), max_y = std::max(max_y, q.y);
+    }
+  }
+  if (!(min_x <= max_x && min_y <= max_y)) return {};  // no shell point (holes lie inside it)
+  // Every block a segment can mark: its box grown by the margin AddSegment grows blocks by.
+  const double m = RingBlocks::kMargin * grid.size;
+  const BlockWindow window{grid.ColumnOf(min_x - m), grid.RowOf(min_y - m),
+                           grid.ColumnOf(max_x + m), grid.RowOf(max_y + m)};
+  RingBlocks near(grid, window);
+  near.AddRings(polygons);
+  std::vector<int64_t> packed;
+  for (int64_t by = window.by0; by <= window.by1; ++by)
+    for (int64_t bx = window.bx0; bx <= window.bx1; ++bx)
+      if (near.Near(bx, by)) packed.push_back(BlockGrid::Pack(bx, by));
+  return packed;
+}
+
 void RingBlocks::AddSegment(const Point2& a, const Point2& b) {
   const double m = kMargin * grid_.size;
   const auto column = [&](double x) {
@@ -56,13 +85,14 @@ void RingBlocks::AddSegment(const Point2& a, const Point2& b) {
   const auto row = [&](double y) {
     return static_cast<int64_t>(std::floor((y - grid_.origin_y) / grid_.size));
   };
-  const int64_t bx0 = std::max(window_.bx0, column(std::min(a.x, b.x) - m));
-  const int64_t bx1 = std::min(window_.bx1, column(std::max(a.x, b.x) + m));
-  const int64_t by0 = std::max(window_.by0, row(std::min(a.y, b.y) - m));
-  const int64_t by1 = std::min(window_.by1, row(std::max(a.y, b.y) + m));
+  const int64_t left = column(std::min(a.x, b.x) - m), right = column(std::max(a.x, b.x) + m);
+  const int64_t bottom = row(std::min(a.y, b.y) - m), top = row(std::max(a.y, b.y) + m);
   // Ring segments are mostly shorter than a block: their box is the answer. Longer ones test
-  // each block of their box, so a long diagonal does not mark a whole square of blocks.
-  const bool small = bx1 - bx0 <= 1 && by1 - by0 <= 1;
+  // each block of their box, so a long diagonal does not mark a whole square of blocks. Judged
+  // on the whole box, not its part in the window, so every window marks the same blocks.
+  const bool small = right - left <= 1 && top - bottom <= 1;
+  const int64_t bx0 = std::max(window_.bx0, left), bx1 = std::min(window_.bx1, right);
+  const int64_t by0 = std::max(window_.by0, bottom), by1 = std::min(window_.by1, top);
   for (int64_t by = by0; by <= by1; ++by) {
     for (int64_t bx = bx0; bx <= bx1; ++bx) {
       uint8_t& near = near_[Index(bx, by)];

@@ -1,9 +1,12 @@
 // RingBlocks on a 10 x 10 window of 10-unit blocks: the blocks a ring passes through or touches
 // are near, blocks inside or outside it are not, a long diagonal marks only the blocks it
-// crosses, and rings or parts of rings outside the window are ignored.
+// crosses, and rings or parts of rings outside the window are ignored; the blocks found once for
+// the whole grid (BlocksNearRings) mark the same blocks in any window.
 #include "core/tin/ring_blocks.h"
 
 #include <gtest/gtest.h>
+
+#include <random>
 
 namespace tinbase {
 namespace {
@@ -65,6 +68,28 @@ TEST(RingBlocksTest, HolesCountAndRingsOutsideTheWindowAreIgnored) {
   EXPECT_TRUE(blocks.Near(3, 3));
   EXPECT_FALSE(blocks.Near(2, 2));
   EXPECT_FALSE(blocks.Near(4, 4));
+}
+
+TEST(RingBlocksTest, BlocksFoundOnceMarkWhatTheRingsMarkInAnyWindow) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> coordinate(-20, 180);
+  for (int round = 0; round < 20; ++round) {
+    Polygon p;
+    for (int i = 0; i < 12; ++i) p.shell.push_back({coordinate(rng), coordinate(rng)});
+    p.holes.push_back({{60, 60}, {60, 70}, {70, 70}, {70, 60}});
+    const std::vector<int64_t> once = BlocksNearRings(kGrid, {p});
+    EXPECT_TRUE(std::is_sorted(once.begin(), once.end()));
+    for (const BlockWindow& w : {BlockWindow{0, 0, 19, 19}, BlockWindow{3, 5, 8, 6},
+                                 BlockWindow{6, 6, 6, 6}, BlockWindow{12, 0, 30, 30}}) {
+      RingBlocks tested(kGrid, w), replayed(kGrid, w);
+      tested.AddRings({p});
+      replayed.AddBlocks(once);
+      for (int64_t by = w.by0; by <= w.by1; ++by)
+        for (int64_t bx = w.bx0; bx <= w.bx1; ++bx)
+          ASSERT_EQ(tested.Near(bx, by), replayed.Near(bx, by)) << round << ": " << bx << " " << by;
+    }
+  }
+  EXPECT_TRUE(BlocksNearRings(kGrid, {}).empty());
 }
 
 }  // namespace
