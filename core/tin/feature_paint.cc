@@ -124,20 +124,28 @@ Paint ComputePaint(const Tin& tin, const std::vector<PaintedFeature>& features) 
         level[v] = feature.level;
       }
     }
+    if (feature.mode != PaintMode::kClip && feature.mode != PaintMode::kErase) continue;
     buckets.ForEachNear(locator.min(), locator.max(), [&](uint32_t t) {
       if (locator.Locate(centroids[t]) == PointInPolygon::kOutside) return;
-      switch (feature.mode) {
-        case PaintMode::kClip:
-          in_clip[t] = 1;
-          break;
-        case PaintMode::kErase:
-          paint.visible[t] = 0;
-          break;
-        case PaintMode::kReplace:
-        case PaintMode::kFill:
-          paint.tag[t] = feature.tag;
-          break;
-      }
+      if (feature.mode == PaintMode::kClip)
+        in_clip[t] = 1;
+      else
+        paint.visible[t] = 0;
+    });
+  }
+  // Tags: the last fill or replace feature holding a centroid wins, so they are tested last to
+  // first and a triangle is decided by the first that holds it (in a map of neighbouring
+  // polygons whose boxes overlap, most of the others are then never tested).
+  std::vector<uint8_t> decided(n, 0);
+  for (auto it = features.rbegin(); it != features.rend(); ++it) {
+    const PaintedFeature& feature = *it;
+    if (feature.mode != PaintMode::kFill && feature.mode != PaintMode::kReplace) continue;
+    if (!feature.inside || feature.inside->empty()) continue;
+    const PolygonLocator& locator = *feature.inside;
+    buckets.ForEachNear(locator.min(), locator.max(), [&](uint32_t t) {
+      if (decided[t] || locator.Locate(centroids[t]) == PointInPolygon::kOutside) return;
+      decided[t] = 1;
+      paint.tag[t] = feature.tag;
     });
   }
   if (!in_clip.empty()) {
