@@ -43,6 +43,12 @@ Result<bool> MeshCache::Begin(int64_t tx) {
     pending_version_ = *version;
     return false;
   }
+  if (!owners_complete_) {
+    if (Status s = LoadOwnersIfFew(); !s.ok()) {
+      Clear();
+      return s;
+    }
+  }
   return true;
 }
 
@@ -199,9 +205,14 @@ Result<std::vector<int64_t>> MeshCache::LoadSurface() {
     vertices_.emplace(vertices->ColumnInt(4), VertexFromRow(*vertices, 0));
   }
   vertices->Reset();
+  TB_RETURN_IF_ERROR(LoadOwners());
+  return ids;
+}
+
+Status MeshCache::LoadOwners() {
   TB_ASSIGN_OR_RETURN(Statement * constraints,
-                      db.Cached("SELECT va, vb, coalesce(feature, 0) FROM constraints WHERE "
-                                "surface = ?"));
+                      store_.db().Cached("SELECT va, vb, coalesce(feature, 0) FROM constraints "
+                                         "WHERE surface = ?"));
   constraints->Bind(1, surface_.id);
   owners_.clear();  // rebuilt whole: an entry read before holds the same owners
   for (;;) {
@@ -212,7 +223,15 @@ Result<std::vector<int64_t>> MeshCache::LoadSurface() {
   }
   constraints->Reset();
   owners_complete_ = true;
-  return ids;
+  return Status::Ok();
+}
+
+Status MeshCache::LoadOwnersIfFew() {
+  TB_ASSIGN_OR_RETURN(const int64_t rows,
+                      store_.db().QueryInt("SELECT count(*) FROM constraints WHERE surface = " +
+                                           std::to_string(surface_.id)));
+  if (rows > static_cast<int64_t>(kMaxKeptTriangles)) return Status::Ok();
+  return LoadOwners();
 }
 
 Result<std::vector<int64_t>> MeshCache::TrianglesInBox(const Box& box) {

@@ -54,7 +54,8 @@ class MeshCache {
 
   // Starts an edit that will become change `tx`: keeps the rows when the last commit this cache
   // saw was change tx - 1, no other connection has committed since and at most
-  // kMaxKeptTriangles triangles are held, else drops them.
+  // kMaxKeptTriangles triangles are held, else drops them. Kept rows are completed with every
+  // constraint row of the surface when there are at most kMaxKeptTriangles of those.
   // REQUIRES: inside the edit's WriteTransaction. Returns whether the rows were kept; an error
   // only when the store cannot be read (the rows are then dropped).
   Result<bool> Begin(int64_t tx);
@@ -128,6 +129,12 @@ class MeshCache {
   };
 
   const MeshTriangle* Remember(int64_t id, const Statement& row);
+  // Every constraint row of the surface into owners_ (complete).
+  Status LoadOwners();
+  // The same when the surface has at most kMaxKeptTriangles constraint rows: an edit asks for the
+  // owners of every edge of its region, nearly all of them unconstrained, and a load feature by
+  // feature whose rows are kept would otherwise look each new one up.
+  Status LoadOwnersIfFew();
   Result<int64_t> DataVersion();
 
   Store& store_;

@@ -100,7 +100,8 @@ class SegmentIndex {
 // of their neighbours across edges that are not on the outline. Purely topological, so a sliver
 // outside R along a nearly straight outline is never taken for part of it.
 
-std::vector<uint8_t> ClassifyInside(const Tin& tin, const std::set<Edge>& outline) {
+std::vector<uint8_t> ClassifyInside(const Tin& tin,
+                                    const std::unordered_set<Edge, EdgeHash>& outline) {
   constexpr uint8_t kUnknown = 2;
   std::vector<uint8_t> inside(tin.triangles.size(), kUnknown);
   std::vector<uint32_t> queue;
@@ -877,7 +878,7 @@ class Edit {
     const ElevationFn elevation = [this](double x, double y) { return NewZ(x, y); };
     cdt.IndexCrossings(elevation);
 
-    std::set<Edge> outline_local;  // directed as R's triangles have them
+    std::unordered_set<Edge, EdgeHash> outline_local;  // directed as R's triangles have them
     for (const OutlineEdge& e : outline_) outline_local.insert({local.at(e.a), local.at(e.b)});
 
     // Refinement inside R only: the faces ClassifyInside finds now, and the faces refinement
