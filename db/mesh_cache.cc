@@ -66,6 +66,7 @@ void MeshCache::Clear() {
 
 void MeshCache::ForgetAllRows() {
   triangles_.clear();
+  block_members_.clear();
   vertices_.clear();
   ForgetAllOwners();
 }
@@ -73,6 +74,27 @@ void MeshCache::ForgetAllRows() {
 void MeshCache::ForgetEdge(int64_t a, int64_t b) {
   owners_.erase(Key(a, b));
   owners_complete_ = false;
+}
+
+void MeshCache::ForgetTriangle(int64_t id) {
+  const auto it = triangles_.find(id);
+  if (it == triangles_.end()) return;  // then its block is not kept either
+  if (auto members = block_members_.find(it->second.block); members != block_members_.end()) {
+    std::vector<int64_t>& ids = members->second;
+    const auto at = std::lower_bound(ids.begin(), ids.end(), id);
+    if (at != ids.end() && *at == id) ids.erase(at);
+  }
+  triangles_.erase(it);
+}
+
+void MeshCache::PutTriangle(int64_t id, const MeshTriangle& t) {
+  const auto [it, added] = triangles_.insert_or_assign(id, t);
+  (void)it;
+  if (!added) return;  // a row rewritten in place keeps its block
+  if (auto members = block_members_.find(t.block); members != block_members_.end()) {
+    std::vector<int64_t>& ids = members->second;
+    ids.insert(std::lower_bound(ids.begin(), ids.end(), id), id);
+  }
 }
 
 void MeshCache::Repaint(int64_t id, bool visible, const std::optional<int64_t>& tag) {
@@ -101,8 +123,8 @@ void MeshCache::ForgetAllOwners() {
 Result<const MeshTriangle*> MeshCache::Triangle(int64_t id) {
   if (auto it = triangles_.find(id); it != triangles_.end()) return &it->second;
   TB_ASSIGN_OR_RETURN(Statement * stmt,
-                      store_.db().Cached("SELECT v0, v1, v2, n0, n1, n2, visible, tag FROM "
-                                         "triangles WHERE id = ? AND surface = ?"));
+                      store_.db().Cached("SELECT v0, v1, v2, n0, n1, n2, visible, tag, block "
+                                         "FROM triangles WHERE id = ? AND surface = ?"));
   stmt->Bind(1, id).Bind(2, surface_.id);
   TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
   if (!row) {
@@ -184,13 +206,13 @@ Result<std::vector<int64_t>> MeshCache::LoadSurface() {
   std::vector<int64_t> ids;
   TB_ASSIGN_OR_RETURN(Statement * triangles,
                       db.Cached("SELECT t.v0, t.v1, t.v2, t.n0, t.n1, t.n2, t.visible, t.tag, "
-                                "t.id FROM triangles t " +
+                                "t.block, t.id FROM triangles t " +
                                 SurfaceRowsInIdOrder("triangles", "t")));
   triangles->Bind(1, surface_.id);
   for (;;) {
     TB_ASSIGN_OR_RETURN(bool row, triangles->Step());
     if (!row) break;
-    const int64_t id = triangles->ColumnInt(8);
+    const int64_t id = triangles->ColumnInt(9);
     if (!triangles_.count(id)) Remember(id, *triangles);
     ids.push_back(id);
   }
@@ -245,18 +267,33 @@ Result<std::vector<int64_t>> MeshCache::TrianglesInBox(const Box& box) {
 
 Status MeshCache::TrianglesInBlocks(int64_t by, int64_t bx0, int64_t bx1,
                                     std::vector<int64_t>* ids) {
+  const int64_t first = BlockGrid::Pack(bx0, by), last = BlockGrid::Pack(bx1, by);
+  bool kept = true;
+  for (int64_t b = first; b <= last && kept; ++b) kept = block_members_.count(b) > 0;
+  if (kept) {
+    for (int64_t b = first; b <= last; ++b) {
+      const std::vector<int64_t>& members = block_members_[b];
+      ids->insert(ids->end(), members.begin(), members.end());
+    }
+    return Status::Ok();
+  }
   TB_ASSIGN_OR_RETURN(Statement * stmt,
-                      store_.db().Cached("SELECT v0, v1, v2, n0, n1, n2, visible, tag, id FROM "
-                                         "triangles WHERE surface = ? AND block BETWEEN ? AND ?"));
-  stmt->Bind(1, surface_.id).Bind(2, BlockGrid::Pack(bx0, by)).Bind(3, BlockGrid::Pack(bx1, by));
+                      store_.db().Cached("SELECT v0, v1, v2, n0, n1, n2, visible, tag, block, id "
+                                         "FROM triangles WHERE surface = ? AND block BETWEEN ? "
+                                         "AND ? ORDER BY block, id"));
+  stmt->Bind(1, surface_.id).Bind(2, first).Bind(3, last);
+  std::vector<std::vector<int64_t>> members(static_cast<size_t>(last - first + 1));
   for (;;) {
     TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
     if (!row) break;
-    const int64_t id = stmt->ColumnInt(8);
+    const int64_t id = stmt->ColumnInt(9);
     if (!triangles_.count(id)) Remember(id, *stmt);
+    members[static_cast<size_t>(stmt->ColumnInt(8) - first)].push_back(id);
     ids->push_back(id);
   }
   stmt->Reset();
+  for (int64_t b = first; b <= last; ++b)
+    block_members_[b] = std::move(members[static_cast<size_t>(b - first)]);
   return Status::Ok();
 }
 
@@ -296,7 +333,7 @@ Status MeshCache::VerifyAgainstStore() {
     if (!stored.ok())
       return Status::Corruption(where + "triangle " + std::to_string(id) + " is not stored");
     const MeshTriangle& s = **stored;
-    if (s.v != t.v || s.n != t.n || s.visible != t.visible || s.tag != t.tag)
+    if (s.v != t.v || s.n != t.n || s.visible != t.visible || s.tag != t.tag || s.block != t.block)
       return Status::Corruption(where + "triangle " + std::to_string(id) + " differs from its row");
   }
   for (const auto& [id, v] : vertices_) {
@@ -306,6 +343,22 @@ Status MeshCache::VerifyAgainstStore() {
     const TinVertex& s = **stored;
     if (s.x != v.x || s.y != v.y || s.z != v.z || s.kind != v.kind)
       return Status::Corruption(where + "vertex " + std::to_string(id) + " differs from its row");
+  }
+  TB_ASSIGN_OR_RETURN(Statement * in_block,
+                      store_.db().Cached("SELECT id FROM triangles WHERE surface = ? AND block = ? "
+                                         "ORDER BY id"));
+  for (const auto& [block, members] : block_members_) {
+    in_block->Bind(1, surface_.id).Bind(2, block);
+    std::vector<int64_t> stored;
+    for (;;) {
+      TB_ASSIGN_OR_RETURN(bool row, in_block->Step());
+      if (!row) break;
+      stored.push_back(in_block->ColumnInt(0));
+    }
+    in_block->Reset();
+    if (stored != members)
+      return Status::Corruption(where + "members of block " + std::to_string(block) +
+                                " differ from the triangle rows");
   }
   for (const auto& [e, owners] : owners_) {
     TB_ASSIGN_OR_RETURN(const std::vector<int64_t>* stored, fresh.Owners(e.first, e.second));
@@ -327,6 +380,7 @@ const MeshTriangle* MeshCache::Remember(int64_t id, const Statement& row) {
   }
   t.visible = row.ColumnInt(6) != 0;
   if (!row.ColumnIsNull(7)) t.tag = row.ColumnInt(7);
+  t.block = row.ColumnInt(8);
   return &triangles_.emplace(id, t).first->second;
 }
 

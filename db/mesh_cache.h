@@ -37,6 +37,7 @@ struct MeshTriangle {
   std::array<std::optional<int64_t>, 3> n;
   bool visible = true;
   std::optional<int64_t> tag;  // tags.id
+  int64_t block = 0;           // of its centroid (core/tin/block_grid.h)
 };
 
 class MeshCache {
@@ -81,7 +82,9 @@ class MeshCache {
   // The triangles whose centroid block meets `box` (through the block index); their rows are
   // cached on the way.
   Result<std::vector<int64_t>> TrianglesInBox(const Box& box);
-  // Appends the triangles whose centroid block is one of (bx0..bx1, by) to `ids`.
+  // Appends the triangles whose centroid block is one of (bx0..bx1, by) to `ids`, in id order
+  // per block. Once read, a block's members are kept (with every row of them) and follow the
+  // edits' writes, so the next edit of a load finds them without a query.
   Status TrianglesInBlocks(int64_t by, int64_t bx0, int64_t bx1, std::vector<int64_t>* ids);
 
   // Reads every triangle, vertex and constraint row of the surface in one scan each (rows
@@ -96,13 +99,13 @@ class MeshCache {
 
   // A row the current edit deletes, or writes without telling its content: read again from the
   // store when next asked for.
-  void ForgetTriangle(int64_t id) { triangles_.erase(id); }
+  void ForgetTriangle(int64_t id);
   void ForgetVertex(int64_t id) { vertices_.erase(id); }
   void ForgetEdge(int64_t a, int64_t b);
   // A row the current edit writes, as written (write-through): the next edit of a load feature by
   // feature reads the rows the last one wrote more than any other, so they are kept, not
   // forgotten.
-  void PutTriangle(int64_t id, const MeshTriangle& t) { triangles_[id] = t; }
+  void PutTriangle(int64_t id, const MeshTriangle& t);
   void PutVertex(int64_t id, const TinVertex& v) { vertices_[id] = v; }
   // Triangle `id`'s paint is now this (a no-op when it is not cached).
   void Repaint(int64_t id, bool visible, const std::optional<int64_t>& tag);
@@ -140,6 +143,8 @@ class MeshCache {
   Store& store_;
   const SurfaceInfo& surface_;
   std::unordered_map<int64_t, MeshTriangle> triangles_;
+  // Blocks whose every triangle is in triangles_: their ids, ascending.
+  std::unordered_map<int64_t, std::vector<int64_t>> block_members_;
   std::unordered_map<int64_t, TinVertex> vertices_;
   std::unordered_map<Edge, std::vector<int64_t>, EdgeHash> owners_;
   // owners_ holds every constrained edge of the surface (LoadSurface): an edge it lacks is not

@@ -1199,6 +1199,7 @@ class Edit {
       }
       row.visible = paint.visible[k] != 0;
       row.tag = tag_of(k);
+      row.block = block[written[k]];
     }
     TB_RETURN_IF_ERROR(Step());
     {
@@ -1222,7 +1223,7 @@ class Edit {
                                  row.Bind(p + 8, *t.tag);
                                else
                                  row.BindNull(p + 8);
-                               row.Bind(p + 9, block[written[k]]);
+                               row.Bind(p + 9, t.block);
                              }));
     }
     for (size_t k = 0; k < written.size(); ++k) {
