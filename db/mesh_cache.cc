@@ -65,9 +65,9 @@ void MeshCache::Clear() {
 }
 
 void MeshCache::ForgetAllRows() {
-  triangles_.clear();
+  triangles_.Clear();
   block_members_.clear();
-  vertices_.clear();
+  vertices_.Clear();
   ForgetAllOwners();
 }
 
@@ -77,20 +77,18 @@ void MeshCache::ForgetEdge(int64_t a, int64_t b) {
 }
 
 void MeshCache::ForgetTriangle(int64_t id) {
-  const auto it = triangles_.find(id);
-  if (it == triangles_.end()) return;  // then its block is not kept either
-  if (auto members = block_members_.find(it->second.block); members != block_members_.end()) {
+  const MeshTriangle* cached = triangles_.Find(id);
+  if (cached == nullptr) return;  // then its block is not kept either
+  if (auto members = block_members_.find(cached->block); members != block_members_.end()) {
     std::vector<int64_t>& ids = members->second;
     const auto at = std::lower_bound(ids.begin(), ids.end(), id);
     if (at != ids.end() && *at == id) ids.erase(at);
   }
-  triangles_.erase(it);
+  triangles_.Erase(id);
 }
 
 void MeshCache::PutTriangle(int64_t id, const MeshTriangle& t) {
-  const auto [it, added] = triangles_.insert_or_assign(id, t);
-  (void)it;
-  if (!added) return;  // a row rewritten in place keeps its block
+  if (!triangles_.Put(id, t)) return;  // a row rewritten in place keeps its block
   if (auto members = block_members_.find(t.block); members != block_members_.end()) {
     std::vector<int64_t>& ids = members->second;
     ids.insert(std::lower_bound(ids.begin(), ids.end(), id), id);
@@ -98,9 +96,9 @@ void MeshCache::PutTriangle(int64_t id, const MeshTriangle& t) {
 }
 
 void MeshCache::Repaint(int64_t id, bool visible, const std::optional<int64_t>& tag) {
-  if (auto it = triangles_.find(id); it != triangles_.end()) {
-    it->second.visible = visible;
-    it->second.tag = tag;
+  if (MeshTriangle* cached = triangles_.Find(id)) {
+    cached->visible = visible;
+    cached->tag = tag;
   }
 }
 
@@ -121,7 +119,7 @@ void MeshCache::ForgetAllOwners() {
 }
 
 Result<const MeshTriangle*> MeshCache::Triangle(int64_t id) {
-  if (auto it = triangles_.find(id); it != triangles_.end()) return &it->second;
+  if (const MeshTriangle* cached = triangles_.Find(id)) return cached;
   TB_ASSIGN_OR_RETURN(Statement * stmt,
                       store_.db().Cached("SELECT v0, v1, v2, n0, n1, n2, visible, tag, block "
                                          "FROM triangles WHERE id = ? AND surface = ?"));
@@ -138,7 +136,7 @@ Result<const MeshTriangle*> MeshCache::Triangle(int64_t id) {
 }
 
 Result<bool> MeshCache::HasTriangle(int64_t id) {
-  if (triangles_.count(id)) return true;
+  if (triangles_.Contains(id)) return true;
   TB_ASSIGN_OR_RETURN(Statement * stmt,
                       store_.db().Cached("SELECT 1 FROM triangles WHERE id = ? AND surface = ?"));
   stmt->Bind(1, id).Bind(2, surface_.id);
@@ -148,7 +146,7 @@ Result<bool> MeshCache::HasTriangle(int64_t id) {
 }
 
 Result<const TinVertex*> MeshCache::Vertex(int64_t id) {
-  if (auto it = vertices_.find(id); it != vertices_.end()) return &it->second;
+  if (const TinVertex* cached = vertices_.Find(id)) return cached;
   TB_ASSIGN_OR_RETURN(Statement * stmt, store_.db().Cached("SELECT x, y, z, kind FROM vertices "
                                                            "WHERE id = ? AND surface = ?"));
   stmt->Bind(1, id).Bind(2, surface_.id);
@@ -160,7 +158,7 @@ Result<const TinVertex*> MeshCache::Vertex(int64_t id) {
   }
   const TinVertex v = VertexFromRow(*stmt, 0);
   stmt->Reset();
-  return &vertices_.emplace(id, v).first->second;
+  return &vertices_.Emplace(id, v);
 }
 
 Result<Point2> MeshCache::At(int64_t vertex) {
@@ -213,7 +211,7 @@ Result<std::vector<int64_t>> MeshCache::LoadSurface() {
     TB_ASSIGN_OR_RETURN(bool row, triangles->Step());
     if (!row) break;
     const int64_t id = triangles->ColumnInt(9);
-    if (!triangles_.count(id)) Remember(id, *triangles);
+    if (!triangles_.Contains(id)) Remember(id, *triangles);
     ids.push_back(id);
   }
   triangles->Reset();
@@ -224,7 +222,7 @@ Result<std::vector<int64_t>> MeshCache::LoadSurface() {
   for (;;) {
     TB_ASSIGN_OR_RETURN(bool row, vertices->Step());
     if (!row) break;
-    vertices_.emplace(vertices->ColumnInt(4), VertexFromRow(*vertices, 0));
+    vertices_.Emplace(vertices->ColumnInt(4), VertexFromRow(*vertices, 0));
   }
   vertices->Reset();
   TB_RETURN_IF_ERROR(LoadOwners());
@@ -287,7 +285,7 @@ Status MeshCache::TrianglesInBlocks(int64_t by, int64_t bx0, int64_t bx1,
     TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
     if (!row) break;
     const int64_t id = stmt->ColumnInt(9);
-    if (!triangles_.count(id)) Remember(id, *stmt);
+    if (!triangles_.Contains(id)) Remember(id, *stmt);
     members[static_cast<size_t>(stmt->ColumnInt(8) - first)].push_back(id);
     ids->push_back(id);
   }
@@ -328,22 +326,31 @@ Result<std::vector<int64_t>> MeshCache::Star(int64_t vertex, int64_t start, bool
 Status MeshCache::VerifyAgainstStore() {
   MeshCache fresh(store_, surface_);
   const std::string where = "surface '" + surface_.name + "': cached ";
-  for (const auto& [id, t] : triangles_) {
+  Status status;
+  triangles_.ForEach([&](int64_t id, const MeshTriangle& t) {
+    if (!status.ok()) return;
     auto stored = fresh.Triangle(id);
-    if (!stored.ok())
-      return Status::Corruption(where + "triangle " + std::to_string(id) + " is not stored");
+    if (!stored.ok()) {
+      status = Status::Corruption(where + "triangle " + std::to_string(id) + " is not stored");
+      return;
+    }
     const MeshTriangle& s = **stored;
     if (s.v != t.v || s.n != t.n || s.visible != t.visible || s.tag != t.tag || s.block != t.block)
-      return Status::Corruption(where + "triangle " + std::to_string(id) + " differs from its row");
-  }
-  for (const auto& [id, v] : vertices_) {
+      status =
+          Status::Corruption(where + "triangle " + std::to_string(id) + " differs from its row");
+  });
+  vertices_.ForEach([&](int64_t id, const TinVertex& v) {
+    if (!status.ok()) return;
     auto stored = fresh.Vertex(id);
-    if (!stored.ok())
-      return Status::Corruption(where + "vertex " + std::to_string(id) + " is not stored");
+    if (!stored.ok()) {
+      status = Status::Corruption(where + "vertex " + std::to_string(id) + " is not stored");
+      return;
+    }
     const TinVertex& s = **stored;
     if (s.x != v.x || s.y != v.y || s.z != v.z || s.kind != v.kind)
-      return Status::Corruption(where + "vertex " + std::to_string(id) + " differs from its row");
-  }
+      status = Status::Corruption(where + "vertex " + std::to_string(id) + " differs from its row");
+  });
+  TB_RETURN_IF_ERROR(status);
   TB_ASSIGN_OR_RETURN(Statement * in_block,
                       store_.db().Cached("SELECT id FROM triangles WHERE surface = ? AND block = ? "
                                          "ORDER BY id"));
@@ -381,7 +388,7 @@ const MeshTriangle* MeshCache::Remember(int64_t id, const Statement& row) {
   t.visible = row.ColumnInt(6) != 0;
   if (!row.ColumnIsNull(7)) t.tag = row.ColumnInt(7);
   t.block = row.ColumnInt(8);
-  return &triangles_.emplace(id, t).first->second;
+  return &triangles_.Emplace(id, t);
 }
 
 }  // namespace tinbase

@@ -23,6 +23,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/base/paged_id_map.h"
 #include "core/base/status.h"
 #include "core/geometry/predicates.h"
 #include "core/tin/tin.h"
@@ -100,13 +101,13 @@ class MeshCache {
   // A row the current edit deletes, or writes without telling its content: read again from the
   // store when next asked for.
   void ForgetTriangle(int64_t id);
-  void ForgetVertex(int64_t id) { vertices_.erase(id); }
+  void ForgetVertex(int64_t id) { vertices_.Erase(id); }
   void ForgetEdge(int64_t a, int64_t b);
   // A row the current edit writes, as written (write-through): the next edit of a load feature by
   // feature reads the rows the last one wrote more than any other, so they are kept, not
   // forgotten.
   void PutTriangle(int64_t id, const MeshTriangle& t);
-  void PutVertex(int64_t id, const TinVertex& v) { vertices_[id] = v; }
+  void PutVertex(int64_t id, const TinVertex& v) { vertices_.Put(id, v); }
   // Triangle `id`'s paint is now this (a no-op when it is not cached).
   void Repaint(int64_t id, bool visible, const std::optional<int64_t>& tag);
   // `feature` now owns constrained edge (a, b) too (one row more).
@@ -142,10 +143,10 @@ class MeshCache {
 
   Store& store_;
   const SurfaceInfo& surface_;
-  std::unordered_map<int64_t, MeshTriangle> triangles_;
+  PagedIdMap<MeshTriangle> triangles_;
   // Blocks whose every triangle is in triangles_: their ids, ascending.
   std::unordered_map<int64_t, std::vector<int64_t>> block_members_;
-  std::unordered_map<int64_t, TinVertex> vertices_;
+  PagedIdMap<TinVertex> vertices_;
   std::unordered_map<Edge, std::vector<int64_t>, EdgeHash> owners_;
   // owners_ holds every constrained edge of the surface (LoadSurface): an edge it lacks is not
   // constrained. False once any edge is forgotten.
