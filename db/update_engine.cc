@@ -733,6 +733,7 @@ class Edit {
       return BoxOnData(*window_dem, c.x - reach, c.y - reach, c.x + reach, c.y + reach);
     };
     Tin centres;  // one point-like triangle per uniform block, at its centre
+    Box mixed_box;
     for (int64_t by = window.by0; by <= window.by1; ++by) {
       int64_t run = -1;  // first block of the current run of mixed blocks in this row
       for (int64_t bx = window.bx0; bx <= window.bx1 + 1; ++bx) {
@@ -757,6 +758,12 @@ class Edit {
         if (mixed && run < 0) run = bx;
         if (!mixed && run >= 0) {
           TB_RETURN_IF_ERROR(mesh_.TrianglesInBlocks(by, run, bx - 1, &around_));
+          // The paint of these triangles reads the DEM at their centroids, which lie in these
+          // blocks.
+          mixed_box.Add(Point2{g.origin_x + static_cast<double>(run) * g.size,
+                               g.origin_y + static_cast<double>(by) * g.size});
+          mixed_box.Add(Point2{g.origin_x + static_cast<double>(bx) * g.size,
+                               g.origin_y + static_cast<double>(by + 1) * g.size});
           run = -1;
         }
       }
@@ -767,10 +774,7 @@ class Edit {
       uniform_tags_ = std::move(centres.tags);
     }
     paint_box_ = edit_.changed;
-    for (int64_t t : around_) {
-      TB_ASSIGN_OR_RETURN(Corners3 c, Corners(t));
-      for (const Point2& p : c) paint_box_.Add(p);
-    }
+    paint_box_.Add(mixed_box);
     return Status::Ok();
   }
 
