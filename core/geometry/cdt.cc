@@ -672,12 +672,14 @@ Tin Cdt::ToTin(const ElevationFn& elevation, bool two_threads) {
       if (f->is_constrained(i)) AddConstraint(tin.constraints, f, i);
     return tin;
   }
-  // Finite faces are numbered in CGAL's order; the walk below then needs random access to all.
+  // Finite faces are numbered in CGAL's order, infinite ones marked kNoNeighbour, so the walk
+  // below reads a neighbour's id alone (not its vertices too, to tell whether it is infinite); the
+  // walk needs random access to all faces.
   std::vector<FaceHandle> faces;
   faces.reserve(cdt.tds().number_of_faces());
   int32_t next_id = 0;
   for (FaceHandle f : cdt.all_face_handles()) {
-    if (!cdt.is_infinite(f)) f->info().id = next_id++;
+    f->info().id = cdt.is_infinite(f) ? kNoNeighbour : next_id++;
     faces.push_back(f);
   }
   tin.triangles.resize(static_cast<size_t>(next_id));
@@ -690,13 +692,13 @@ Tin Cdt::ToTin(const ElevationFn& elevation, bool two_threads) {
                         std::vector<std::pair<uint32_t, uint32_t>>& constraints) {
     for (size_t k = first; k < last; ++k) {
       const FaceHandle f = faces[k];
-      const bool finite = !cdt.is_infinite(f);
+      const bool finite = f->info().id != kNoNeighbour;
       TinTriangle t;
       for (int i = 0; i < 3; ++i) {
         const FaceHandle n = f->neighbor(i);
         if (finite) {
           t.v[i] = f->vertex(i)->info().index;
-          t.n[i] = cdt.is_infinite(n) ? kNoNeighbour : n->info().id;
+          t.n[i] = n->info().id;
         }
         if (f->is_constrained(i) && f < n && !cdt.is_infinite(f, i))
           AddConstraint(constraints, f, i);
