@@ -17,7 +17,9 @@
 #include <map>
 #include <numeric>
 #include <set>
+#include <thread>
 #include <unordered_map>
+#include <utility>
 
 namespace tinbase {
 namespace {
@@ -72,10 +74,10 @@ bool CircumdiskBelow(FaceHandle f, double limit) {
 }
 
 // Edge i of f, constrained, as a TIN constraint.
-void AddConstraint(Tin& tin, FaceHandle f, int i) {
+void AddConstraint(std::vector<std::pair<uint32_t, uint32_t>>& constraints, FaceHandle f, int i) {
   assert(f->is_constrained(i));
-  tin.constraints.emplace_back(f->vertex(Triangulation::cw(i))->info().index,
-                               f->vertex(Triangulation::ccw(i))->info().index);
+  constraints.emplace_back(f->vertex(Triangulation::cw(i))->info().index,
+                           f->vertex(Triangulation::ccw(i))->info().index);
 }
 
 }  // namespace
@@ -174,7 +176,8 @@ struct Cdt::Impl {
   // its face's circle is flipped and the quad's four sides checked in turn. A triangulation
   // that is locally Delaunay everywhere is Delaunay, and only the region around the checked
   // edges changes. Returns the faces flips made (each flip remakes its two faces in place).
-  std::vector<FaceHandle> FlipUntilDelaunay(std::vector<std::pair<VertexHandle, VertexHandle>> to_check) {
+  std::vector<FaceHandle> FlipUntilDelaunay(
+      std::vector<std::pair<VertexHandle, VertexHandle>> to_check) {
     std::vector<FaceHandle> flipped;
     while (!to_check.empty()) {
       const auto [a, b] = to_check.back();
@@ -306,9 +309,8 @@ void Cdt::InsertVerticesInBands(const std::vector<TinVertex>& points, int bands,
   };
   std::vector<YKey> keys(points.size());
   for (size_t i = 0; i < points.size(); ++i) keys[i] = {points[i].y, points[i].x, i};
-  std::sort(keys.begin(), keys.end(), [](const YKey& a, const YKey& b) {
-    return a.y != b.y ? a.y < b.y : a.x < b.x;
-  });
+  std::sort(keys.begin(), keys.end(),
+            [](const YKey& a, const YKey& b) { return a.y != b.y ? a.y < b.y : a.x < b.x; });
   std::vector<size_t> by_y(points.size());
   for (size_t i = 0; i < keys.size(); ++i) by_y[i] = keys[i].position;
   keys = {};
@@ -327,8 +329,8 @@ void Cdt::InsertVerticesInBands(const std::vector<TinVertex>& points, int bands,
   const auto band_start = [&](int b) {
     const size_t left = static_cast<size_t>(bands - b);
     const size_t n = points.size(), all = static_cast<size_t>(bands) * static_cast<size_t>(bands);
-    return by_y.begin() + static_cast<ptrdiff_t>(n - n / all * left * left -
-                                                 n % all * left * left / all);
+    return by_y.begin() +
+           static_cast<ptrdiff_t>(n - n / all * left * left - n % all * left * left / all);
   };
   for (int band = 0; band < bands; ++band) {
     const auto lo = band_start(band);
@@ -442,8 +444,7 @@ std::vector<uint32_t> Cdt::Absorb(Cdt&& other, std::vector<FaceRef>* changed) {
         continue;
       }
     }
-    made[f->info().id] =
-        tds.create_face(map(f->vertex(0)), map(f->vertex(1)), map(f->vertex(2)));
+    made[f->info().id] = tds.create_face(map(f->vertex(0)), map(f->vertex(1)), map(f->vertex(2)));
   }
   // Our hull's order, not the set's (by address), for the deletions below: the slots they free
   // are reused by later faces, whose order ToTin and the refiner's scans follow, and addresses
@@ -660,37 +661,60 @@ void Cdt::IndexCrossings(const ElevationFn& elevation) {
   }
 }
 
-Tin Cdt::ToTin(const ElevationFn& elevation) {
+Tin Cdt::ToTin(const ElevationFn& elevation, bool two_threads) {
   Triangulation& cdt = impl_->cdt;
   IndexCrossings(elevation);
   Tin tin;
   tin.vertices = vertices_;
-  int32_t next_id = 0;
-  for (FaceHandle f : cdt.finite_face_handles()) f->info().id = next_id++;
-  tin.triangles.reserve(static_cast<size_t>(next_id));
   if (cdt.dimension() < 2) {
     // No triangles; the edges CGAL keeps in one dimension may still be constrained.
     for (const auto& [f, i] : cdt.finite_edges())
-      if (f->is_constrained(i)) AddConstraint(tin, f, i);
+      if (f->is_constrained(i)) AddConstraint(tin.constraints, f, i);
     return tin;
   }
+  // Finite faces are numbered in CGAL's order, infinite ones marked kNoNeighbour, so the walk
+  // below reads a neighbour's id alone (not its vertices too, to tell whether it is infinite); the
+  // walk needs random access to all faces.
+  std::vector<FaceHandle> faces;
+  faces.reserve(cdt.tds().number_of_faces());
+  int32_t next_id = 0;
+  for (FaceHandle f : cdt.all_face_handles()) {
+    f->info().id = cdt.is_infinite(f) ? kNoNeighbour : next_id++;
+    faces.push_back(f);
+  }
+  tin.triangles.resize(static_cast<size_t>(next_id));
   // Triangles and constraints in one walk over all faces, which touches each face once instead of
   // once more per edge. Constraints come in finite_edges() order: an edge belongs to the face of
   // its two with the smaller handle (CGAL's edge iterator), and is finite when neither end is
-  // the infinite vertex.
-  for (FaceHandle f : cdt.all_face_handles()) {
-    const bool finite = !cdt.is_infinite(f);
-    TinTriangle t;
-    for (int i = 0; i < 3; ++i) {
-      const FaceHandle n = f->neighbor(i);
-      if (finite) {
-        t.v[i] = f->vertex(i)->info().index;
-        t.n[i] = cdt.is_infinite(n) ? kNoNeighbour : n->info().id;
+  // the infinite vertex. Each face writes only its own triangle, so two threads can split the
+  // walk; the second's constraints go after the first's, as one walk would list them.
+  const auto walk = [&](size_t first, size_t last,
+                        std::vector<std::pair<uint32_t, uint32_t>>& constraints) {
+    for (size_t k = first; k < last; ++k) {
+      const FaceHandle f = faces[k];
+      const bool finite = f->info().id != kNoNeighbour;
+      TinTriangle t;
+      for (int i = 0; i < 3; ++i) {
+        const FaceHandle n = f->neighbor(i);
+        if (finite) {
+          t.v[i] = f->vertex(i)->info().index;
+          t.n[i] = n->info().id;
+        }
+        if (f->is_constrained(i) && f < n && !cdt.is_infinite(f, i))
+          AddConstraint(constraints, f, i);
       }
-      if (f->is_constrained(i) && f < n && !cdt.is_infinite(f, i)) AddConstraint(tin, f, i);
+      if (finite) tin.triangles[static_cast<size_t>(f->info().id)] = t;
     }
-    if (finite) tin.triangles.push_back(t);
+  };
+  if (!two_threads) {
+    walk(0, faces.size(), tin.constraints);
+    return tin;
   }
+  std::vector<std::pair<uint32_t, uint32_t>> later_constraints;
+  std::thread helper(walk, faces.size() / 2, faces.size(), std::ref(later_constraints));
+  walk(0, faces.size() / 2, tin.constraints);
+  helper.join();
+  tin.constraints.insert(tin.constraints.end(), later_constraints.begin(), later_constraints.end());
   return tin;
 }
 

@@ -167,11 +167,14 @@ Result<std::optional<Tin>> BuildInHalves(const Grid& dem, const GreedyOptions& o
   TB_ASSIGN_OR_RETURN(std::vector<TinVertex> corners, GridCorners(source));
   std::optional<Cdt> cdt = RefineInHalves(
       dem, options.tolerance,
-      [&](int64_t col, int64_t row) { return HullElevation(source, col, row); },
-      min_seam_vertices);
+      [&](int64_t col, int64_t row) { return HullElevation(source, col, row); }, min_seam_vertices);
   if (!cdt) return std::optional<Tin>();
-  Tin tin = cdt->ToTin();
+  Tin tin = cdt->ToTin(/*elevation=*/nullptr, /*two_threads=*/true);
+  // Freeing the triangulation takes about as long as PutFirst (a few ms at 1e6 faces) and
+  // nothing reads it any more: the helper thread frees it meanwhile.
+  std::thread release([spent = std::move(*cdt)]() mutable { spent = Cdt(); });
   PutFirst(corners, tin);
+  release.join();
   return std::optional<Tin>(std::move(tin));
 }
 
@@ -228,6 +231,12 @@ void PaintAndMeasure(CellSource& dem, Tin& tin, GreedyReport* report) {
 // tile. With `two_threads`, the second half of the triangles is done on a helper thread (each
 // triangle's flag depends on it alone, so the result is the same).
 void MarkVisible(const Grid& dem, Tin& tin, bool two_threads) {
+  // Every vertex is a cell centre, so every centroid lies on the grid, in a cell that holds data
+  // when all do; ToTin left every triangle visible. Finding that out reads each cell once:
+  // 0.3 ms on SRTM 1025^2, where the test per triangle (6e5 at 0.5 m) took 10-20 ms.
+  const bool any_nodata =
+      std::any_of(dem.cells.begin(), dem.cells.end(), [](float v) { return std::isnan(v); });
+  if (!any_nodata) return;
   const auto mark = [&](size_t first, size_t last) {
     for (size_t i = first; i < last; ++i)
       tin.triangles[i].visible = TriangleOnData(dem, tin, tin.triangles[i]);

@@ -405,6 +405,30 @@ TEST(CdtTest, ManyCrossingConstraintsStayValid) {
   }
 }
 
+TEST(CdtTest, ToTinOnTwoThreadsIsTheSameTin) {
+  const unsigned seed = std::random_device{}();
+  std::printf("ToTinOnTwoThreadsIsTheSameTin seed %u\n", seed);
+  std::mt19937 rng(seed);
+  Cdt cdt;
+  cdt.InsertVertices(RandomPoints(2000, rng));
+  std::uniform_int_distribution<uint32_t> pick(0, 1999);
+  for (int i = 0; i < 60; ++i) {
+    const uint32_t a = pick(rng), b = pick(rng);
+    if (a != b) cdt.InsertConstraint(a, b);
+  }
+  const ElevationFn elevation = [](double x, double y) { return x - y; };
+  const Tin one = cdt.ToTin(elevation);
+  const Tin two = cdt.ToTin(elevation, /*two_threads=*/true);
+  ASSERT_FALSE(one.constraints.empty());
+  EXPECT_EQ(two.constraints, one.constraints);
+  ASSERT_EQ(two.vertices.size(), one.vertices.size());
+  ASSERT_EQ(two.triangles.size(), one.triangles.size());
+  for (size_t t = 0; t < one.triangles.size(); ++t) {
+    EXPECT_EQ(two.triangles[t].v, one.triangles[t].v) << "triangle " << t;
+    EXPECT_EQ(two.triangles[t].n, one.triangles[t].n) << "triangle " << t;
+  }
+}
+
 // Triangles sorted the way a store writes them: by a 30 m cell of the centroid, row by row.
 int64_t CentroidCell(const std::vector<TinVertex>& points, const TinTriangle& t) {
   double x = 0, y = 0;
