@@ -16,6 +16,18 @@ TinVertex VertexFromRow(const Statement& row, int first) {
   return v;
 }
 
+// Column 0 of every row of the bound statement `stmt`, as integers; resets it.
+Result<std::vector<int64_t>> FirstColumn(Statement& stmt) {
+  std::vector<int64_t> values;
+  for (;;) {
+    TB_ASSIGN_OR_RETURN(bool row, stmt.Step());
+    if (!row) break;
+    values.push_back(stmt.ColumnInt(0));
+  }
+  stmt.Reset();
+  return values;
+}
+
 const std::vector<int64_t>& NoOwners() {
   static const std::vector<int64_t> none;
   return none;
@@ -174,13 +186,7 @@ Result<const std::vector<int64_t>*> MeshCache::Owners(int64_t a, int64_t b) {
                       store_.db().Cached("SELECT coalesce(feature, 0) FROM constraints WHERE "
                                          "surface = ? AND va = ? AND vb = ?"));
   stmt->Bind(1, surface_.id).Bind(2, e.first).Bind(3, e.second);
-  std::vector<int64_t> owners;
-  for (;;) {
-    TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
-    if (!row) break;
-    owners.push_back(stmt->ColumnInt(0));
-  }
-  stmt->Reset();
+  TB_ASSIGN_OR_RETURN(std::vector<int64_t> owners, FirstColumn(*stmt));
   return &owners_.emplace(e, std::move(owners)).first->second;
 }
 
@@ -356,13 +362,7 @@ Status MeshCache::VerifyAgainstStore() {
                                          "ORDER BY id"));
   for (const auto& [block, members] : block_members_) {
     in_block->Bind(1, surface_.id).Bind(2, block);
-    std::vector<int64_t> stored;
-    for (;;) {
-      TB_ASSIGN_OR_RETURN(bool row, in_block->Step());
-      if (!row) break;
-      stored.push_back(in_block->ColumnInt(0));
-    }
-    in_block->Reset();
+    TB_ASSIGN_OR_RETURN(const std::vector<int64_t> stored, FirstColumn(*in_block));
     if (stored != members)
       return Status::Corruption(where + "members of block " + std::to_string(block) +
                                 " differ from the triangle rows");
