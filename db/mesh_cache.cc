@@ -50,7 +50,8 @@ Result<bool> MeshCache::Begin(int64_t tx) {
     return version.status();
   }
   pending_version_ = *version;
-  if (!was_current || *version != seen || triangles_.size() > kMaxKeptTriangles) {
+  if (!was_current || *version != seen || triangles_.size() > kMaxKeptTriangles ||
+      triangles_.bytes() + vertices_.bytes() > kMaxKeptBytes) {
     Clear();
     pending_version_ = *version;
     return false;

@@ -49,6 +49,9 @@ class MeshCache {
   // of vertices and owners). Kept rows pay because edits write through (Put*): with rows only
   // forgotten on write, the rows the next edit needed were the ones just forgotten.
   static constexpr size_t kMaxKeptTriangles = 1000000;
+  // And the memory their pages take: rows of edits spread over a large surface fill few slots of
+  // each page (core/base/paged_id_map.h).
+  static constexpr size_t kMaxKeptBytes = size_t{256} << 20;
 
   MeshCache(Store& store, const SurfaceInfo& surface) : store_(store), surface_(surface) {}
   MeshCache(const MeshCache&) = delete;
@@ -56,8 +59,9 @@ class MeshCache {
 
   // Starts an edit that will become change `tx`: keeps the rows when the last commit this cache
   // saw was change tx - 1, no other connection has committed since and at most
-  // kMaxKeptTriangles triangles are held, else drops them. Kept rows are completed with every
-  // constraint row of the surface when there are at most kMaxKeptTriangles of those.
+  // kMaxKeptTriangles triangles in at most kMaxKeptBytes are held, else drops them. Kept rows
+  // are completed with every constraint row of the surface when there are at most
+  // kMaxKeptTriangles of those.
   // REQUIRES: inside the edit's WriteTransaction. Returns whether the rows were kept; an error
   // only when the store cannot be read (the rows are then dropped).
   Result<bool> Begin(int64_t tx);

@@ -70,15 +70,25 @@ class PagedIdMap {
     p.present[slot] = false;
     p.values[slot] = T();
     --size_;
-    if (--p.count == 0) pages_[page].reset();
+    if (--p.count == 0) {
+      pages_[page].reset();
+      --pages_in_use_;
+    }
     return true;
   }
   void Clear() {
     pages_.clear();
+    pages_in_use_ = 0;
     far_.clear();
     size_ = 0;
   }
   size_t size() const { return size_; }
+  // Memory held by the values' pages and the hash map (an estimate for the latter): ids spread
+  // one per page cost a whole page each, which a count of values does not show.
+  size_t bytes() const {
+    return pages_.capacity() * sizeof(pages_[0]) + pages_in_use_ * sizeof(Page) +
+           far_.size() * (sizeof(T) + 4 * sizeof(void*));
+  }
 
   // fn(id, value) for every stored value, pages in id order.
   template <typename Fn>
@@ -111,7 +121,10 @@ class PagedIdMap {
       return added;
     }
     if (page >= static_cast<int64_t>(pages_.size())) pages_.resize(static_cast<size_t>(page) + 1);
-    if (!pages_[page]) pages_[page] = std::make_unique<Page>();
+    if (!pages_[page]) {
+      pages_[page] = std::make_unique<Page>();
+      ++pages_in_use_;
+    }
     Page& p = *pages_[page];
     const size_t at = static_cast<size_t>(id & (kPageSize - 1));
     *slot = &p.values[at];
@@ -125,6 +138,7 @@ class PagedIdMap {
   std::vector<std::unique_ptr<Page>> pages_;
   std::unordered_map<int64_t, T> far_;
   size_t size_ = 0;
+  size_t pages_in_use_ = 0;
 };
 
 }  // namespace tinbase

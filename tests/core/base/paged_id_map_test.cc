@@ -58,5 +58,25 @@ TEST(PagedIdMapTest, AgreesWithAnOrderedMap) {
   EXPECT_EQ(paged.Find(reference.begin()->first), nullptr);
 }
 
+TEST(PagedIdMapTest, BytesCountPagesInUse) {
+  PagedIdMap<int64_t, 4> paged;
+  const size_t empty = paged.bytes();
+  paged.Put(1, 1);
+  const size_t one_page = paged.bytes();
+  EXPECT_GT(one_page, empty);
+  paged.Put(2, 2);  // same page
+  EXPECT_EQ(paged.bytes(), one_page);
+  paged.Put(1000, 3);  // another page, further along the page table
+  const size_t two_pages = paged.bytes();
+  EXPECT_GT(two_pages, one_page);
+  paged.Erase(1000);  // its page goes
+  const size_t after_one = paged.bytes();
+  EXPECT_LT(after_one, two_pages);
+  paged.Erase(1);
+  EXPECT_EQ(paged.bytes(), after_one);  // 2 still holds the page
+  paged.Erase(2);
+  EXPECT_LT(paged.bytes(), after_one);
+}
+
 }  // namespace
 }  // namespace tinbase
