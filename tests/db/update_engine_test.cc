@@ -289,6 +289,29 @@ TEST_F(UpdateEngineTest, RingAlongStoredConstraintsRetriangulatesNothing) {
   EXPECT_EQ(Int("SELECT count(*) FROM constraints"), edges);
 }
 
+// The same ring again, with a polygon crossing it in the same edit: the stored edges the new
+// ring runs along are split at the crossings, and the new ring's rows follow them piece by piece
+// as the old ring's do.
+TEST_F(UpdateEngineTest, RingAlongStoredConstraintsFollowsTheirSplits) {
+  const PointList ring = Ngon(kCx, kCy, 10 * kCell, 30);
+  const PolygonAddReport a = AddChecked(WritePolygons(dir_, "a.geojson", {{ring}}), "fill");
+  const auto rows_of = [this](int64_t feature) {
+    return Int("SELECT count(*) FROM constraints WHERE feature = " + std::to_string(feature));
+  };
+  const int64_t edges = rows_of(a.first_feature_id);
+  const PolygonAddReport bc = AddChecked(
+      WritePolygons(dir_, "bc.geojson", {{ring}, {Ngon(kCx + 7 * kCell, kCy, 9 * kCell, 23, 0.7)}}),
+      "fill");
+  EXPECT_EQ(bc.features, 2);
+  EXPECT_GT(rows_of(a.first_feature_id), edges) << "the crossing polygon split no edge of the ring";
+  EXPECT_EQ(rows_of(bc.first_feature_id), rows_of(a.first_feature_id));
+  // Every piece of the ring has both owners.
+  EXPECT_EQ(Int("SELECT count(*) FROM (SELECT va, vb FROM constraints WHERE feature IN (" +
+                std::to_string(a.first_feature_id) + ", " + std::to_string(bc.first_feature_id) +
+                ") GROUP BY va, vb HAVING count(*) = 2)"),
+            rows_of(a.first_feature_id));
+}
+
 TEST_F(UpdateEngineTest, RemoveAndUpdateAreLocalAndRestoreTheSurface) {
   const PolygonAddReport a =
       AddChecked(WritePolygons(dir_, "a.geojson", {{Ngon(kCx, kCy, 10 * kCell, 30)}}), "fill");
@@ -739,8 +762,7 @@ TEST_F(UpdateEngineTest, EachDropsTheMeshRowsAfterAFailedTransaction) {
     for (int k = 0; k < 5; ++k)
       rings.push_back(
           {Ngon(kCx + k * 2 * kCell, kCy + (fail_at - 4) * 6 * kCell, 5 * kCell, 14 + fail_at)});
-    PolygonAddOptions o =
-        EachFillOptions("five_" + std::to_string(fail_at) + ".geojson", rings);
+    PolygonAddOptions o = EachFillOptions("five_" + std::to_string(fail_at) + ".geojson", rings);
     int edits = 0;
     o.fault_hook = [&edits, fail_at](int step) {
       if (step == 0) ++edits;
