@@ -84,11 +84,6 @@ void MeshCache::ForgetAllRows() {
   ForgetAllOwners();
 }
 
-void MeshCache::ForgetEdge(int64_t a, int64_t b) {
-  owners_.erase(Key(a, b));
-  owners_complete_ = false;
-}
-
 void MeshCache::ForgetTriangle(int64_t id) {
   const MeshTriangle* cached = triangles_.Find(id);
   if (cached == nullptr) return;  // then its block is not kept either

@@ -106,7 +106,6 @@ class MeshCache {
   // store when next asked for.
   void ForgetTriangle(int64_t id);
   void ForgetVertex(int64_t id) { vertices_.Erase(id); }
-  void ForgetEdge(int64_t a, int64_t b);
   // A row the current edit writes, as written (write-through): the next edit of a load feature by
   // feature reads the rows the last one wrote more than any other, so they are kept, not
   // forgotten.
@@ -122,8 +121,6 @@ class MeshCache {
   // Every row (an edit rewrote the whole surface); unlike Clear() the rows of the next edit may
   // still be kept (Begin).
   void ForgetAllRows();
-
-  size_t triangles_cached() const { return triangles_.size(); }
 
   // Tests: reads every cached row again from the store; Corruption naming the first row that
   // differs from (or is missing in) the store.

@@ -1337,7 +1337,7 @@ class Edit {
       return Status::Ok();
     };
     // The features that new segments running along a kept constraint add to its owners.
-    std::map<Edge, std::vector<int64_t>> joining = present_;
+    std::map<Edge, std::vector<int64_t>> joining = std::move(present_);
     for (const auto& [edge, owners] : patch.old_constraints) {
       const uint32_t a = local_.at(edge.first), b = local_.at(edge.second);
       std::vector<int64_t> joined;
