@@ -119,7 +119,14 @@ void MeshCache::AddOwner(int64_t a, int64_t b, int64_t feature) {
   }  // else unknown: its rows are read when next asked for
 }
 
-void MeshCache::SetUnconstrained(int64_t a, int64_t b) { owners_[Key(a, b)].clear(); }
+void MeshCache::SetUnconstrained(int64_t a, int64_t b) {
+  // A complete map says "unconstrained" by not holding the edge; an entry per edge would make it
+  // hold every edge the edits wrote, and every lookup slower.
+  if (owners_complete_)
+    owners_.erase(Key(a, b));
+  else
+    owners_[Key(a, b)].clear();
+}
 
 void MeshCache::ForgetAllOwners() {
   owners_.clear();
@@ -363,6 +370,7 @@ Status MeshCache::VerifyAgainstStore() {
       return Status::Corruption(where + "members of block " + std::to_string(block) +
                                 " differ from the triangle rows");
   }
+  size_t owner_rows = 0;
   for (const auto& [e, owners] : owners_) {
     TB_ASSIGN_OR_RETURN(const std::vector<int64_t>* stored, fresh.Owners(e.first, e.second));
     std::vector<int64_t> a = owners, b = *stored;
@@ -371,7 +379,16 @@ Status MeshCache::VerifyAgainstStore() {
     if (a != b)
       return Status::Corruption(where + "owners of edge (" + std::to_string(e.first) + ", " +
                                 std::to_string(e.second) + ") differ from the constraint rows");
+    owner_rows += owners.size();
   }
+  if (!owners_complete_) return Status::Ok();
+  // Complete, an edge it lacks is unconstrained: every stored row must be in it.
+  TB_ASSIGN_OR_RETURN(const int64_t stored_rows,
+                      store_.db().QueryInt("SELECT count(*) FROM constraints WHERE surface = " +
+                                           std::to_string(surface_.id)));
+  if (static_cast<int64_t>(owner_rows) != stored_rows)
+    return Status::Corruption(where + "the constraint rows known (" + std::to_string(owner_rows) +
+                              ") are not all the surface's (" + std::to_string(stored_rows) + ")");
   return Status::Ok();
 }
 
