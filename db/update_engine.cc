@@ -719,7 +719,12 @@ class Edit {
     };
     for (const EditorFeature& f : edit_.features) note(f, added_ids.count(f.id) > 0);
     for (const EditorFeature& f : removed_features_) note(f, true);
-    const PolygonLocator inside_changed(changed);
+    changed_inside_ = std::make_unique<PolygonLocator>(changed);
+    const PolygonLocator& inside_changed = *changed_inside_;
+    // A stored triangle outside R lies wholly on one side of every changed ring, so one outside
+    // the changed features keeps its paint: Write need not paint it. Not so for clip (outside
+    // changes too) or replace (z changes at the ring's vertices, found through the triangles).
+    outside_keeps_paint_ = !anywhere && !per_triangle;
 
     // The DEM under the window, for the data test of whole blocks; read only if one may be.
     std::optional<Grid> window_dem;
@@ -1170,11 +1175,17 @@ class Edit {
     for (int64_t t : around_) {
       if (region_.count(t)) continue;
       TB_ASSIGN_OR_RETURN(const MeshTriangle* stored, mesh_.Triangle(t));
-      TinTriangle tri;
+      std::array<const TinVertex*, 3> corner;
       for (int i = 0; i < 3; ++i) {
-        TB_ASSIGN_OR_RETURN(const TinVertex* v, mesh_.Vertex(stored->v[i]));
-        tri.v[i] = add_vertex(stored->v[i], *v);
+        TB_ASSIGN_OR_RETURN(corner[i], mesh_.Vertex(stored->v[i]));
       }
+      if (outside_keeps_paint_) {
+        const Point2 centroid{(corner[0]->x + corner[1]->x + corner[2]->x) / 3,
+                              (corner[0]->y + corner[1]->y + corner[2]->y) / 3};
+        if (changed_inside_->Locate(centroid) == PointInPolygon::kOutside) continue;
+      }
+      TinTriangle tri;
+      for (int i = 0; i < 3; ++i) tri.v[i] = add_vertex(stored->v[i], *corner[i]);
       painted.triangles.push_back(tri);
       kept_around.push_back(t);
     }
@@ -1542,6 +1553,8 @@ class Edit {
   std::map<Edge, std::vector<int64_t>> present_;
   std::vector<EditorFeature> removed_features_;  // rows of edit.remove, as stored
   std::vector<int64_t> around_;          // stored triangles of mixed blocks whose paint may change
+  std::unique_ptr<PolygonLocator> changed_inside_;  // the added and removed features' inside
+  bool outside_keeps_paint_ = false;  // a stored triangle outside changed_inside_ keeps its paint
   std::vector<int64_t> uniform_blocks_;  // blocks repainted whole, in (by, bx) order
   Paint uniform_paint_;                  // per uniform block
   std::vector<std::string> uniform_tags_;  // what uniform_paint_.tag indexes
