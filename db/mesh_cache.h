@@ -117,6 +117,8 @@ class MeshCache {
   void AddOwner(int64_t a, int64_t b, int64_t feature);
   // Edge (a, b) has no constraint row now.
   void SetUnconstrained(int64_t a, int64_t b);
+  // Whether Owners() answers every edge from memory (an edge it lacks is unconstrained).
+  bool knows_every_constraint() const { return owners_complete_; }
   void ForgetAllOwners();
   // Every row (an edit rewrote the whole surface); unlike Clear() the rows of the next edit may
   // still be kept (Begin).

@@ -13,7 +13,7 @@
 #include <optional>
 #include <unordered_map>
 
-#include "db/sqlite/bulk_insert.h"
+#include "db/sqlite/bulk_write.h"
 #include "db/sqlite/scoped_page_cache.h"
 #include "db/sqlite/unchecked_foreign_keys.h"
 

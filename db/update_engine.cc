@@ -18,7 +18,7 @@
 #include "core/tin/tolerance_refiner.h"
 #include "db/mesh_cache.h"
 #include "db/point_locator.h"
-#include "db/sqlite/bulk_insert.h"
+#include "db/sqlite/bulk_write.h"
 #include "db/sqlite/unchecked_foreign_keys.h"
 
 namespace tinbase {
@@ -812,6 +812,7 @@ class Edit {
     outline_.clear();
     std::vector<TinVertex> points;
     std::unordered_map<int64_t, uint32_t> local;  // store id -> local index
+    local.reserve(order_.size() * 2);
     std::vector<Corners3> region_triangles;
     std::vector<std::pair<Point2, Point2>> outline_segments;
     Box box = paint_box_;
@@ -895,7 +896,7 @@ class Edit {
     // would split an outline edge, and the triangle across already meets the tolerance there
     // (both interpolate the same edge).
     const size_t before = cdt.vertices().size();
-    std::set<std::array<uint32_t, 3>> inside_faces;
+    std::vector<std::array<uint32_t, 3>> inside_faces;  // sorted corners, sorted
     bool every_face_inside = true;  // R is the whole triangulation: no face to tell apart
     {
       const Tin now = cdt.ToTin(elevation);
@@ -905,8 +906,9 @@ class Edit {
         if (!inside[t]) continue;
         std::array<uint32_t, 3> key = now.triangles[t].v;
         std::sort(key.begin(), key.end());
-        inside_faces.insert(key);
+        inside_faces.push_back(key);
       }
+      std::sort(inside_faces.begin(), inside_faces.end());
     }
     RefineOptions refine;
     refine.tolerance = surface_.tolerance.value_or(1.0);
@@ -919,7 +921,7 @@ class Edit {
         if (v[0] >= before || v[1] >= before || v[2] >= before) return true;
         std::array<uint32_t, 3> key = v;
         std::sort(key.begin(), key.end());
-        return inside_faces.count(key) > 0;
+        return std::binary_search(inside_faces.begin(), inside_faces.end(), key);
       };
     }
     RefineToTolerance(cdt, grid_, refine);
@@ -1021,8 +1023,7 @@ class Edit {
   // it). Crossing points are constructed inexactly, so "on it" allows 1e-7 of its length; among
   // the candidates the one nearest the line wins, so a crossing constraint is never followed.
   static Result<std::vector<std::pair<uint32_t, uint32_t>>> Pieces(
-      const std::unordered_map<uint32_t, std::vector<uint32_t>>& graph, const Tin& tin, uint32_t a,
-      uint32_t b) {
+      const std::vector<std::vector<uint32_t>>& graph, const Tin& tin, uint32_t a, uint32_t b) {
     const TinVertex& pa = tin.vertices[a];
     const TinVertex& pb = tin.vertices[b];
     const double dx = pb.x - pa.x, dy = pb.y - pa.y, len2 = dx * dx + dy * dy;
@@ -1037,11 +1038,10 @@ class Edit {
     std::vector<std::pair<uint32_t, uint32_t>> pieces;
     uint32_t at = a;
     for (size_t guard = 0; at != b; ++guard) {
-      auto it = graph.find(at);
-      if (guard > tin.vertices.size() || it == graph.end()) break;
+      if (guard > tin.vertices.size()) break;
       uint32_t best = at;
       double best_off = slack;
-      for (uint32_t w : it->second) {
+      for (uint32_t w : graph[at]) {
         if (w == b) {
           best = b;
           break;
@@ -1072,7 +1072,7 @@ class Edit {
       page_cache_ = std::make_unique<ScopedPageCache>(db, rows);
     }
     std::vector<int64_t> ids = patch.store_ids;
-    std::unordered_set<int64_t> new_ids;
+    int64_t first_new_vertex = 0, end_new_vertex = 0;  // the new vertices' ids, [first, end)
     {
       std::vector<uint8_t> used(tin.vertices.size(), 0);
       for (size_t t = 0; t < tin.triangles.size(); ++t)
@@ -1106,9 +1106,10 @@ class Edit {
         return p.x != q.x ? p.x < q.x : p.y < q.y;
       });
       TB_ASSIGN_OR_RETURN(const int64_t first, NextId(db, "vertices"));
+      first_new_vertex = first;
+      end_new_vertex = first + static_cast<int64_t>(fresh.size());
       for (size_t k = 0; k < fresh.size(); ++k) {
         ids[fresh[k]] = first + static_cast<int64_t>(k);
-        new_ids.insert(ids[fresh[k]]);
         mesh_.PutVertex(ids[fresh[k]], tin.vertices[fresh[k]]);
       }
       TB_RETURN_IF_ERROR(InsertNumberedRows(db, "vertices(surface, x, y, z, kind)", 5, fresh.size(),
@@ -1154,12 +1155,14 @@ class Edit {
     for (size_t k = 0; k < written.size(); ++k) new_id[written[k]] = base + static_cast<int64_t>(k);
     result_.added = static_cast<int64_t>(written.size());
     std::unordered_map<Edge, int64_t, EdgeHash> outer_across;  // store (a, b) of R's side
+    outer_across.reserve(outline_.size());
     for (const OutlineEdge& e : outline_)
       if (e.outer) outer_across.emplace(Edge{e.a, e.b}, *e.outer);
 
     // Paint of the new triangles and of the stored ones around the changed features.
     Tin painted;
     std::unordered_map<int64_t, uint32_t> painted_vertex;
+    painted_vertex.reserve(tin.vertices.size() + around_.size());
     const auto add_vertex = [&](int64_t id, const TinVertex& v) {
       auto [it, added] = painted_vertex.emplace(id, static_cast<uint32_t>(painted.vertices.size()));
       if (added) painted.vertices.push_back(v);
@@ -1221,25 +1224,9 @@ class Edit {
       // Every key bound here holds: the surface is the one being edited, the tags were interned
       // above in this transaction.
       TB_ASSIGN_OR_RETURN(auto unchecked, UncheckedIfWholeSurface());
-      TB_RETURN_IF_ERROR(
-          InsertNumberedRows(db, "triangles(surface, v0, v1, v2, n0, n1, n2, visible, tag, block)",
-                             10, written.size(), base, [&](Statement& row, int p, size_t k) {
-                               const MeshTriangle& t = rows[k];
-                               row.Bind(p, surface_.id);
-                               for (int i = 0; i < 3; ++i) {
-                                 row.Bind(p + 1 + i, t.v[i]);
-                                 if (t.n[i])
-                                   row.Bind(p + 4 + i, *t.n[i]);
-                                 else
-                                   row.BindNull(p + 4 + i);
-                               }
-                               row.Bind(p + 7, int64_t{t.visible ? 1 : 0});
-                               if (t.tag)
-                                 row.Bind(p + 8, *t.tag);
-                               else
-                                 row.BindNull(p + 8);
-                               row.Bind(p + 9, t.block);
-                             }));
+      TB_RETURN_IF_ERROR(InsertNumberedRows(
+          db, "triangles(surface, v0, v1, v2, n0, n1, n2, visible, tag, block)", 10, written.size(),
+          base, [&](Statement& row, int p, size_t k) { BindTriangleRow(row, p, rows[k]); }));
     }
     for (size_t k = 0; k < written.size(); ++k) {
       result_.visible_added += rows[k].visible;
@@ -1259,7 +1246,8 @@ class Edit {
             " triangle rows instead of " + std::to_string(order_.size()) + " were replaced");
     } else {
       // One statement per run of consecutive ids: R's triangles were mostly written together
-      // (block order), so a run is often dozens of rows.
+      // (block order), so a run is often dozens of rows. (An IN list of the ids of short runs
+      // cost more: SQLite builds a temporary table of them for each statement.)
       std::vector<int64_t> ids_in_r = order_;
       std::sort(ids_in_r.begin(), ids_in_r.end());
       TB_ASSIGN_OR_RETURN(Statement * del,
@@ -1283,6 +1271,7 @@ class Edit {
     // Outer triangles point across the outline at the new triangles.
     TB_RETURN_IF_ERROR(Step());
     std::unordered_map<Edge, int64_t, EdgeHash> inner_by_edge;  // store (a, b) -> new triangle
+    inner_by_edge.reserve(3 * written.size());
     // R's outline has no triangle across when R is the whole surface.
     if (!outer_across.empty()) {
       for (uint32_t t : written) {
@@ -1291,8 +1280,6 @@ class Edit {
           inner_by_edge.emplace(Edge{ids[v[i]], ids[v[(i + 1) % 3]]}, new_id[t]);
       }
     }
-    TB_ASSIGN_OR_RETURN(Statement * relink,
-                        db.Cached("UPDATE triangles SET n0 = ?, n1 = ?, n2 = ? WHERE id = ?"));
     std::map<int64_t, MeshTriangle> relinked;
     for (const OutlineEdge& e : outline_) {
       if (!e.outer) continue;
@@ -1309,6 +1296,10 @@ class Edit {
       for (int j = 0; j < 3; ++j)
         if (outer.v[(j + 1) % 3] == e.b && outer.v[(j + 2) % 3] == e.a) outer.n[j] = it->second;
     }
+    // One UPDATE a row: cheaper than batches, whether REPLACE of whole rows or UPDATE ... FROM
+    // a VALUES list (both measured).
+    TB_ASSIGN_OR_RETURN(Statement * relink,
+                        db.Cached("UPDATE triangles SET n0 = ?, n1 = ?, n2 = ? WHERE id = ?"));
     for (const auto& [id, t] : relinked) {
       for (int i = 0; i < 3; ++i) {
         if (t.n[i])
@@ -1328,7 +1319,7 @@ class Edit {
     for (int64_t f : edit_.remove)
       TB_RETURN_IF_ERROR(del_feature->Bind(1, surface_.id).Bind(2, f).Run());
     if (!edit_.remove.empty()) mesh_.ForgetAllOwners();
-    std::unordered_map<uint32_t, std::vector<uint32_t>> graph;
+    std::vector<std::vector<uint32_t>> graph(tin.vertices.size());  // constrained neighbours
     for (const auto& [a, b] : tin.constraints) graph[a].push_back(b), graph[b].push_back(a);
     TB_ASSIGN_OR_RETURN(
         Statement * del_edge,
@@ -1398,15 +1389,13 @@ class Edit {
                                     }));
     }
     // The new triangles' other edges are unconstrained: said so to the cache, the next edits
-    // need not look their rows up.
-    if (!whole_surface_) {
+    // need not look their rows up (a cache that knows every constraint needs no telling).
+    if (!whole_surface_ && !mesh_.knows_every_constraint()) {
       for (uint32_t t : written) {
         const auto& v = tin.triangles[t].v;
         for (int i = 0; i < 3; ++i) {
           const uint32_t a = v[i], b = v[(i + 1) % 3];
-          const auto it = graph.find(a);
-          if (it == graph.end() ||
-              std::find(it->second.begin(), it->second.end(), b) == it->second.end())
+          if (std::find(graph[a].begin(), graph[a].end(), b) == graph[a].end())
             mesh_.SetUnconstrained(ids[a], ids[b]);
         }
       }
@@ -1443,7 +1432,8 @@ class Edit {
     for (const auto& [id, index] : painted_vertex) {
       (void)index;
       // R's vertices (existing or new) already have their z.
-      if (local_.count(id) || dropped_.count(id) || new_ids.count(id)) continue;
+      if (local_.count(id) || dropped_.count(id) || (id >= first_new_vertex && id < end_new_vertex))
+        continue;
       TB_ASSIGN_OR_RETURN(const TinVertex* stored, mesh_.Vertex(id));
       const double z = TargetZ(*stored);
       if (z == stored->z) continue;
@@ -1455,45 +1445,90 @@ class Edit {
     return Status::Ok();
   }
 
+  // Binds (surface, v0, v1, v2, n0, n1, n2, visible, tag, block) of `t` from parameter p on.
+  void BindTriangleRow(Statement& row, int p, const MeshTriangle& t) const {
+    row.Bind(p, surface_.id);
+    for (int i = 0; i < 3; ++i) {
+      row.Bind(p + 1 + i, t.v[i]);
+      if (t.n[i])
+        row.Bind(p + 4 + i, *t.n[i]);
+      else
+        row.BindNull(p + 4 + i);
+    }
+    row.Bind(p + 7, int64_t{t.visible ? 1 : 0});
+    if (t.tag)
+      row.Bind(p + 8, *t.tag);
+    else
+      row.BindNull(p + 8);
+    row.Bind(p + 9, t.block);
+  }
+
+  // Consecutive ids from which one statement over their range beats looking each up by id.
+  static constexpr size_t kLongRun = 8;
+
   struct Repaint {
     int64_t triangle;
     bool visible;
     std::optional<int64_t> tag;
   };
 
-  // One UPDATE per run of consecutive ids that take the same paint: the builders store a
-  // surface's triangles in block order, so a filled polygon's inside is a few long runs (a fill
-  // over ~5000 triangles of a 1e6 store is ~100 statements instead of 5000). A run walks the
-  // table in id order, twice as fast as an UPDATE through an index, which looks every row up.
-  // Rows that already have the paint are not rewritten (uniform blocks' triangles are not read
+  // Long runs of consecutive ids that take the same paint are one UPDATE each: the builders
+  // store a surface's triangles in block order, so a filled polygon's inside is a few long runs
+  // (a fill over ~5000 triangles of a 1e6 store is ~100 statements instead of 5000), and a run
+  // walks the table in id order, twice as fast as looking every row up. The rest (around a ring
+  // runs are short: two rows on average in a map loaded feature by feature) are looked up by id,
+  // up to 64 of one paint in one statement (an UPDATE costs several times a row's lookup). Rows
+  // that already have the paint are not rewritten (uniform blocks' triangles are not read
   // first), and only the rows that change count as repainted.
   Status WriteRepaints(std::vector<Repaint> repaints) {
     std::sort(repaints.begin(), repaints.end(),
               [](const Repaint& a, const Repaint& b) { return a.triangle < b.triangle; });
-    TB_ASSIGN_OR_RETURN(Statement * repaint,
+    TB_ASSIGN_OR_RETURN(Statement * repaint_run,
                         store_.db().Cached("UPDATE triangles SET visible = ?1, tag = ?2 WHERE "
                                            "id BETWEEN ?3 AND ?4 AND "
                                            "(visible IS NOT ?1 OR tag IS NOT ?2)"));
+    std::map<std::pair<bool, std::optional<int64_t>>, std::vector<int64_t>> by_paint;
     for (size_t first = 0; first < repaints.size();) {
+      const Repaint& paint = repaints[first];
       size_t last = first;
       while (last + 1 < repaints.size() &&
              repaints[last + 1].triangle == repaints[last].triangle + 1 &&
-             repaints[last + 1].visible == repaints[first].visible &&
-             repaints[last + 1].tag == repaints[first].tag)
+             repaints[last + 1].visible == paint.visible && repaints[last + 1].tag == paint.tag)
         ++last;
-      repaint->Bind(1, int64_t{repaints[first].visible ? 1 : 0});
-      if (repaints[first].tag)
-        repaint->Bind(2, *repaints[first].tag);
-      else
-        repaint->BindNull(2);
-      TB_RETURN_IF_ERROR(
-          repaint->Bind(3, repaints[first].triangle).Bind(4, repaints[last].triangle).Run());
-      result_.repainted += store_.db().Changes();
       for (size_t k = first; k <= last; ++k)
         mesh_.Repaint(repaints[k].triangle, repaints[k].visible, repaints[k].tag);
+      if (last + 1 - first < kLongRun) {
+        std::vector<int64_t>& ids = by_paint[{paint.visible, paint.tag}];
+        for (size_t k = first; k <= last; ++k) ids.push_back(repaints[k].triangle);
+        first = last + 1;
+        continue;
+      }
+      BindPaint(*repaint_run, paint.visible, paint.tag);
+      TB_RETURN_IF_ERROR(
+          repaint_run->Bind(3, paint.triangle).Bind(4, repaints[last].triangle).Run());
+      result_.repainted += store_.db().Changes();
       first = last + 1;
     }
+    for (const auto& [paint, ids] : by_paint)
+      TB_RETURN_IF_ERROR(RepaintByIds(paint.first, paint.second, ids));
     return Status::Ok();
+  }
+
+  static void BindPaint(Statement& stmt, bool visible, const std::optional<int64_t>& tag) {
+    stmt.Bind(1, int64_t{visible ? 1 : 0});
+    if (tag)
+      stmt.Bind(2, *tag);
+    else
+      stmt.BindNull(2);
+  }
+
+  // The rows `ids` take one paint, up to 64 ids a statement.
+  Status RepaintByIds(bool visible, const std::optional<int64_t>& tag,
+                      const std::vector<int64_t>& ids) {
+    return RunOverIds(
+        store_.db(), "UPDATE triangles SET visible = ?1, tag = ?2 WHERE id IN",
+        " AND (visible IS NOT ?1 OR tag IS NOT ?2)", 2, ids,
+        [&](Statement& stmt) { BindPaint(stmt, visible, tag); }, &result_.repainted);
   }
 
   // The uniform blocks' triangles take their block's paint without being read: the block index
@@ -1544,19 +1579,19 @@ class Edit {
   PointLocator locator_;  // valid until Write: every lookup comes before it
   ReplaceLevels levels_;
   std::vector<Polygon> replace_polygons_;
-  std::unique_ptr<PolygonLocator> replaced_;     // cells where tolerance does not apply
-  std::unique_ptr<PolygonLocator> restore_;      // removed replace features: z back from the DEM
-  std::vector<EditPolyline> lines_;              // edit.add, snapped
-  std::vector<std::vector<int64_t>> located_;    // a triangle holding each point of lines_
+  std::unique_ptr<PolygonLocator> replaced_;      // cells where tolerance does not apply
+  std::unique_ptr<PolygonLocator> restore_;       // removed replace features: z back from the DEM
+  std::vector<EditPolyline> lines_;               // edit.add, snapped
+  std::vector<std::vector<int64_t>> located_;     // a triangle holding each point of lines_
   std::vector<std::vector<int64_t>> snapped_to_;  // the stored vertex each point snapped onto, or 0
   // Kept constrained edges that new segments run along (SetAsidePresentSegments): their features.
   std::map<Edge, std::vector<int64_t>> present_;
   std::vector<EditorFeature> removed_features_;  // rows of edit.remove, as stored
-  std::vector<int64_t> around_;          // stored triangles of mixed blocks whose paint may change
+  std::vector<int64_t> around_;  // stored triangles of mixed blocks whose paint may change
   std::unique_ptr<PolygonLocator> changed_inside_;  // the added and removed features' inside
   bool outside_keeps_paint_ = false;  // a stored triangle outside changed_inside_ keeps its paint
-  std::vector<int64_t> uniform_blocks_;  // blocks repainted whole, in (by, bx) order
-  Paint uniform_paint_;                  // per uniform block
+  std::vector<int64_t> uniform_blocks_;    // blocks repainted whole, in (by, bx) order
+  Paint uniform_paint_;                    // per uniform block
   std::vector<std::string> uniform_tags_;  // what uniform_paint_.tag indexes
   Box paint_box_;
 

@@ -1,6 +1,7 @@
-// Bulk inserts write every row once, in order, whatever the count (full batches, then halving
-// ones), number rows as NextId said, and a statement that fails part way is undone alone.
-#include "db/sqlite/bulk_insert.h"
+// Bulk writes reach every row once, in order, whatever the count (full batches, then halving
+// ones), inserts number rows as NextId said, a statement over ids changes only those rows, and a
+// statement that fails part way is undone alone.
+#include "db/sqlite/bulk_write.h"
 
 #include <gtest/gtest.h>
 
@@ -16,8 +17,9 @@ using testing::TempDir;
 std::unique_ptr<SqliteDb> Table(const TempDir& dir) {
   auto db = SqliteDb::Open(dir.Path("bulk.db"), SqliteDb::Mode::kCreate);
   EXPECT_TRUE(db.ok()) << db.status().ToString();
-  EXPECT_TRUE((*db)->Exec("CREATE TABLE t(id INTEGER PRIMARY KEY, a INTEGER NOT NULL, "
-                          "b TEXT NOT NULL CHECK (b <> 'bad'))")
+  EXPECT_TRUE((*db)
+                  ->Exec("CREATE TABLE t(id INTEGER PRIMARY KEY, a INTEGER NOT NULL, "
+                         "b TEXT NOT NULL CHECK (b <> 'bad'))")
                   .ok());
   return std::move(*db);
 }
@@ -33,7 +35,7 @@ std::vector<std::string> Rows(SqliteDb& db) {
   return rows;
 }
 
-TEST(BulkInsertTest, EveryCountWritesEachRowOnceInOrder) {
+TEST(BulkWriteTest, EveryCountWritesEachRowOnceInOrder) {
   for (size_t count : {0, 1, 2, 3, 31, 32, 33, 63, 64, 65, 127, 128, 200, 255}) {
     TempDir dir;
     auto db = Table(dir);
@@ -58,7 +60,7 @@ TEST(BulkInsertTest, EveryCountWritesEachRowOnceInOrder) {
   }
 }
 
-TEST(BulkInsertTest, ABadRowFailsTheInsertWithSQLitesMessage) {
+TEST(BulkWriteTest, ABadRowFailsTheInsertWithSQLitesMessage) {
   TempDir dir;
   auto db = Table(dir);
   ASSERT_TRUE(db->Exec("BEGIN").ok());
@@ -72,17 +74,45 @@ TEST(BulkInsertTest, ABadRowFailsTheInsertWithSQLitesMessage) {
   EXPECT_TRUE(Rows(*db).empty());
 }
 
+TEST(BulkWriteTest, RunOverIdsReachesEveryIdOnce) {
+  for (size_t count : {0, 1, 37, 64, 100}) {
+    TempDir dir;
+    auto db = Table(dir);
+    ASSERT_TRUE(InsertRows(*db, "t(a, b)", 2, 200, [](Statement& row, int p, size_t r) {
+                  row.Bind(p, static_cast<int64_t>(r));
+                  row.Bind(p + 1, "old");
+                }).ok());
+    std::vector<int64_t> ids;  // every other id from 2 on, descending
+    for (size_t r = count; r > 0; --r) ids.push_back(static_cast<int64_t>(2 * r));
+    int64_t changes = 0;
+    ASSERT_TRUE(RunOverIds(
+                    *db, "UPDATE t SET b = ?1, a = -id WHERE id IN", " AND b IS NOT ?1", 1, ids,
+                    [](Statement& stmt) { stmt.Bind(1, "new"); }, &changes)
+                    .ok());
+    EXPECT_EQ(changes, static_cast<int64_t>(count));
+    const std::vector<std::string> rows = Rows(*db);
+    ASSERT_EQ(rows.size(), 200u);
+    for (size_t r = 0; r < rows.size(); ++r) {
+      const auto id = static_cast<int64_t>(r + 1);
+      const bool updated = id % 2 == 0 && id <= static_cast<int64_t>(2 * count);
+      EXPECT_EQ(rows[r], updated ? std::to_string(-id) + ":new" : std::to_string(r) + ":old")
+          << count << " ids, row " << id;
+    }
+  }
+}
+
 // A multi-row statement that breaks a foreign key after a statement of more than 64 KiB of pages
 // (SQLite's default point to spill its statement journal to a file; tinbase keeps it in memory)
 // is undone alone: the rows of the earlier statements stay.
-TEST(BulkInsertTest, AFailedStatementIsUndoneAloneAfterALargeOne) {
+TEST(BulkWriteTest, AFailedStatementIsUndoneAloneAfterALargeOne) {
   TempDir dir;
   auto db = SqliteDb::Open(dir.Path("fk.db"), SqliteDb::Mode::kCreate);
   ASSERT_TRUE(db.ok());
   ASSERT_TRUE((*db)->Exec("PRAGMA foreign_keys = ON").ok());
-  ASSERT_TRUE((*db)->Exec("CREATE TABLE parent(id INTEGER PRIMARY KEY); INSERT INTO parent "
-                          "VALUES (1); CREATE TABLE child(id INTEGER PRIMARY KEY, p INTEGER "
-                          "REFERENCES parent(id), blob TEXT)")
+  ASSERT_TRUE((*db)
+                  ->Exec("CREATE TABLE parent(id INTEGER PRIMARY KEY); INSERT INTO parent "
+                         "VALUES (1); CREATE TABLE child(id INTEGER PRIMARY KEY, p INTEGER "
+                         "REFERENCES parent(id), blob TEXT)")
                   .ok());
   const std::string big(3000, 'x');
   ASSERT_TRUE((*db)->Exec("BEGIN").ok());
