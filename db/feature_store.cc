@@ -172,13 +172,14 @@ Paint PaintFromFeatures(const std::vector<EditorFeature>& features, CellSource* 
   std::map<std::string, int32_t> tag_index;
   std::vector<PaintedFeature> painted;
   for (const EditorFeature& f : features) {
+    // A feature away from `tin` paints nothing of it, but a clip feature anywhere still means
+    // that clipping is on: it stays, with no polygons. (The box first: most features of a map
+    // are away from an edit.)
+    const bool near = BoxOf(f).Meets(reach);
+    if (!near && f.mode != PaintModeName(PaintMode::kClip)) continue;
     if (IsBreakline(f.mode)) continue;
     auto mode = ParsePaintMode(f.mode);
     if (!mode.ok()) continue;  // the schema's CHECK allows only the known modes
-    // A feature away from `tin` paints nothing of it, but a clip feature anywhere still means
-    // that clipping is on: it stays, with no polygons.
-    const bool near = BoxOf(f).Meets(reach);
-    if (!near && *mode != PaintMode::kClip) continue;
     PaintedFeature p;
     if (near) p.inside = InsideOf(f);
     p.mode = *mode;

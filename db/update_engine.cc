@@ -37,6 +37,26 @@ struct EdgeHash {
 
 using Corners3 = std::array<Point2, 3>;
 
+// Edges to ids, looked up by binary search: each edit builds a few once and reads them many
+// times, and a hash map spent a heap node per entry.
+class EdgeTable {
+ public:
+  void Reserve(size_t n) { entries_.reserve(n); }
+  void Add(const Edge& e, int64_t id) { entries_.emplace_back(e, id); }
+  // REQUIRES: called after the last Add and before the first Find.
+  void Seal() { std::sort(entries_.begin(), entries_.end()); }
+  // The id of edge `e`, or null.
+  const int64_t* Find(const Edge& e) const {
+    auto it = std::lower_bound(entries_.begin(), entries_.end(), e,
+                               [](const auto& entry, const Edge& key) { return entry.first < key; });
+    return it != entries_.end() && it->first == e ? &it->second : nullptr;
+  }
+  bool empty() const { return entries_.empty(); }
+
+ private:
+  std::vector<std::pair<Edge, int64_t>> entries_;
+};
+
 // True when the closed segment pq and the closed counter-clockwise triangle abc share a point:
 // no separating line among pq's and the triangle's edges (exact).
 bool SegmentMeetsTriangle(const Point2& p, const Point2& q, const Point2& a, const Point2& b,
@@ -708,8 +728,8 @@ class Edit {
     window_box.Add(Point2{low.x - reach, low.y - reach});
     window_box.Add(Point2{high.x + reach, high.y + reach});
     const auto note = [&](const EditorFeature& f, bool is_changed) {
-      if (IsBreakline(f.mode) || !ParsePaintMode(f.mode).ok()) return;
       if (!is_changed && !BoxOf(f).Meets(window_box)) return;  // no ring of it near the window
+      if (IsBreakline(f.mode) || !ParsePaintMode(f.mode).ok()) return;
       near_any.AddBlocks(RingBlocksOf(f, g));
       if (!is_changed) return;
       near_changed.AddBlocks(RingBlocksOf(f, g));
@@ -861,14 +881,15 @@ class Edit {
     }
     if (!carried_.empty()) cdt.InsertVertices(carried_);
     for (const OutlineEdge& e : outline_) cdt.InsertConstraint(local.at(e.a), local.at(e.b));
-    std::unordered_set<Edge, EdgeHash> done;
-    done.reserve(order_.size() * 2);
     const std::set<int64_t> removing(edit_.remove.begin(), edit_.remove.end());
     for (int64_t t : order_) {
       TB_ASSIGN_OR_RETURN(const MeshTriangle* tri, mesh_.Triangle(t));
       for (int i = 0; i < 3; ++i) {
+        // An edge between two triangles of R is taken from the one with the smaller id.
+        const std::optional<int64_t>& across = tri->n[(i + 2) % 3];
+        if (across && *across < t && region_.count(*across)) continue;
         const Edge e = Key(tri->v[i], tri->v[(i + 1) % 3]);
-        if (!done.insert(e).second || removed_edges_.count(e)) continue;
+        if (removed_edges_.count(e)) continue;
         TB_ASSIGN_OR_RETURN(const std::vector<int64_t>* owners, mesh_.Owners(e.first, e.second));
         if (owners->empty()) continue;
         std::vector<int64_t> kept;
@@ -1154,10 +1175,11 @@ class Edit {
     std::vector<int64_t> new_id(tin.triangles.size(), 0);
     for (size_t k = 0; k < written.size(); ++k) new_id[written[k]] = base + static_cast<int64_t>(k);
     result_.added = static_cast<int64_t>(written.size());
-    std::unordered_map<Edge, int64_t, EdgeHash> outer_across;  // store (a, b) of R's side
-    outer_across.reserve(outline_.size());
+    EdgeTable outer_across;  // store (a, b) of R's side -> the triangle across
+    outer_across.Reserve(outline_.size());
     for (const OutlineEdge& e : outline_)
-      if (e.outer) outer_across.emplace(Edge{e.a, e.b}, *e.outer);
+      if (e.outer) outer_across.Add(Edge{e.a, e.b}, *e.outer);
+    outer_across.Seal();
 
     // Paint of the new triangles and of the stored ones around the changed features.
     Tin painted;
@@ -1211,8 +1233,8 @@ class Edit {
         if (tri.n[i] != kNoNeighbour && patch.inside[tri.n[i]]) {
           row.n[i] = new_id[tri.n[i]];
         } else {
-          auto it = outer_across.find(Edge{ids[tri.v[(i + 1) % 3]], ids[tri.v[(i + 2) % 3]]});
-          if (it != outer_across.end()) row.n[i] = it->second;
+          const Edge across{ids[tri.v[(i + 1) % 3]], ids[tri.v[(i + 2) % 3]]};
+          if (const int64_t* outer = outer_across.Find(across)) row.n[i] = *outer;
         }
       }
       row.visible = paint.visible[k] != 0;
@@ -1270,21 +1292,21 @@ class Edit {
 
     // Outer triangles point across the outline at the new triangles.
     TB_RETURN_IF_ERROR(Step());
-    std::unordered_map<Edge, int64_t, EdgeHash> inner_by_edge;  // store (a, b) -> new triangle
-    inner_by_edge.reserve(3 * written.size());
+    EdgeTable inner_by_edge;  // store (a, b) -> new triangle
     // R's outline has no triangle across when R is the whole surface.
     if (!outer_across.empty()) {
       for (uint32_t t : written) {
         const auto& v = tin.triangles[t].v;
         for (int i = 0; i < 3; ++i)
-          inner_by_edge.emplace(Edge{ids[v[i]], ids[v[(i + 1) % 3]]}, new_id[t]);
+          inner_by_edge.Add(Edge{ids[v[i]], ids[v[(i + 1) % 3]]}, new_id[t]);
       }
     }
+    inner_by_edge.Seal();
     std::map<int64_t, MeshTriangle> relinked;
     for (const OutlineEdge& e : outline_) {
       if (!e.outer) continue;
-      auto it = inner_by_edge.find(Edge{e.a, e.b});
-      if (it == inner_by_edge.end())
+      const int64_t* inner = inner_by_edge.Find(Edge{e.a, e.b});
+      if (inner == nullptr)
         return Status::Corruption("outline edge (" + std::to_string(e.a) + ", " +
                                   std::to_string(e.b) + ") vanished from the patch");
       auto [entry, fresh] = relinked.emplace(*e.outer, MeshTriangle{});
@@ -1294,7 +1316,7 @@ class Edit {
       }
       MeshTriangle& outer = entry->second;
       for (int j = 0; j < 3; ++j)
-        if (outer.v[(j + 1) % 3] == e.b && outer.v[(j + 2) % 3] == e.a) outer.n[j] = it->second;
+        if (outer.v[(j + 1) % 3] == e.b && outer.v[(j + 2) % 3] == e.a) outer.n[j] = *inner;
     }
     // One UPDATE a row: cheaper than batches, whether REPLACE of whole rows or UPDATE ... FROM
     // a VALUES list (both measured).
