@@ -47,8 +47,9 @@ class EdgeTable {
   void Seal() { std::sort(entries_.begin(), entries_.end()); }
   // The id of edge `e`, or null.
   const int64_t* Find(const Edge& e) const {
-    auto it = std::lower_bound(entries_.begin(), entries_.end(), e,
-                               [](const auto& entry, const Edge& key) { return entry.first < key; });
+    auto it =
+        std::lower_bound(entries_.begin(), entries_.end(), e,
+                         [](const auto& entry, const Edge& key) { return entry.first < key; });
     return it != entries_.end() && it->first == e ? &it->second : nullptr;
   }
   bool empty() const { return entries_.empty(); }
@@ -355,8 +356,8 @@ class Edit {
     }
     for (int64_t v : touched) {
       TB_ASSIGN_OR_RETURN(const TinVertex* vertex, mesh_.Vertex(v));
-      TB_ASSIGN_OR_RETURN(int64_t start,
-                          Locate({vertex->x, vertex->y}, [v] { return "vertex " + std::to_string(v); }));
+      TB_ASSIGN_OR_RETURN(int64_t start, Locate({vertex->x, vertex->y},
+                                                [v] { return "vertex " + std::to_string(v); }));
       bool closed = true;
       TB_ASSIGN_OR_RETURN(std::vector<int64_t> star, mesh_.Star(v, start, &closed));
       for (int64_t t : star) AddToRegion(t);
