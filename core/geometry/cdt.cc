@@ -86,6 +86,10 @@ struct Cdt::Impl {
   Triangulation cdt;
   // Vertex handle by index, so constraints can be given as index pairs.
   std::vector<VertexHandle> handles;
+  // False until a constraint is inserted: while every edge is unconstrained, a single insertion
+  // takes the plain path (InsertUnconstrained).
+  bool constrained = false;
+  std::vector<FaceHandle> flip_stack;  // InsertUnconstrained's, kept for its capacity
 
   static FaceRef Ref(FaceHandle f) { return FaceRef{&*f}; }
   FaceHandle Handle(FaceRef r) const {
@@ -99,6 +103,42 @@ struct Cdt::Impl {
     VertexHandle v = cdt.insert(p, hint);
     if (cdt.number_of_vertices() != before || v->info().index == kNoIndex) {
       v->info().index = kPending;
+    }
+    return v;
+  }
+
+  // Inserts p, located in the interior of face `loc` (lt FACE) or on its edge li (lt EDGE), into
+  // a triangulation without constraints, then flips each edge opposite the new vertex while the
+  // vertex lies strictly inside the circle of the face across it (Lawson's flips, which CGAL's
+  // Delaunay insertion makes too). A co-circular tie is never flipped, so the diagonal there
+  // stays, the choice KeepCocircularDiagonals restores after CGAL's own constrained insertion;
+  // that one breaks ties by symbolic perturbation and, after every flip, re-reads the four
+  // faces around the quad to restore their constrained flags, which is a third of an insertion
+  // on a greedy build. Every face the insertion made or changed is incident to the vertex.
+  // REQUIRES: !constrained, dimension 2, p not a vertex.
+  VertexHandle InsertUnconstrained(const Point& p, Triangulation::Locate_type lt, FaceHandle loc,
+                                   int li) {
+    assert(!constrained && cdt.dimension() == 2);
+    // Triangulation_2's insertion: the split alone, no flips (the CDT's insert hides it).
+    const VertexHandle v = static_cast<CGAL::Triangulation_2<Gt, Tds>&>(cdt).insert(p, lt, loc, li);
+    v->info().index = kPending;
+    flip_stack.clear();
+    Triangulation::Face_circulator fc = cdt.incident_faces(v);
+    const Triangulation::Face_circulator done = fc;
+    do {
+      flip_stack.push_back(fc);
+    } while (++fc != done);
+    while (!flip_stack.empty()) {
+      const FaceHandle f = flip_stack.back();
+      flip_stack.pop_back();
+      const int i = f->index(v);
+      const FaceHandle g = f->neighbor(i);
+      if (cdt.is_infinite(f) || cdt.is_infinite(g)) continue;
+      if (cdt.side_of_oriented_circle(g, p, false) != CGAL::ON_POSITIVE_SIDE) continue;
+      // Both faces hold v afterwards, each with one of g's other edges opposite it.
+      cdt.tds().flip(f, i);
+      flip_stack.push_back(f);
+      flip_stack.push_back(g);
     }
     return v;
   }
@@ -351,14 +391,25 @@ void Cdt::InsertVerticesInBands(const std::vector<TinVertex>& points, int bands,
 
 uint32_t Cdt::InsertVertex(const TinVertex& point, FaceRef hint, std::vector<FaceRef>* incident) {
   const FaceHandle start = hint.opaque != nullptr ? impl_->Handle(hint) : FaceHandle();
-  VertexHandle v = impl_->Insert(ToPoint(point), start);
+  Triangulation& cdt = impl_->cdt;
+  const Point p = ToPoint(point);
+  VertexHandle v;
+  std::vector<FaceHandle> beyond;
+  Triangulation::Locate_type lt = Triangulation::FACE;
+  int li = 0;
+  const FaceHandle loc =
+      !impl_->constrained && cdt.dimension() == 2 ? cdt.locate(p, lt, li, start) : FaceHandle();
+  if (loc != FaceHandle() && (lt == Triangulation::FACE || lt == Triangulation::EDGE)) {
+    v = impl_->InsertUnconstrained(p, lt, loc, li);
+  } else {
+    v = impl_->Insert(p, start);
+    if (cdt.dimension() == 2) beyond = impl_->KeepCocircularDiagonals(v);
+  }
   if (v->info().index == kPending) {
     v->info().index = static_cast<uint32_t>(vertices_.size());
     vertices_.push_back(point);
     impl_->handles.push_back(v);
   }
-  std::vector<FaceHandle> beyond;
-  if (impl_->cdt.dimension() == 2) beyond = impl_->KeepCocircularDiagonals(v);
   if (incident != nullptr) {
     incident->clear();
     if (impl_->cdt.dimension() == 2) {
@@ -524,6 +575,7 @@ std::vector<uint32_t> Cdt::Absorb(Cdt&& other, std::vector<FaceRef>* changed) {
 // each piece anchored at both ends: round-off can then only move a crossing, never the route.
 void Cdt::InsertConstraint(uint32_t a, uint32_t b) {
   assert(a < impl_->handles.size() && b < impl_->handles.size() && a != b);
+  impl_->constrained = true;
   const VertexHandle va = impl_->handles[a];
   const VertexHandle vb = impl_->handles[b];
   Triangulation& cdt = impl_->cdt;
@@ -582,6 +634,17 @@ std::vector<Cdt::FaceRef> Cdt::FiniteFaces() const {
 std::array<uint32_t, 3> Cdt::FaceVertices(FaceRef face) const {
   const auto* f = static_cast<const Triangulation::Face*>(face.opaque);
   return {f->vertex(0)->info().index, f->vertex(1)->info().index, f->vertex(2)->info().index};
+}
+
+std::array<Cdt::Corner, 3> Cdt::FaceCorners(FaceRef face) const {
+  const auto* f = static_cast<const Triangulation::Face*>(face.opaque);
+  std::array<Corner, 3> corners;
+  for (int i = 0; i < 3; ++i) {
+    const VertexHandle v = f->vertex(i);
+    const Point& p = v->point();
+    corners[static_cast<size_t>(i)] = Corner{v->info().index, p.x(), p.y(), p.z()};
+  }
+  return corners;
 }
 
 uint64_t Cdt::FaceStamp(FaceRef face) const {
@@ -655,9 +718,13 @@ void Cdt::IndexCrossings(const ElevationFn& elevation) {
     assert(elevation);
     const double x = v->point().x();
     const double y = v->point().y();
+    const double z = elevation(x, y);
     v->info().index = static_cast<uint32_t>(vertices_.size());
-    vertices_.push_back(TinVertex{x, y, elevation(x, y), VertexKind::kSteiner});
+    vertices_.push_back(TinVertex{x, y, z, VertexKind::kSteiner});
     impl_->handles.push_back(v);
+    // CGAL constructed the crossing's z; FaceCorners reads the point, which must hold ours. The
+    // predicates see only x and y.
+    v->set_point(Point(x, y, z));
   }
 }
 

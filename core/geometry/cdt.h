@@ -82,9 +82,12 @@ class Cdt {
   // Inserts one vertex, locating it by walking from `hint` (a face near the point; a default
   // FaceRef starts anywhere). Returns its index (an existing one on a duplicate x, y). Where the
   // new vertex is co-circular with an edge's two apices, the diagonal that was there is kept
-  // (either is Delaunay; see KeepCocircularDiagonals in cdt.cc). When `incident` is not null it
-  // receives the finite faces the insertion created or changed: those around the vertex, and
-  // those across an edge kept that way.
+  // (either is Delaunay): while there is no constraint by strict Lawson flips
+  // (InsertUnconstrained in cdt.cc), after one by flipping CGAL's ties back
+  // (KeepCocircularDiagonals; a chain of ties may then end with other diagonals inside the
+  // co-circular polygon). When `incident` is not null it receives the finite faces the
+  // insertion created or changed: those around the vertex, and those across an edge kept that
+  // way.
   uint32_t InsertVertex(const TinVertex& point, FaceRef hint = {},
                         std::vector<FaceRef>* incident = nullptr);
 
@@ -118,6 +121,15 @@ class Cdt {
   // The indices of a finite face's vertices, counter-clockwise in plan view. REQUIRES: `face`
   // is finite and all its vertices have indices (no un-extracted constraint crossing).
   std::array<uint32_t, 3> FaceVertices(FaceRef face) const;
+  // The same vertices with their positions (x, y, z as vertices() holds them), read from the
+  // triangulation's own vertex records. For faces an insertion has just made those records are
+  // in cache, where vertices()[index] is a random read: on a greedy build most of the scan of a
+  // new face waited on those reads. REQUIRES: as FaceVertices.
+  struct Corner {
+    uint32_t index;
+    double x, y, z;
+  };
+  std::array<Corner, 3> FaceCorners(FaceRef face) const;
   uint64_t FaceStamp(FaceRef face) const;
   void SetFaceStamp(FaceRef face, uint64_t stamp);
 

@@ -71,6 +71,7 @@ class Refiner {
     bool operator<(const Candidate& o) const { return error < o.error; }
   };
   using Queue = std::priority_queue<Candidate>;
+  using Corners = std::array<Cdt::Corner, 3>;
 
   // Inserts the worst sample of `queue` while it is worse than `level` (0: until the queue is
   // empty). False when max_points stopped it first.
@@ -123,8 +124,8 @@ class Refiner {
   void Scan(Cdt::FaceRef face) {
     const uint64_t stamp = next_stamp_++;
     cdt_.SetFaceStamp(face, stamp);
-    const std::array<uint32_t, 3> v = cdt_.FaceVertices(face);
-    if (options_.in_region && !options_.in_region(v)) return;
+    const Corners v = cdt_.FaceCorners(face);
+    if (options_.in_region && !options_.in_region({v[0].index, v[1].index, v[2].index})) return;
     const CellTriangle t = InCellSpace(v);
     CellPlane plane;
     if (!PlaneOf(t, &plane)) return;
@@ -167,43 +168,37 @@ class Refiner {
 
   // As AnyWorstCell, counting only cells not skipped and exactly covered; those tests are made
   // on a new maximum only, which is rare.
-  WorstCell InsertableWorstCell(const std::array<uint32_t, 3>& v, const CellTriangle& t,
-                                const CellPlane& plane) {
+  WorstCell InsertableWorstCell(const Corners& v, const CellTriangle& t, const CellPlane& plane) {
     WorstCell worst{options_.tolerance};
-    ForEachCellSpan(
-        t, geometry_.width, geometry_.height, [&](int64_t r, int64_t first, int64_t last) {
-          const double y = static_cast<double>(r);
-          dem_.ForEachCell(r, first, last, [&](int64_t c, float value) {
-            if (std::isnan(value)) return;
-            const double error = std::fabs(plane.At(static_cast<double>(c), y) - value);
-            if (error <= worst.error || Skipped(c, r) || !Covers(v, c, r)) return;
-            worst = WorstCell{error, c, r};
-          });
-        });
+    ForEachCellSpan(t, geometry_.width, geometry_.height,
+                    [&](int64_t r, int64_t first, int64_t last) {
+                      const double y = static_cast<double>(r);
+                      dem_.ForEachCell(r, first, last, [&](int64_t c, float value) {
+                        if (std::isnan(value)) return;
+                        const double error = std::fabs(plane.At(static_cast<double>(c), y) - value);
+                        if (error <= worst.error || Skipped(c, r) || !Covers(v, c, r)) return;
+                        worst = WorstCell{error, c, r};
+                      });
+                    });
     return worst;
   }
 
-  // The face in the grid's centre space; each vertex's position there is computed once.
-  CellTriangle InCellSpace(const std::array<uint32_t, 3>& v) {
-    const std::vector<TinVertex>& vertices = cdt_.vertices();
-    while (cell_xy_.size() < vertices.size()) {
-      const TinVertex& p = vertices[cell_xy_.size()];
-      cell_xy_.push_back({geometry_.ColumnAt(p.x), geometry_.RowAt(p.y)});
-    }
+  // The face in the grid's centre space.
+  CellTriangle InCellSpace(const Corners& v) const {
     CellTriangle t;
-    for (int i = 0; i < 3; ++i) {
-      t.col[i] = cell_xy_[v[i]][0];
-      t.row[i] = cell_xy_[v[i]][1];
-      t.z[i] = vertices[v[i]].z;
+    for (size_t i = 0; i < 3; ++i) {
+      t.col[i] = geometry_.ColumnAt(v[i].x);
+      t.row[i] = geometry_.RowAt(v[i].y);
+      t.z[i] = v[i].z;
     }
     return t;
   }
 
   // Only cells the face truly holds (cell_cover.h), so an insertion never lands outside the
   // region.
-  bool Covers(const std::array<uint32_t, 3>& v, int64_t col, int64_t row) const {
-    const std::vector<TinVertex>& vs = cdt_.vertices();
-    return HoldsCellCentre(geometry_, vs[v[0]], vs[v[1]], vs[v[2]], col, row);
+  bool Covers(const Corners& v, int64_t col, int64_t row) const {
+    const auto at = [&](size_t i) { return TinVertex{v[i].x, v[i].y, v[i].z, VertexKind::kDem}; };
+    return HoldsCellCentre(geometry_, at(0), at(1), at(2), col, row);
   }
 
   bool Skipped(int64_t col, int64_t row) const {
@@ -221,9 +216,8 @@ class Refiner {
   std::vector<uint32_t> added_;
   std::vector<Cdt::FaceRef> incident_;
   std::set<std::pair<int64_t, int64_t>> blocked_;
-  std::vector<std::array<double, 2>> cell_xy_;  // vertices in centre space, by index
   std::optional<HelperThread> helper_;  // with options.parallel_scans on a ConcurrentReads DEM
-  uint64_t next_stamp_ = 1;  // 0 is a fresh face's stamp, never queued
+  uint64_t next_stamp_ = 1;             // 0 is a fresh face's stamp, never queued
 };
 
 }  // namespace

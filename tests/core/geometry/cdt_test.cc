@@ -204,6 +204,61 @@ TEST(CdtTest, NewVertexKeepsCoCircularDiagonals) {
   EXPECT_EQ(tied_quads_seen, 0);
 }
 
+// Without constraints an insertion is strict: a face survives unless the new point lies strictly
+// inside its circumcircle. Flipping CGAL's tie-breaks back afterwards (the older way) broke this
+// after a chain of ties, leaving other diagonals inside a co-circular polygon.
+TEST(CdtTest, NewVertexChangesOnlyFacesWhoseCircleHoldsItStrictly) {
+  constexpr int kSide = 11;
+  const auto at = [](int c, int r) { return TinVertex{500000.0 + c, 5000000.0 + r, 0}; };
+  const unsigned seed = std::random_device{}();
+  std::printf("NewVertexChangesOnlyFacesWhoseCircleHoldsItStrictly seed %u\n", seed);
+  std::mt19937 rng(seed);
+  Cdt cdt;
+  cdt.InsertVertices({at(0, 0), at(kSide - 1, 0), at(0, kSide - 1), at(kSide - 1, kSide - 1)});
+  std::vector<TinVertex> inner;
+  for (int r = 0; r < kSide; ++r)
+    for (int c = 0; c < kSide; ++c)
+      if ((c % (kSide - 1) != 0) || (r % (kSide - 1) != 0)) inner.push_back(at(c, r));
+  std::shuffle(inner.begin(), inner.end(), rng);
+  for (const TinVertex& p : inner) {
+    const Tin before = cdt.ToTin();
+    cdt.InsertVertex(p);
+    const auto after = FaceSet(cdt.ToTin());
+    for (const TinTriangle& t : before.triangles) {
+      const auto& q = before.vertices;
+      const int side = InCircle({q[t.v[0]].x, q[t.v[0]].y}, {q[t.v[1]].x, q[t.v[1]].y},
+                                {q[t.v[2]].x, q[t.v[2]].y}, {p.x, p.y});
+      std::array<uint32_t, 3> key = t.v;
+      std::sort(key.begin(), key.end());
+      if (side > 0) continue;
+      EXPECT_TRUE(after.count(key)) << "a face the point is not strictly inside went";
+    }
+  }
+}
+
+// FaceCorners reads positions from the triangulation; they are vertices()'s, crossings included
+// once indexed.
+TEST(CdtTest, FaceCornersAreTheVerticesOfTheFace) {
+  Cdt cdt;
+  cdt.InsertVertices({{0, 0, 100}, {10, 0, 101}, {10, 10, 102}, {0, 10, 103}, {3, 1, 50}});
+  cdt.InsertConstraint(0, 2);
+  cdt.InsertConstraint(1, 3);
+  cdt.IndexCrossings([](double x, double y) { return 1000 + x + 2 * y; });
+  const std::vector<Cdt::FaceRef> faces = cdt.FiniteFaces();
+  ASSERT_FALSE(faces.empty());
+  for (Cdt::FaceRef f : faces) {
+    const std::array<uint32_t, 3> v = cdt.FaceVertices(f);
+    const std::array<Cdt::Corner, 3> corners = cdt.FaceCorners(f);
+    for (size_t i = 0; i < 3; ++i) {
+      EXPECT_EQ(corners[i].index, v[i]);
+      const TinVertex& want = cdt.vertices()[v[i]];
+      EXPECT_EQ(corners[i].x, want.x);
+      EXPECT_EQ(corners[i].y, want.y);
+      EXPECT_EQ(corners[i].z, want.z);
+    }
+  }
+}
+
 // Two triangulations of lattice points (co-circular quads everywhere) on either side of the
 // column `seam`, both holding the same points on it: joined, they are one Delaunay triangulation
 // of every point, and each face not reported changed is a face of an input, the same vertices in
