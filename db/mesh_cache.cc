@@ -255,10 +255,13 @@ Status MeshCache::LoadOwners() {
   return Status::Ok();
 }
 
+Result<int64_t> MeshCache::StoredConstraintRows() {
+  return store_.db().QueryInt("SELECT count(*) FROM constraints WHERE surface = " +
+                              std::to_string(surface_.id));
+}
+
 Status MeshCache::LoadOwnersIfFew() {
-  TB_ASSIGN_OR_RETURN(const int64_t rows,
-                      store_.db().QueryInt("SELECT count(*) FROM constraints WHERE surface = " +
-                                           std::to_string(surface_.id)));
+  TB_ASSIGN_OR_RETURN(const int64_t rows, StoredConstraintRows());
   if (rows > static_cast<int64_t>(kMaxKeptTriangles)) return Status::Ok();
   return LoadOwners();
 }
@@ -383,9 +386,7 @@ Status MeshCache::VerifyAgainstStore() {
   }
   if (!owners_complete_) return Status::Ok();
   // Complete, an edge it lacks is unconstrained: every stored row must be in it.
-  TB_ASSIGN_OR_RETURN(const int64_t stored_rows,
-                      store_.db().QueryInt("SELECT count(*) FROM constraints WHERE surface = " +
-                                           std::to_string(surface_.id)));
+  TB_ASSIGN_OR_RETURN(const int64_t stored_rows, StoredConstraintRows());
   if (static_cast<int64_t>(owner_rows) != stored_rows)
     return Status::Corruption(where + "the constraint rows known (" + std::to_string(owner_rows) +
                               ") are not all the surface's (" + std::to_string(stored_rows) + ")");

@@ -142,6 +142,8 @@ class MeshCache {
   // owners of every edge of its region, nearly all of them unconstrained, and a load feature by
   // feature whose rows are kept would otherwise look each new one up.
   Status LoadOwnersIfFew();
+  // The surface's constraint rows in the store.
+  Result<int64_t> StoredConstraintRows();
   Result<int64_t> DataVersion();
 
   Store& store_;

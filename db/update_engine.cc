@@ -918,7 +918,7 @@ class Edit {
     // would split an outline edge, and the triangle across already meets the tolerance there
     // (both interpolate the same edge).
     const size_t before = cdt.vertices().size();
-    std::vector<std::array<uint32_t, 3>> inside_faces;  // sorted corners, sorted
+    std::vector<std::array<uint32_t, 3>> inside_faces;  // corners sorted, then the list
     bool every_face_inside = true;  // R is the whole triangulation: no face to tell apart
     {
       const Tin now = cdt.ToTin(elevation);

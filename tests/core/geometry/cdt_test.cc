@@ -152,21 +152,30 @@ std::set<std::array<uint32_t, 3>> FaceSet(const Tin& tin) {
   return faces;
 }
 
+// A side x side grid of points `spacing` m apart: a triangulation of its four corners, and the
+// other points in the order `rng` shuffles them into.
+std::vector<TinVertex> GridCornersThenShuffled(int side, double spacing, std::mt19937& rng,
+                                               Cdt& cdt) {
+  const auto at = [&](int c, int r) {
+    return TinVertex{500000.0 + spacing * c, 5000000.0 + spacing * r, 0};
+  };
+  cdt.InsertVertices({at(0, 0), at(side - 1, 0), at(0, side - 1), at(side - 1, side - 1)});
+  std::vector<TinVertex> inner;
+  for (int r = 0; r < side; ++r)
+    for (int c = 0; c < side; ++c)
+      if ((c % (side - 1) != 0) || (r % (side - 1) != 0)) inner.push_back(at(c, r));
+  std::shuffle(inner.begin(), inner.end(), rng);
+  return inner;
+}
+
 // On a grid every cell's corners are co-circular, so either diagonal is Delaunay. A new vertex
 // keeps the diagonals that were there (as strict in-circle flips do) rather than taking CGAL's
 // symbolic perturbation: no edge from it ends up as the diagonal of a co-circular quad. And
 // every face the insertion made, including those across a kept diagonal, is reported.
 TEST(CdtTest, NewVertexKeepsCoCircularDiagonals) {
-  constexpr int kSide = 9;
-  const auto at = [](int c, int r) { return TinVertex{500000.0 + 10 * c, 5000000.0 + 10 * r, 0}; };
-  Cdt cdt;
-  cdt.InsertVertices({at(0, 0), at(kSide - 1, 0), at(0, kSide - 1), at(kSide - 1, kSide - 1)});
-  std::vector<TinVertex> inner;
-  for (int r = 0; r < kSide; ++r)
-    for (int c = 0; c < kSide; ++c)
-      if ((c % (kSide - 1) != 0) || (r % (kSide - 1) != 0)) inner.push_back(at(c, r));
   std::mt19937 rng(11);
-  std::shuffle(inner.begin(), inner.end(), rng);
+  Cdt cdt;
+  const std::vector<TinVertex> inner = GridCornersThenShuffled(9, 10, rng, cdt);
   int tied_quads_seen = 0;
   for (const TinVertex& p : inner) {
     const auto before = FaceSet(cdt.ToTin());
@@ -208,18 +217,11 @@ TEST(CdtTest, NewVertexKeepsCoCircularDiagonals) {
 // inside its circumcircle. Flipping CGAL's tie-breaks back afterwards (the older way) broke this
 // after a chain of ties, leaving other diagonals inside a co-circular polygon.
 TEST(CdtTest, NewVertexChangesOnlyFacesWhoseCircleHoldsItStrictly) {
-  constexpr int kSide = 11;
-  const auto at = [](int c, int r) { return TinVertex{500000.0 + c, 5000000.0 + r, 0}; };
   const unsigned seed = std::random_device{}();
   std::printf("NewVertexChangesOnlyFacesWhoseCircleHoldsItStrictly seed %u\n", seed);
   std::mt19937 rng(seed);
   Cdt cdt;
-  cdt.InsertVertices({at(0, 0), at(kSide - 1, 0), at(0, kSide - 1), at(kSide - 1, kSide - 1)});
-  std::vector<TinVertex> inner;
-  for (int r = 0; r < kSide; ++r)
-    for (int c = 0; c < kSide; ++c)
-      if ((c % (kSide - 1) != 0) || (r % (kSide - 1) != 0)) inner.push_back(at(c, r));
-  std::shuffle(inner.begin(), inner.end(), rng);
+  const std::vector<TinVertex> inner = GridCornersThenShuffled(11, 1, rng, cdt);
   for (const TinVertex& p : inner) {
     const Tin before = cdt.ToTin();
     cdt.InsertVertex(p);
