@@ -38,10 +38,11 @@ struct RefineOptions {
   // the tolerance, so a DEM streamed from a store is read nearly in order; the same error bound,
   // a slightly different (usually a little larger) point set.
   int64_t tile = 0;
-  // Scan faces over very many cells (the first ones span the grid) on a second thread too, each
-  // thread taking half the face's rows: the same result, faster on coarse tolerances, where
-  // those scans are most of the work. Only where the DEM may be read from two threads at once
-  // (CellSource::ConcurrentReads); otherwise ignored.
+  // Share scans with a second thread: a face over very many cells (the first ones span the
+  // grid) by halves of its rows, and the faces one insertion makes, when they hold a few
+  // thousand cells together, by faces. The same result, faster on coarse tolerances, where those
+  // scans are most of the work. Only where the DEM may be read from two threads at once
+  // (CellSource::ConcurrentReads); otherwise ignored. `excluded` is then called from both.
   bool parallel_scans = false;
 };
 

@@ -1,5 +1,6 @@
 #include "core/tin/worst_cell.h"
 
+#include <cmath>
 #include <cstring>
 
 namespace tinbase {
@@ -11,14 +12,13 @@ using Doubles = double __attribute__((vector_size(32)));
 using Floats = float __attribute__((vector_size(16)));
 using Bits = int64_t __attribute__((vector_size(32)));
 
-}  // namespace
-
-// Each lane computes error_at of RaiseToRunWorst in the same order of operations; x + 4 stays
-// exact (integers far below 2^53). fabs is the sign bit cleared, as std::fabs does.
-__attribute__((target_clones("avx2", "default"))) double RunMaxError(const CellPlane& plane,
-                                                                     double row_term, double x0,
-                                                                     const float* cells,
-                                                                     int64_t count) {
+// The largest |plane - cell| over cells[0..count), columns x0 .. x0 + count - 1 of the row whose
+// term b (row - r0) is row_term; -1 when every cell is NaN. Each lane computes ErrorAt's
+// expression in the same order of operations (x + 4 stays exact: integers far below 2^53), so
+// the lanes give the same doubles as one cell at a time. fabs is the sign bit cleared, as
+// std::fabs does. Errors are >= 0 or NaN, and NaN > best is false: NaN never wins.
+inline double RunMaxError(const CellPlane& plane, double row_term, double x0, const float* cells,
+                          int64_t count) {
   const Doubles z0 = Doubles{} + plane.z0, a = Doubles{} + plane.a, c0 = Doubles{} + plane.c0;
   const Doubles term = Doubles{} + row_term;
   const Bits magnitude = Bits{} + INT64_MAX;
@@ -40,6 +40,53 @@ __attribute__((target_clones("avx2", "default"))) double RunMaxError(const CellP
     best = e > best ? e : best;
   }
   return best;
+}
+
+// Raises `worst` over cells[0..count), columns col .. col + count - 1 of `row`.
+inline void RaiseToRunWorst(const CellPlane& plane, int64_t row, int64_t col, const float* cells,
+                            int64_t count, WorstCell* worst) {
+  // plane.At(c, row) is (z0 + a (c - c0)) + b (row - r0): the row's term once, the same sum.
+  const double row_term = plane.b * (static_cast<double>(row) - plane.r0);
+  const double x0 = static_cast<double>(col);
+  const double best = RunMaxError(plane, row_term, x0, cells, count);
+  if (!(best > worst->error)) return;
+  // The same expression gives the same double: the search always stops at a cell of this run.
+  int64_t i = 0;
+  while (i + 1 < count &&
+         std::fabs(plane.z0 + plane.a * (x0 + static_cast<double>(i) - plane.c0) + row_term -
+                   static_cast<double>(cells[i])) != best) {
+    ++i;
+  }
+  *worst = WorstCell{best, col + i, row};
+}
+
+// The scan over one kind of source, run by run as CellSource::ForEachRun reads them; Source is
+// named so that a GridCellSource's Span (a final class) is called directly, inlined.
+template <typename Source>
+inline void ScanRows(Source& dem, const CellTriangle& t, const CellPlane& plane, int64_t row_min,
+                     int64_t row_max, WorstCell* worst) {
+  const GridGeometry& g = dem.geometry();
+  ForEachCellSpanInRows(
+      t, g.width, g.height, row_min, row_max, [&](int64_t row, int64_t first, int64_t last) {
+        for (int64_t col = first; col <= last;) {
+          int64_t end = last;
+          const float* cells = dem.Span(row, col, &end);
+          RaiseToRunWorst(plane, row, col, cells, end - col + 1, worst);
+          col = end + 1;
+        }
+      });
+}
+
+}  // namespace
+
+__attribute__((target_clones("avx2", "default"), flatten)) void RaiseToWorstInRows(
+    CellSource& dem, const CellTriangle& t, const CellPlane& plane, int64_t row_min,
+    int64_t row_max, WorstCell* worst) {
+  if (auto* grid = dynamic_cast<GridCellSource*>(&dem)) {
+    ScanRows(*grid, t, plane, row_min, row_max, worst);
+  } else {
+    ScanRows(dem, t, plane, row_min, row_max, worst);
+  }
 }
 
 }  // namespace tinbase

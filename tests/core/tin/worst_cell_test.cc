@@ -113,7 +113,8 @@ TEST(WorstCellTest, RowRangesTogetherAreTheWholeScan) {
   }
 }
 
-// Faces over more than 2^17 cells are scanned on two threads: a 700 x 700 grid's first faces are.
+// Faces over more than 2^17 cells are scanned on two threads by rows (a 700 x 700 grid's first
+// faces are), and the faces of an insertion over 2^10 cells together by faces.
 TEST(WorstCellTest, ParallelScansInsertTheSamePoints) {
   const Grid grid = TerrainWithHoles(700, 700);
   const auto refine = [&](bool parallel) {
