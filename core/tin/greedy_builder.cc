@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <optional>
 #include <string>
@@ -186,44 +187,98 @@ bool MaySplit(const Grid& dem, const GreedyOptions& options) {
   return options.threads == 2 ? std::max(g.width, g.height) >= 3 : WorthSplitting(g);
 }
 
-// Sets every triangle's visibility (on data or not) and measures the errors over every valid
-// cell, each counted once.
-void PaintAndMeasure(CellSource& dem, Tin& tin, GreedyReport* report) {
-  const GridGeometry& g = dem.geometry();
-  // A cell on an edge is covered by both triangles: count it once. Only when measuring.
-  std::vector<bool> seen(report != nullptr ? static_cast<size_t>(g.CellCount()) : 0, false);
-  double max_error = 0, sum_sq = 0;
-  int64_t count = 0;
-  // 256 cells: the DEM store's default block; any size near it gives the locality.
+// The triangles in the order of the DEM tiles holding their centroids (256 cells: the DEM store's
+// default block; any size near it gives the locality), so a pass over them reads the DEM nearly
+// in order.
+std::vector<size_t> InDemTileOrder(const GridGeometry& g, const Tin& tin) {
   const auto centroid = [&](size_t t) {
     const auto& v = tin.triangles[t].v;
     return std::pair{(tin.vertices[v[0]].x + tin.vertices[v[1]].x + tin.vertices[v[2]].x) / 3,
                      (tin.vertices[v[0]].y + tin.vertices[v[1]].y + tin.vertices[v[2]].y) / 3};
   };
-  for (size_t index : InTileOrder(g, 256, tin.triangles.size(), centroid)) {
+  return InTileOrder(g, 256, tin.triangles.size(), centroid);
+}
+
+// Sets every triangle's visibility (on data or not), reading a streamed DEM in `order`.
+void PaintInOrder(CellSource& dem, Tin& tin, const std::vector<size_t>& order) {
+  for (size_t index : order) {
     TinTriangle& t = tin.triangles[index];
     t.visible = TriangleOnData(dem, tin, t);
-    if (report == nullptr) continue;
+  }
+}
+
+// |plane - DEM| over valid cells: the largest, the sum of squares and how many.
+struct ErrorSums {
+  double max_error = 0, sum_sq = 0;
+  int64_t count = 0;
+};
+
+// The errors of the triangles, visited in `order`, over the valid cells of rows row_min..row_max,
+// each cell counted once: `seen` holds a bit per cell (a cell on an edge is covered by both
+// triangles; a bit, not a byte, as a streamed DEM may have billions of cells). Only the words of
+// those rows' cells are touched, so row ranges that start at a multiple of 64 cells may be
+// measured at once.
+ErrorSums MeasureRows(CellSource& dem, const Tin& tin, const std::vector<size_t>& order,
+                      int64_t row_min, int64_t row_max, std::vector<uint64_t>& seen) {
+  const GridGeometry& g = dem.geometry();
+  ErrorSums sums;
+  for (size_t index : order) {
+    const TinTriangle& t = tin.triangles[index];
     const CellTriangle cells =
         ToCellSpace(g, tin.vertices[t.v[0]], tin.vertices[t.v[1]], tin.vertices[t.v[2]]);
+    const auto [first_row, last_row] = CellSpanRows(cells, g.height);
+    if (last_row < row_min || first_row > row_max) continue;
     CellPlane plane;
     if (!PlaneOf(cells, &plane)) continue;
-    ForEachCellSpan(cells, g.width, g.height, [&](int64_t r, int64_t first, int64_t last) {
-      dem.ForEachCell(r, first, last, [&](int64_t c, float value) {
-        const size_t at = static_cast<size_t>(r * g.width + c);
-        if (seen[at] || std::isnan(value)) return;
-        seen[at] = true;
-        const double error =
-            std::fabs(plane.At(static_cast<double>(c), static_cast<double>(r)) - value);
-        max_error = std::max(max_error, error);
-        sum_sq += error * error;
-        ++count;
-      });
-    });
+    ForEachCellSpanInRows(
+        cells, g.width, g.height, row_min, row_max, [&](int64_t r, int64_t first, int64_t last) {
+          dem.ForEachCell(r, first, last, [&](int64_t c, float value) {
+            const auto at = static_cast<size_t>(r * g.width + c);
+            const uint64_t bit = uint64_t{1} << (at % 64);
+            if ((seen[at / 64] & bit) != 0 || std::isnan(value)) return;
+            seen[at / 64] |= bit;
+            const double error =
+                std::fabs(plane.At(static_cast<double>(c), static_cast<double>(r)) - value);
+            sums.max_error = std::max(sums.max_error, error);
+            sums.sum_sq += error * error;
+            ++sums.count;
+          });
+        });
   }
-  if (report == nullptr) return;
-  report->max_error = max_error;
-  report->rms_error = count > 0 ? std::sqrt(sum_sq / static_cast<double>(count)) : 0;
+  return sums;
+}
+
+// The row near the middle of the grid whose first cell starts a word of MeasureRows' bits; 0
+// when there is none short of the last row.
+int64_t MiddleRowOnAWord(const GridGeometry& g) {
+  for (int64_t row = g.height / 2; row < g.height; ++row)
+    if ((row * g.width) % 64 == 0) return row;
+  return 0;
+}
+
+// Fills `report` with the errors over every valid cell. With `two_threads` (a DEM that allows
+// concurrent reads), the lower half of the rows is measured on a helper thread: on a 4097^2 grid
+// at 1 m the measure took about as long as a tenth of the build.
+void Measure(CellSource& dem, const Tin& tin, const std::vector<size_t>& order, bool two_threads,
+             GreedyReport* report) {
+  const GridGeometry& g = dem.geometry();
+  std::vector<uint64_t> seen(static_cast<size_t>((g.CellCount() + 63) / 64), 0);
+  ErrorSums sums;
+  const int64_t middle = MiddleRowOnAWord(g);
+  if (two_threads && dem.ConcurrentReads() && middle > 0) {
+    ErrorSums lower;
+    std::thread helper([&] { lower = MeasureRows(dem, tin, order, middle, g.height - 1, seen); });
+    sums = MeasureRows(dem, tin, order, 0, middle - 1, seen);
+    helper.join();
+    sums.max_error = std::max(sums.max_error, lower.max_error);
+    sums.sum_sq += lower.sum_sq;
+    sums.count += lower.count;
+  } else {
+    sums = MeasureRows(dem, tin, order, 0, g.height - 1, seen);
+  }
+  report->max_error = sums.max_error;
+  report->rms_error =
+      sums.count > 0 ? std::sqrt(sums.sum_sq / static_cast<double>(sums.count)) : 0;
   report->points = static_cast<int64_t>(tin.vertices.size());
 }
 
@@ -254,7 +309,9 @@ Result<Tin> BuildGreedyTin(CellSource& dem, const GreedyOptions& options, Greedy
   TB_RETURN_IF_ERROR(ValidateOptions(options));
   TB_RETURN_IF_ERROR(ValidateGeometry(dem.geometry()));
   TB_ASSIGN_OR_RETURN(Tin tin, BuildFromCorners(dem, options));
-  PaintAndMeasure(dem, tin, report);
+  const std::vector<size_t> order = InDemTileOrder(dem.geometry(), tin);
+  PaintInOrder(dem, tin, order);
+  if (report != nullptr) Measure(dem, tin, order, /*two_threads=*/false, report);
   TB_RETURN_IF_ERROR(dem.status());
   return tin;
 }
@@ -280,10 +337,10 @@ Result<Tin> BuildGreedyTin(const Grid& dem, const GreedyOptions& options, Greedy
   } else {
     TB_ASSIGN_OR_RETURN(tin, BuildFromCorners(source, options));
   }
+  MarkVisible(dem, tin, /*two_threads=*/halves.has_value());
   if (report != nullptr) {
-    PaintAndMeasure(source, tin, report);
-  } else {
-    MarkVisible(dem, tin, /*two_threads=*/halves.has_value());
+    Measure(source, tin, InDemTileOrder(dem.geometry, tin), /*two_threads=*/options.threads != 1,
+            report);
   }
   return tin;
 }

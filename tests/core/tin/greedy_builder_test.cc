@@ -10,6 +10,7 @@
 #include <random>
 
 #include "core/tin/split_refinement.h"
+#include "core/tin/tin_raster.h"
 #include "tests/support/read_grid.h"
 #include "tests/support/test_support.h"
 #include "tests/support/tin_checks.h"
@@ -266,6 +267,34 @@ TEST(GreedyBuilderTest, MaxPointsHonoured) {
     testing::ExpectLocallyDelaunay(*tin);
     EXPECT_NEAR(report.max_error, FitToDem(*tin, dem).max_error, 1e-6);
   }
+}
+
+// The report's errors are measured over every valid cell: on one thread, on two (rows split at
+// a word of the cell bitmap, here row 128 of a 157-cell-wide grid) and over a streamed source,
+// the same TIN gives the same figures, which match an independent measure (tin_raster.h).
+TEST(GreedyBuilderTest, ReportMeasuresEveryValidCellOnOneOrTwoThreads) {
+  const Grid dem = MakeGrid(157, 200, [](double x, double y) {
+    return std::hypot(x - 700.0, y + 900.0) < 200 ? kNaN : Sines(x, y);
+  });
+  // A point budget keeps the build on one thread, so each run makes the same TIN.
+  const GreedyOptions one{.tolerance = 0.5, .max_points = 1500, .threads = 1};
+  GreedyOptions two = one;
+  two.threads = 0;
+  GreedyReport on_one, on_two, streamed;
+  auto tin = BuildGreedyTin(dem, one, &on_one);
+  ASSERT_TRUE(tin.ok()) << tin.status().ToString();
+  ASSERT_TRUE(BuildGreedyTin(dem, two, &on_two).ok());
+  GridCellSource source(dem);
+  ASSERT_TRUE(BuildGreedyTin(source, one, &streamed).ok());
+  const TinGridError want = CompareTinToGrid(*tin, dem);
+  ASSERT_EQ(want.uncovered, 0);
+  ASSERT_GT(want.rms_error, 0);
+  for (const GreedyReport* report : {&on_one, &on_two, &streamed}) {
+    EXPECT_NEAR(report->max_error, want.max_error, 1e-6);
+    EXPECT_NEAR(report->rms_error, want.rms_error, 1e-9 * want.rms_error + 1e-9);
+    EXPECT_EQ(report->points, 1500);
+  }
+  EXPECT_EQ(on_two.max_error, on_one.max_error);
 }
 
 TEST(GreedyBuilderTest, TinyToleranceTakesEveryCell) {
