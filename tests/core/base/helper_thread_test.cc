@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <chrono>
 #include <thread>
 
 namespace tinbase {
@@ -23,6 +25,22 @@ TEST(HelperThreadTest, RunsEachTaskOnTheHelperBeforeWaitReturns) {
     ASSERT_NE(ran_on, owner);
   }
   EXPECT_EQ(sum, 5050);
+}
+
+// Both sides spin 50 us before they sleep: tasks given after the helper fell asleep, and tasks
+// that outlast the owner's spin in Wait, take the sleeping paths.
+TEST(HelperThreadTest, WakesFromSleepAndWaitsOutLongTasks) {
+  HelperThread helper;
+  std::atomic<int> runs{0};
+  for (int i = 0; i < 5; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));  // the helper sleeps by now
+    helper.Run([&] {
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));  // Wait sleeps too
+      ++runs;
+    });
+    helper.Wait();
+    ASSERT_EQ(runs.load(), i + 1);
+  }
 }
 
 TEST(HelperThreadTest, DestroyedWhileIdleOrRightAfterATask) {
