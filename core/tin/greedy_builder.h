@@ -31,8 +31,9 @@ struct GreedyOptions {
   // vertices (a shorter or sparser one would weigh on a small TIN), else one. The result keeps the
   // same bound either way; the point sets differ a little (the two-thread one holds its seam's
   // vertices). When a grid in memory is refined on one thread anyway (threads 0 or 2 with
-  // those options set, or 0 with a short seam), a second thread still scans half of each very
-  // large face (RefineOptions::parallel_scans), which changes nothing in the result.
+  // those options set, or 0 with a short seam), a second thread still shares its largest scans
+  // (RefineOptions::parallel_scans), which changes nothing in the result. Unless threads is 1,
+  // the report's errors over a grid in memory are measured on two threads.
   int threads = 0;
 };
 
