@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "bench/generated_terrain.h"
+#include "core/base/huge_page_malloc.h"
 #include "core/geometry/cdt.h"
 #include "core/raster/gdal_raster.h"
 #include "core/tin/edge_collapse.h"
@@ -336,6 +337,8 @@ std::vector<double> ParseList(const std::string& text) {
 }  // namespace tinbase
 
 int main(int argc, char** argv) {
+  // As the tinbase CLI runs; CGAL alone in `delaunay` gets the same malloc.
+  tinbase::RestartWithHugePageMalloc(argv);
   GDALAllRegister();
   CLI::App app{"tinbase TIN builder benchmark"};
   app.require_subcommand(1);

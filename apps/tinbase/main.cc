@@ -8,6 +8,7 @@
 #include <string>
 
 #include "apps/tinbase/command.h"
+#include "core/base/huge_page_malloc.h"
 #include "db/dem_block_cache.h"
 #include "db/store.h"
 
@@ -49,6 +50,7 @@ Status ApplyMemoryLimits() {
 }  // namespace tinbase::cli
 
 int main(int argc, char** argv) {
+  tinbase::RestartWithHugePageMalloc(argv);
   if (tinbase::Status s = tinbase::cli::ApplyMemoryLimits(); !s.ok())
     return tinbase::cli::ReportError(s);
   GDALAllRegister();

@@ -38,6 +38,22 @@ class CliTest : public ::testing::Test {
   std::string store_;
 };
 
+// The CLI starts itself again on huge-page malloc (core/base/huge_page_malloc.h) unless told not
+// to or already told how: every way, it runs the command with its arguments once.
+TEST(CliStartTest, RunsTheCommandOnceWithOrWithoutHugePages) {
+  const CliResult plain = RunCli("--version");
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  ASSERT_FALSE(plain.out.empty());
+  for (const std::string env :
+       {"TINBASE_HUGE_PAGES=0", "GLIBC_TUNABLES=glibc.malloc.hugetlb=0",
+        "GLIBC_TUNABLES=glibc.malloc.check=0", "TINBASE_HUGE_PAGES_RESTARTED=1"}) {
+    const CliResult run = RunCli("--version", env);
+    EXPECT_EQ(run.exit_code, 0) << env << ": " << run.err;
+    EXPECT_EQ(run.out, plain.out) << env;
+  }
+  EXPECT_NE(RunCli("no-such-command").exit_code, 0);
+}
+
 TEST_F(CliTest, InfoListsTheDemAndTheSurface) {
   auto j = Json(RunCli("info --json " + Quote(store_)));
   ASSERT_EQ(j["dems"].size(), 1u);
