@@ -7,10 +7,17 @@
 #include <unistd.h>
 #endif
 
+// Nested: a preprocessor without glibc has no __GLIBC_PREREQ to call.
+#if defined(__linux__) && defined(__GLIBC__)
+#if __GLIBC_PREREQ(2, 35)
+#define TINBASE_HUGE_PAGE_MALLOC 1
+#endif
+#endif
+
 namespace tinbase {
 
 void RestartWithHugePageMalloc(char** argv) {
-#if defined(__linux__) && defined(__GLIBC__) && __GLIBC_PREREQ(2, 35)
+#if defined(TINBASE_HUGE_PAGE_MALLOC)
   // Set before the restart: a second start never restarts again, whatever glibc does with
   // GLIBC_TUNABLES.
   constexpr const char* kRestarted = "TINBASE_HUGE_PAGES_RESTARTED";
