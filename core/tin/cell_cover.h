@@ -79,81 +79,38 @@ inline std::pair<int64_t, int64_t> CellSpanRows(const CellTriangle& t, int64_t h
           std::min<int64_t>(height - 1, static_cast<int64_t>(std::floor(hi + kCellSpanMargin)))};
 }
 
-namespace cell_span_internal {
-
-// One edge of a triangle in centre space, with what every row's span needs of it computed once:
-// a face is scanned row by row, and on coarse tolerances its rows are short enough that
-// recomputing these per row cost two thirds of reading the cells.
-struct SpanEdge {
-  double ac = 0, ar = 0, bc = 0, br = 0;  // its ends (col, row)
-  double lo = 0, hi = 0;                  // the rows it reaches, widened by the margin
-  bool flat = false;                      // horizontal within the margin: all its columns count
-  double min_col = 0, max_col = 0;
-};
-
-inline SpanEdge MakeSpanEdge(double ac, double ar, double bc, double br) {
-  SpanEdge e{ac, ar, bc, br};
-  e.lo = std::min(ar, br) - kCellSpanMargin;
-  e.hi = std::max(ar, br) + kCellSpanMargin;
-  e.flat = std::abs(br - ar) <= kCellSpanMargin;
-  e.min_col = std::min(ac, bc);
-  e.max_col = std::max(ac, bc);
-  return e;
-}
-
-// ceil and floor of x in [-1, 2^62]: without SSE4.1 (Debian's x86-64 baseline) std::ceil and
-// std::floor are library calls, twice per row.
-inline int64_t CeilOf(double x) {
-  const auto t = static_cast<int64_t>(x);
-  return t + (x > static_cast<double>(t) ? 1 : 0);
-}
-inline int64_t FloorOf(double x) {
-  const auto t = static_cast<int64_t>(x);
-  return t - (x < static_cast<double>(t) ? 1 : 0);
-}
-
-}  // namespace cell_span_internal
-
 // Calls span(row, first_col, last_col) for every grid row from row_min to row_max of cell centres
 // inside or on `t` (within the margin), clipped to width x height. Splitting a triangle's rows
 // (CellSpanRows) into ranges gives exactly the spans of the whole, range by range.
 template <typename SpanFn>
 void ForEachCellSpanInRows(const CellTriangle& t, int64_t width, int64_t height, int64_t row_min,
                            int64_t row_max, SpanFn&& span) {
-  using cell_span_internal::CeilOf;
-  using cell_span_internal::FloorOf;
   constexpr double kMargin = kCellSpanMargin;
   const auto [first_row, last_row] = CellSpanRows(t, height);
   row_min = std::max(row_min, first_row);
   row_max = std::min(row_max, last_row);
-  if (row_min > row_max) return;
-  cell_span_internal::SpanEdge edges[3];
-  for (int e = 0; e < 3; ++e) {
-    edges[e] = cell_span_internal::MakeSpanEdge(t.col[e], t.row[e], t.col[(e + 1) % 3],
-                                                t.row[(e + 1) % 3]);
-  }
-  // Bounds for the conversions to integers; anything beyond them is off the grid either way.
-  const double low = -1, high = static_cast<double>(width);
   for (int64_t r = row_min; r <= row_max; ++r) {
     double left = std::numeric_limits<double>::infinity();
     double right = -left;
     const double y = static_cast<double>(r);
-    for (const cell_span_internal::SpanEdge& e : edges) {
-      if (y < e.lo || y > e.hi) continue;
-      if (e.flat) {
-        left = std::min(left, e.min_col);
-        right = std::max(right, e.max_col);
+    for (int e = 0; e < 3; ++e) {
+      const double ac = t.col[e], ar = t.row[e];
+      const double bc = t.col[(e + 1) % 3], br = t.row[(e + 1) % 3];
+      if (y < std::min(ar, br) - kMargin || y > std::max(ar, br) + kMargin) continue;
+      if (std::abs(br - ar) <= kMargin) {
+        left = std::min({left, ac, bc});
+        right = std::max({right, ac, bc});
         continue;
       }
-      const double s = std::clamp((y - e.ar) / (e.br - e.ar), 0.0, 1.0);
-      const double x = e.ac + s * (e.bc - e.ac);
+      const double s = std::clamp((y - ar) / (br - ar), 0.0, 1.0);
+      const double x = ac + s * (bc - ac);
       left = std::min(left, x);
       right = std::max(right, x);
     }
     if (!(left <= right)) continue;
-    const int64_t first = std::max<int64_t>(0, CeilOf(std::clamp(left - kMargin, low, high)));
+    const int64_t first = std::max<int64_t>(0, static_cast<int64_t>(std::ceil(left - kMargin)));
     const int64_t last =
-        std::min<int64_t>(width - 1, FloorOf(std::clamp(right + kMargin, low, high)));
+        std::min<int64_t>(width - 1, static_cast<int64_t>(std::floor(right + kMargin)));
     if (first <= last) span(r, first, last);
   }
 }

@@ -12,11 +12,18 @@ using Doubles = double __attribute__((vector_size(32)));
 using Floats = float __attribute__((vector_size(16)));
 using Bits = int64_t __attribute__((vector_size(32)));
 
-// The largest |plane - cell| over cells[0..count), columns x0 .. x0 + count - 1 of the row whose
-// term b (row - r0) is row_term; -1 when every cell is NaN. Each lane computes ErrorAt's
-// expression in the same order of operations (x + 4 stays exact: integers far below 2^53), so
-// the lanes give the same doubles as one cell at a time. fabs is the sign bit cleared, as
-// std::fabs does. Errors are >= 0 or NaN, and NaN > best is false: NaN never wins.
+// |plane - cells[i]| at column x0 + i of the row whose term b (row - r0) is row_term:
+// plane.At's sum, (z0 + a (c - c0)) + b (row - r0), with the row's term computed once.
+inline double ErrorAt(const CellPlane& plane, double row_term, double x0, const float* cells,
+                      int64_t i) {
+  return std::fabs(plane.z0 + plane.a * (x0 + static_cast<double>(i) - plane.c0) + row_term -
+                   static_cast<double>(cells[i]));
+}
+
+// The largest ErrorAt over cells[0..count); -1 when every cell is NaN. Each lane computes
+// ErrorAt's expression in the same order of operations (x + 4 stays exact: integers far below
+// 2^53), so the lanes give the same doubles as one cell at a time. fabs is the sign bit cleared,
+// as std::fabs does. Errors are >= 0 or NaN, and NaN > best is false: NaN never wins.
 inline double RunMaxError(const CellPlane& plane, double row_term, double x0, const float* cells,
                           int64_t count) {
   const Doubles z0 = Doubles{} + plane.z0, a = Doubles{} + plane.a, c0 = Doubles{} + plane.c0;
@@ -35,8 +42,7 @@ inline double RunMaxError(const CellPlane& plane, double row_term, double x0, co
   double best = -1;
   for (int k = 0; k < 4; ++k) best = m[k] > best ? m[k] : best;
   for (; i < count; ++i) {
-    const double e = std::fabs(plane.z0 + plane.a * (x0 + static_cast<double>(i) - plane.c0) +
-                               row_term - static_cast<double>(cells[i]));
+    const double e = ErrorAt(plane, row_term, x0, cells, i);
     best = e > best ? e : best;
   }
   return best;
@@ -45,18 +51,13 @@ inline double RunMaxError(const CellPlane& plane, double row_term, double x0, co
 // Raises `worst` over cells[0..count), columns col .. col + count - 1 of `row`.
 inline void RaiseToRunWorst(const CellPlane& plane, int64_t row, int64_t col, const float* cells,
                             int64_t count, WorstCell* worst) {
-  // plane.At(c, row) is (z0 + a (c - c0)) + b (row - r0): the row's term once, the same sum.
   const double row_term = plane.b * (static_cast<double>(row) - plane.r0);
   const double x0 = static_cast<double>(col);
   const double best = RunMaxError(plane, row_term, x0, cells, count);
   if (!(best > worst->error)) return;
   // The same expression gives the same double: the search always stops at a cell of this run.
   int64_t i = 0;
-  while (i + 1 < count &&
-         std::fabs(plane.z0 + plane.a * (x0 + static_cast<double>(i) - plane.c0) + row_term -
-                   static_cast<double>(cells[i])) != best) {
-    ++i;
-  }
+  while (i + 1 < count && ErrorAt(plane, row_term, x0, cells, i) != best) ++i;
   *worst = WorstCell{best, col + i, row};
 }
 
