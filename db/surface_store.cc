@@ -108,9 +108,12 @@ Result<std::vector<int64_t>> TagIds(SqliteDb& db, const Tin& tin) {
   return ids;
 }
 
-// Rows go in the order of their secondary index ((surface, x, y) and (surface, block)), so each
-// index insert appends at the right edge of its b-tree instead of seeking a random page: bulk
-// writes of millions of rows stay sequential. Ids are still consecutive, in that order.
+// Rows go in an order that keeps neighbours together, with consecutive ids in that order.
+// Triangles go by block, the order of their (surface, block) index, so each index insert appends
+// at the right edge of its b-tree instead of seeking a random page: bulk writes of millions of
+// rows stay sequential. Vertices go by x, then y (their index is by surface alone, which any
+// order of new ids appends to): a builder's insertion order would scatter the vertices of one
+// window over the whole table, so reading the window would touch a page per vertex.
 
 // Vertex indices by x, then y, ties in index order. Point imports hand their vertices over in
 // that order already (they sort them to drop duplicates), which one pass confirms.

@@ -918,20 +918,19 @@ class Edit {
     // would split an outline edge, and the triangle across already meets the tolerance there
     // (both interpolate the same edge).
     const size_t before = cdt.vertices().size();
+    Tin now = cdt.ToTin(elevation);
+    std::vector<uint8_t> inside = ClassifyInside(now, outline_local);
+    // R is the whole triangulation: no face to tell apart.
+    const bool every_face_inside =
+        std::all_of(inside.begin(), inside.end(), [](uint8_t c) { return c; });
     std::vector<std::array<uint32_t, 3>> inside_faces;  // corners sorted, then the list
-    bool every_face_inside = true;  // R is the whole triangulation: no face to tell apart
-    {
-      const Tin now = cdt.ToTin(elevation);
-      const std::vector<uint8_t> inside = ClassifyInside(now, outline_local);
-      every_face_inside = std::all_of(inside.begin(), inside.end(), [](uint8_t c) { return c; });
-      for (size_t t = 0; t < now.triangles.size() && !every_face_inside; ++t) {
-        if (!inside[t]) continue;
-        std::array<uint32_t, 3> key = now.triangles[t].v;
-        std::sort(key.begin(), key.end());
-        inside_faces.push_back(key);
-      }
-      std::sort(inside_faces.begin(), inside_faces.end());
+    for (size_t t = 0; t < now.triangles.size() && !every_face_inside; ++t) {
+      if (!inside[t]) continue;
+      std::array<uint32_t, 3> key = now.triangles[t].v;
+      std::sort(key.begin(), key.end());
+      inside_faces.push_back(key);
     }
+    std::sort(inside_faces.begin(), inside_faces.end());
     RefineOptions refine;
     refine.tolerance = surface_.tolerance.value_or(1.0);
     refine.excluded = [this](double x, double y) {
@@ -950,13 +949,15 @@ class Edit {
     for (size_t i = before; i < cdt.vertices().size(); ++i) carried_.push_back(cdt.vertices()[i]);
     patch.refinement_points = static_cast<int64_t>(carried_.size());
 
-    patch.tin = cdt.ToTin(elevation);
+    // Refinement only inserts points: with none inserted the triangulation is the one classified.
+    const bool refined = cdt.vertices().size() != before;
+    patch.tin = refined ? cdt.ToTin(elevation) : std::move(now);
     patch.store_ids.resize(patch.tin.vertices.size(), 0);
     // Refinement adds points inside the faces it scans, so a triangulation that was all R stays so.
     if (every_face_inside)
       patch.inside.assign(patch.tin.triangles.size(), 1);
     else
-      patch.inside = ClassifyInside(patch.tin, outline_local);
+      patch.inside = refined ? ClassifyInside(patch.tin, outline_local) : std::move(inside);
     local_ = std::move(local);
     return patch;
   }
@@ -1112,8 +1113,7 @@ class Edit {
     // New vertices (ring points, crossings, refinement points) and z of replaced vertices.
     TB_RETURN_IF_ERROR(Step());
     {
-      // Local indices of the new vertices in id order: by x, then y, as the (surface, x, y)
-      // index orders them, so its entries go in one sweep instead of a seek each.
+      // Local indices of the new vertices, in id order.
       std::vector<uint32_t> fresh;
       for (size_t i = 0; i < tin.vertices.size(); ++i) {
         if (ids[i] != 0) continue;
@@ -1123,10 +1123,6 @@ class Edit {
                                          FormatPoint({v.x, v.y}));
         fresh.push_back(static_cast<uint32_t>(i));
       }
-      std::sort(fresh.begin(), fresh.end(), [&](uint32_t a, uint32_t b) {
-        const TinVertex &p = tin.vertices[a], &q = tin.vertices[b];
-        return p.x != q.x ? p.x < q.x : p.y < q.y;
-      });
       TB_ASSIGN_OR_RETURN(const int64_t first, NextId(db, "vertices"));
       first_new_vertex = first;
       end_new_vertex = first + static_cast<int64_t>(fresh.size());

@@ -61,7 +61,7 @@ CREATE TABLE "vertices"(
   kind    TEXT NOT NULL CHECK (kind = 'dem' OR kind = 'lidar' OR kind = 'ring' OR
                                kind = 'steiner' OR kind = 'user')
 );
-CREATE INDEX vertices_surface_xy ON vertices(surface, x, y);
+CREATE INDEX vertices_surface ON vertices(surface);
 
 CREATE TABLE tags(
   id    INTEGER PRIMARY KEY,

@@ -2,9 +2,9 @@
 //
 // SQLite's default cache is 2 MiB. A write transaction that dirties more pages than that spills
 // them into the WAL before the commit and fetches them back when it touches them again: bulk
-// surface writes insert into the vertices' (surface, x, y) index in an order unrelated to ids, and
-// the update engine repaints ~1e5 triangles of a fill over most of a surface (their table pages,
-// dirtied once by the repaint and again by the patch's rows). 64 MiB holds a few million rows'
+// surface writes fill several tables and indexes at once, and the update engine repaints ~1e5
+// triangles of a fill over most of a surface (their table pages, dirtied once by the repaint and
+// again by the patch's rows). 64 MiB holds a few million rows'
 // pages. A larger write gets a cache in proportion (kBytesPerRow a row, up to kMaxCacheKib), so a
 // bulk write of millions of rows does not spill either: spilled pages are written to the log one
 // at a time in the middle of the transaction, which made rows ~30 % dearer at 8 M rows. Writes of
