@@ -5,6 +5,8 @@
 #include <filesystem>
 #include <mutex>
 
+#include "db/sqlite/wal_write_batching.h"
+
 namespace tinbase {
 
 Status StatusFromSqlite(int rc, sqlite3* db, std::string_view context) {
@@ -126,7 +128,7 @@ Result<std::unique_ptr<SqliteDb>> SqliteDb::Open(const std::string& path, Mode m
   if (mode == Mode::kReadWrite) flags |= SQLITE_OPEN_READWRITE;
   if (mode == Mode::kCreate) flags |= SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE;
   sqlite3* raw = nullptr;
-  const int rc = sqlite3_open_v2(path.c_str(), &raw, flags, nullptr);
+  const int rc = sqlite3_open_v2(path.c_str(), &raw, flags, WalWriteBatchingVfs());
   if (rc != SQLITE_OK) {
     Status s = StatusFromSqlite(rc, raw, path);
     sqlite3_close(raw);

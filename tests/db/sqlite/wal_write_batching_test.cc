@@ -1,0 +1,155 @@
+// The batching VFS gathers a commit's WAL frames into few writes, and still every committed byte
+// is with the OS when COMMIT returns: a connection through SQLite's own VFS sees each commit at
+// once, a process killed right after its commits loses none of them, and a transaction that
+// spilled frames and rolled back leaves the log consistent.
+#include "db/sqlite/wal_write_batching.h"
+
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sqlite3.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <string>
+
+#include "db/sqlite/sqlite_db.h"
+#include "tests/support/test_support.h"
+
+namespace tinbase {
+namespace {
+
+using testing::TempDir;
+
+constexpr int kRowsPerCommit = 40;  // of ~1 KiB: about ten pages a commit
+
+std::unique_ptr<SqliteDb> OpenLog(const std::string& path, SqliteDb::Mode mode) {
+  auto db = SqliteDb::Open(path, mode);
+  EXPECT_TRUE(db.ok()) << db.status().ToString();
+  EXPECT_TRUE((*db)->Exec("PRAGMA journal_mode = WAL").ok());
+  EXPECT_TRUE((*db)->Exec("PRAGMA synchronous = NORMAL").ok());
+  EXPECT_TRUE((*db)->Exec("PRAGMA wal_autocheckpoint = 0").ok());  // frames stay in the log
+  return std::move(*db);
+}
+
+Status CommitRows(SqliteDb& db, int commit) {
+  TB_RETURN_IF_ERROR(db.Exec("BEGIN"));
+  for (int r = 0; r < kRowsPerCommit; ++r)
+    TB_RETURN_IF_ERROR(db.Exec("INSERT INTO t(tx, payload) VALUES (" + std::to_string(commit) +
+                               ", randomblob(1000))"));
+  return db.Exec("COMMIT");
+}
+
+// A connection through SQLite's default VFS, which sees only what reached the file.
+class PlainReader {
+ public:
+  explicit PlainReader(const std::string& path) {
+    EXPECT_EQ(sqlite3_open_v2(path.c_str(), &db_, SQLITE_OPEN_READONLY, nullptr), SQLITE_OK);
+  }
+  ~PlainReader() { sqlite3_close(db_); }
+  int64_t Int(const std::string& sql) {
+    sqlite3_stmt* stmt = nullptr;
+    EXPECT_EQ(sqlite3_prepare_v2(db_, sql.c_str(), -1, &stmt, nullptr), SQLITE_OK);
+    EXPECT_EQ(sqlite3_step(stmt), SQLITE_ROW) << sqlite3_errmsg(db_);
+    const int64_t value = sqlite3_column_int64(stmt, 0);
+    sqlite3_finalize(stmt);
+    return value;
+  }
+  std::string Text(const std::string& sql) {
+    sqlite3_stmt* stmt = nullptr;
+    EXPECT_EQ(sqlite3_prepare_v2(db_, sql.c_str(), -1, &stmt, nullptr), SQLITE_OK);
+    EXPECT_EQ(sqlite3_step(stmt), SQLITE_ROW) << sqlite3_errmsg(db_);
+    std::string value(reinterpret_cast<const char*>(sqlite3_column_text(stmt, 0)));
+    sqlite3_finalize(stmt);
+    return value;
+  }
+
+ private:
+  sqlite3* db_ = nullptr;
+};
+
+TEST(WalWriteBatchingTest, ACommitOfManyPagesTakesFewWrites) {
+  ASSERT_NE(WalWriteBatchingVfs(), nullptr);
+  TempDir dir;
+  auto db = OpenLog(dir.Path("a.db"), SqliteDb::Mode::kCreate);
+  ASSERT_TRUE(db->Exec("CREATE TABLE t(tx INTEGER, payload BLOB)").ok());
+  const WalWriteCounts before = WalWriteCountsSoFar();
+  ASSERT_TRUE(CommitRows(*db, 1).ok());
+  const WalWriteCounts after = WalWriteCountsSoFar();
+  const int64_t requested = after.requested - before.requested;
+  const int64_t issued = after.issued - before.issued;
+  EXPECT_GE(requested, 20);  // two a frame
+  EXPECT_LE(issued, 3);      // the frames up to the commit's header, then its page
+}
+
+TEST(WalWriteBatchingTest, AnotherConnectionSeesEachCommitAtOnce) {
+  TempDir dir;
+  const std::string path = dir.Path("a.db");
+  auto db = OpenLog(path, SqliteDb::Mode::kCreate);
+  ASSERT_TRUE(db->Exec("CREATE TABLE t(tx INTEGER, payload BLOB)").ok());
+  PlainReader reader(path);
+  for (int commit = 1; commit <= 20; ++commit) {
+    ASSERT_TRUE(CommitRows(*db, commit).ok());
+    ASSERT_EQ(reader.Int("SELECT count(*) FROM t"), commit * kRowsPerCommit) << commit;
+    ASSERT_EQ(reader.Int("SELECT max(tx) FROM t"), commit);
+  }
+  EXPECT_EQ(reader.Text("PRAGMA integrity_check"), "ok");
+}
+
+TEST(WalWriteBatchingTest, AProcessKilledAfterItsCommitsLosesNone) {
+  TempDir dir;
+  const std::string path = dir.Path("a.db");
+  {
+    auto db = OpenLog(path, SqliteDb::Mode::kCreate);
+    ASSERT_TRUE(db->Exec("CREATE TABLE t(tx INTEGER, payload BLOB)").ok());
+  }
+  constexpr int kCommits = 25;
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    auto db = OpenLog(path, SqliteDb::Mode::kReadWrite);
+    for (int commit = 1; commit <= kCommits; ++commit)
+      if (!CommitRows(*db, commit).ok()) _exit(1);
+    // Nothing closes the connection or flushes anything more.
+    raise(SIGKILL);
+    _exit(2);
+  }
+  int status = 0;
+  ASSERT_EQ(waitpid(child, &status, 0), child);
+  ASSERT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL) << status;
+  PlainReader reader(path);
+  EXPECT_EQ(reader.Int("SELECT count(*) FROM t"), kCommits * kRowsPerCommit);
+  EXPECT_EQ(reader.Int("SELECT count(DISTINCT tx) FROM t"), kCommits);
+  EXPECT_EQ(reader.Text("PRAGMA integrity_check"), "ok");
+}
+
+TEST(WalWriteBatchingTest, SpilledFramesOfARolledBackTransactionLeaveTheLogConsistent) {
+  TempDir dir;
+  const std::string path = dir.Path("a.db");
+  auto db = OpenLog(path, SqliteDb::Mode::kCreate);
+  ASSERT_TRUE(db->Exec("CREATE TABLE t(tx INTEGER, payload BLOB)").ok());
+  ASSERT_TRUE(db->Exec("PRAGMA cache_size = 8").ok());  // a transaction spills frames early
+  ASSERT_TRUE(CommitRows(*db, 1).ok());
+  for (int round = 0; round < 3; ++round) {
+    ASSERT_TRUE(db->Exec("BEGIN").ok());
+    for (int r = 0; r < 20 * kRowsPerCommit; ++r)
+      ASSERT_TRUE(db->Exec("INSERT INTO t(tx, payload) VALUES (99, randomblob(1000))").ok());
+    ASSERT_TRUE(db->Exec("ROLLBACK").ok());
+    ASSERT_TRUE(CommitRows(*db, 2 + round).ok());
+  }
+  // A spilling transaction that commits: its early frames were gathered or written before.
+  ASSERT_TRUE(db->Exec("BEGIN").ok());
+  for (int r = 0; r < 20 * kRowsPerCommit; ++r)
+    ASSERT_TRUE(db->Exec("INSERT INTO t(tx, payload) VALUES (7, randomblob(1000))").ok());
+  ASSERT_TRUE(db->Exec("COMMIT").ok());
+  PlainReader reader(path);
+  EXPECT_EQ(reader.Int("SELECT count(*) FROM t WHERE tx = 99"), 0);
+  EXPECT_EQ(reader.Int("SELECT count(*) FROM t WHERE tx = 7"), 20 * kRowsPerCommit);
+  EXPECT_EQ(reader.Int("SELECT count(*) FROM t"), 4 * kRowsPerCommit + 20 * kRowsPerCommit);
+  EXPECT_EQ(reader.Text("PRAGMA integrity_check"), "ok");
+  db.reset();  // the last connection checkpoints the log into the file
+  PlainReader after(path);
+  EXPECT_EQ(after.Int("SELECT count(*) FROM t"), 24 * kRowsPerCommit);
+}
+
+}  // namespace
+}  // namespace tinbase
