@@ -6,11 +6,15 @@
 //     alternative each local insert replaces;
 //   - paper 000's Table 1 case: one polygon of 6000 segments over a 300 x 300 DEM with every DEM
 //     point kept, end to end (read, validate, drape, insert, commit).
+//   - a 1000+ polygon map loaded feature by feature against the same surface rebuilt from
+//     scratch (BM_Map*; BM_MapEachOverRebuild takes the ratio of alternated pairs).
 // Each insert is undone (polygon remove, untimed) so every iteration sees the same store.
 // Stores are synthetic smooth terrains built at full resolution in a temporary directory.
 #include <benchmark/benchmark.h>
 #include <sqlite3.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -19,6 +23,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "core/geometry/cdt.h"
 #include "core/raster/gdal_raster.h"
@@ -264,6 +269,19 @@ std::unique_ptr<Store> FreshHamersleyCopy() {
   return std::move(*store);
 }
 
+// The map added to `store` as `polygon add --repair --mode fill` would, feature by feature or
+// in one transaction.
+Result<PolygonAddReport> AddMap(Store& store, const MapCase& map, bool each) {
+  PolygonAddOptions o;
+  o.surface = "terrain";
+  o.file = map.file;
+  o.mode = "fill";
+  o.tag_field = map.tag_field;
+  o.each = each;
+  o.repair = true;  // clipping the bands left a few holes outside their shells
+  return AddPolygons(store, o);
+}
+
 void LoadMap(benchmark::State& state, bool each) {
   const MapCase map = Map(state.range(0));
   PolygonAddReport report;
@@ -271,14 +289,7 @@ void LoadMap(benchmark::State& state, bool each) {
     state.PauseTiming();
     auto store = FreshHamersleyCopy();
     state.ResumeTiming();
-    PolygonAddOptions o;
-    o.surface = "terrain";
-    o.file = map.file;
-    o.mode = "fill";
-    o.tag_field = map.tag_field;
-    o.each = each;
-    o.repair = true;  // clipping the bands left a few holes outside their shells
-    auto added = AddPolygons(*store, o);
+    auto added = AddMap(*store, map, each);
     if (!added.ok()) {
       state.SkipWithError(added.status().ToString().c_str());
       return;
@@ -350,6 +361,66 @@ BENCHMARK(BM_MapCdtFromScratch)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->
 // CGAL CDT, refined to the surface's tolerance from the whole DEM, painted from the features and
 // written over the surface in one transaction. What it leaves out of the editor's work is the
 // feature rows and the per-feature checks, so it is a fair floor for a rebuild.
+// Returns the rebuilt surface's triangles.
+int64_t RebuildMap(Store& store, const MapCase& map) {
+  SurfaceStore surfaces(store);
+  DemStore dems(store);
+  auto surface = surfaces.Find("terrain");
+  auto loaded = surface.ok() ? surfaces.Load(*surface) : Status::NotFound("terrain");
+  auto crs = store.GetCrs();
+  if (!loaded.ok() || !crs.ok() || !*crs || !surface->dem) std::abort();
+  auto dem = dems.FindById(*surface->dem);
+  if (!dem.ok()) std::abort();
+  const GridGeometry& g = dem->geometry;
+  auto grid = dems.ReadWindow(*dem, {g.MinX(), g.MinY(), g.MaxX(), g.MaxY()});
+  VectorSourceOptions source;
+  source.tag_field = map.tag_field;
+  source.target_crs = **crs;
+  source.repair = true;
+  auto read = ReadPolygonFeatures(map.file, source);
+  if (!grid.ok() || !read.ok()) std::abort();
+  const ElevationFn elevation = [&](double x, double y) {
+    auto z = dems.Sample(*dem, x, y);
+    return z.ok() ? *z : std::numeric_limits<double>::quiet_NaN();
+  };
+  DrapeOptions drape;
+  drape.tolerance = surface->tolerance.value_or(1.0);
+  drape.min_spacing = std::min(g.cell_x, std::fabs(g.cell_y));
+  drape.closed = true;
+  Cdt cdt;
+  cdt.InsertVertices(loaded->tin.vertices);
+  std::vector<EditorFeature> features;
+  for (const PolygonFeature& f : *read) {
+    EditorFeature e;
+    e.mode = "fill";
+    e.tag = f.tag;
+    e.polygons = f.polygons;
+    features.push_back(std::move(e));
+    for (const Polygon& polygon : f.polygons) {
+      std::vector<std::vector<Point2>> rings{polygon.shell};
+      rings.insert(rings.end(), polygon.holes.begin(), polygon.holes.end());
+      for (const auto& ring : rings) {
+        auto draped = DrapePolyline(ring, elevation, drape);
+        if (!draped.ok()) continue;  // the editor rejects such a feature too
+        const std::vector<uint32_t> ids = cdt.InsertVertices(*draped);
+        for (size_t i = 0; i < ids.size(); ++i)
+          if (ids[i] != ids[(i + 1) % ids.size()])
+            cdt.InsertConstraint(ids[i], ids[(i + 1) % ids.size()]);
+      }
+    }
+  }
+  cdt.IndexCrossings(elevation);
+  RefineOptions refine;
+  refine.tolerance = drape.tolerance;
+  RefineToTolerance(cdt, *grid, refine);
+  Tin tin = cdt.ToTin(elevation);
+  const Paint paint = PaintFromFeatures(features, &*grid, tin);
+  ApplyPaint(paint, tin, /*apply_levels=*/true);
+  auto tx = store.BeginWrite();
+  if (!tx.ok() || !surfaces.Replace(*surface, tin).ok() || !(*tx)->Commit().ok()) std::abort();
+  return static_cast<int64_t>(tin.triangles.size());
+}
+
 void BM_MapRebuildFromScratch(benchmark::State& state) {
   const MapCase map = Map(state.range(0));
   int64_t triangles = 0;
@@ -357,66 +428,52 @@ void BM_MapRebuildFromScratch(benchmark::State& state) {
     state.PauseTiming();
     auto store = FreshHamersleyCopy();
     state.ResumeTiming();
-    SurfaceStore surfaces(*store);
-    DemStore dems(*store);
-    auto surface = surfaces.Find("terrain");
-    auto loaded = surface.ok() ? surfaces.Load(*surface) : Status::NotFound("terrain");
-    auto crs = store->GetCrs();
-    if (!loaded.ok() || !crs.ok() || !*crs || !surface->dem) std::abort();
-    auto dem = dems.FindById(*surface->dem);
-    if (!dem.ok()) std::abort();
-    const GridGeometry& g = dem->geometry;
-    auto grid = dems.ReadWindow(*dem, {g.MinX(), g.MinY(), g.MaxX(), g.MaxY()});
-    VectorSourceOptions source;
-    source.tag_field = map.tag_field;
-    source.target_crs = **crs;
-    source.repair = true;
-    auto read = ReadPolygonFeatures(map.file, source);
-    if (!grid.ok() || !read.ok()) std::abort();
-    const ElevationFn elevation = [&](double x, double y) {
-      auto z = dems.Sample(*dem, x, y);
-      return z.ok() ? *z : std::numeric_limits<double>::quiet_NaN();
-    };
-    DrapeOptions drape;
-    drape.tolerance = surface->tolerance.value_or(1.0);
-    drape.min_spacing = std::min(g.cell_x, std::fabs(g.cell_y));
-    drape.closed = true;
-    Cdt cdt;
-    cdt.InsertVertices(loaded->tin.vertices);
-    std::vector<EditorFeature> features;
-    for (const PolygonFeature& f : *read) {
-      EditorFeature e;
-      e.mode = "fill";
-      e.tag = f.tag;
-      e.polygons = f.polygons;
-      features.push_back(std::move(e));
-      for (const Polygon& polygon : f.polygons) {
-        std::vector<std::vector<Point2>> rings{polygon.shell};
-        rings.insert(rings.end(), polygon.holes.begin(), polygon.holes.end());
-        for (const auto& ring : rings) {
-          auto draped = DrapePolyline(ring, elevation, drape);
-          if (!draped.ok()) continue;  // the editor rejects such a feature too
-          const std::vector<uint32_t> ids = cdt.InsertVertices(*draped);
-          for (size_t i = 0; i < ids.size(); ++i)
-            if (ids[i] != ids[(i + 1) % ids.size()])
-              cdt.InsertConstraint(ids[i], ids[(i + 1) % ids.size()]);
-        }
-      }
-    }
-    cdt.IndexCrossings(elevation);
-    RefineOptions refine;
-    refine.tolerance = drape.tolerance;
-    RefineToTolerance(cdt, *grid, refine);
-    Tin tin = cdt.ToTin(elevation);
-    const Paint paint = PaintFromFeatures(features, &*grid, tin);
-    ApplyPaint(paint, tin, /*apply_levels=*/true);
-    auto tx = store->BeginWrite();
-    if (!tx.ok() || !surfaces.Replace(*surface, tin).ok() || !(*tx)->Commit().ok()) std::abort();
-    triangles = static_cast<int64_t>(tin.triangles.size());
+    triangles = RebuildMap(*store, map);
   }
   state.counters["triangles"] = static_cast<double>(triangles);
 }
 BENCHMARK(BM_MapRebuildFromScratch)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(1);
+
+double Median(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  const size_t n = values.size();
+  return n % 2 ? values[n / 2] : (values[n / 2 - 1] + values[n / 2]) / 2;
+}
+
+// The ratio measured in pairs: a `--each` load, then the rebuild, each on a fresh copy of
+// the store, kPairs times in turn. On a VM whose speed drifts by 15 % within minutes, the ratio of
+// the two runs of one pair is steadier than the ratio of two separate benchmarks' times.
+void BM_MapEachOverRebuild(benchmark::State& state) {
+  constexpr int kPairs = 5;
+  const MapCase map = Map(state.range(0));
+  const auto milliseconds = [](auto start) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+        .count();
+  };
+  std::vector<double> each_ms, rebuild_ms, ratios;
+  for (auto _ : state) {
+    for (int pair = 0; pair < kPairs; ++pair) {
+      auto store = FreshHamersleyCopy();
+      auto start = std::chrono::steady_clock::now();
+      auto added = AddMap(*store, map, /*each=*/true);
+      if (!added.ok() || !added->failures.empty()) {
+        state.SkipWithError("the --each load failed");
+        return;
+      }
+      each_ms.push_back(milliseconds(start));
+      store = FreshHamersleyCopy();
+      start = std::chrono::steady_clock::now();
+      RebuildMap(*store, map);
+      rebuild_ms.push_back(milliseconds(start));
+      ratios.push_back(each_ms.back() / rebuild_ms.back());
+    }
+  }
+  state.counters["each_ms"] = Median(each_ms);
+  state.counters["rebuild_ms"] = Median(rebuild_ms);
+  state.counters["ratio"] = Median(ratios);
+  state.counters["ratio_max"] = *std::max_element(ratios.begin(), ratios.end());
+}
+BENCHMARK(BM_MapEachOverRebuild)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(1);
 
 }  // namespace
 }  // namespace tinbase
