@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cstring>
-#include <mutex>
+#include <new>
 #include <vector>
 
 namespace tinbase {
@@ -57,10 +57,16 @@ bool IsCommitFrameHeader(const void* data, int bytes) {
   return (b[4] | b[5] | b[6] | b[7]) != 0;  // the database size after a commit, 0 otherwise
 }
 
-void Gather(LogFile* f, const void* data, int bytes, sqlite3_int64 offset) {
-  if (f->gathered->empty()) f->gathered_at = offset;
-  const char* p = static_cast<const char*>(data);
-  f->gathered->insert(f->gathered->end(), p, p + bytes);
+// False when memory ran out (no exception may cross SQLite's C frames).
+bool Gather(LogFile* f, const void* data, int bytes, sqlite3_int64 offset) {
+  try {
+    if (f->gathered->empty()) f->gathered_at = offset;
+    const char* p = static_cast<const char*>(data);
+    f->gathered->insert(f->gathered->end(), p, p + bytes);
+    return true;
+  } catch (const std::bad_alloc&) {
+    return false;
+  }
 }
 
 // Frame headers and the pages after them gather while they follow one another; a commit frame's
@@ -73,11 +79,10 @@ int LogWrite(sqlite3_file* file, const void* data, int bytes, sqlite3_int64 offs
       offset == f->gathered_at + static_cast<sqlite3_int64>(f->gathered->size());
   const bool header = bytes == kFrameHeaderBytes;
   const bool page = f->expect_page && bytes != kFrameHeaderBytes;
-  if (!follows || !(header || page)) {
+  if (!follows || !(header || page) || !Gather(f, data, bytes, offset)) {
     if (const int rc = Flush(f); rc != SQLITE_OK) return rc;
     return WriteThrough(f, data, bytes, offset);
   }
-  Gather(f, data, bytes, offset);
   f->expect_page = header;
   if (IsCommitFrameHeader(data, bytes) || f->gathered->size() >= kMaxGathered) return Flush(f);
   return SQLITE_OK;
@@ -178,7 +183,11 @@ int Open(sqlite3_vfs*, const char* name, sqlite3_file* file, int flags, int* out
     f->base.pMethods = nullptr;
     return rc;
   }
-  f->gathered = new std::vector<char>();
+  f->gathered = new (std::nothrow) std::vector<char>();
+  if (f->gathered == nullptr) {
+    f->real->pMethods->xClose(f->real);
+    return SQLITE_NOMEM;
+  }
   f->base.pMethods = &kLogMethods;
   return SQLITE_OK;
 }

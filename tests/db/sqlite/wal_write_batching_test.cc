@@ -31,6 +31,13 @@ std::unique_ptr<SqliteDb> OpenLog(const std::string& path, SqliteDb::Mode mode) 
   return std::move(*db);
 }
 
+// A new database at `path` with the table the tests fill.
+std::unique_ptr<SqliteDb> NewTable(const std::string& path) {
+  auto db = OpenLog(path, SqliteDb::Mode::kCreate);
+  EXPECT_TRUE(db->Exec("CREATE TABLE t(tx INTEGER, payload BLOB)").ok());
+  return db;
+}
+
 Status CommitRows(SqliteDb& db, int commit) {
   TB_RETURN_IF_ERROR(db.Exec("BEGIN"));
   for (int r = 0; r < kRowsPerCommit; ++r)
@@ -47,31 +54,33 @@ class PlainReader {
   }
   ~PlainReader() { sqlite3_close(db_); }
   int64_t Int(const std::string& sql) {
-    sqlite3_stmt* stmt = nullptr;
-    EXPECT_EQ(sqlite3_prepare_v2(db_, sql.c_str(), -1, &stmt, nullptr), SQLITE_OK);
-    EXPECT_EQ(sqlite3_step(stmt), SQLITE_ROW) << sqlite3_errmsg(db_);
-    const int64_t value = sqlite3_column_int64(stmt, 0);
-    sqlite3_finalize(stmt);
-    return value;
+    return Row(sql, [](sqlite3_stmt* stmt) { return sqlite3_column_int64(stmt, 0); });
   }
   std::string Text(const std::string& sql) {
+    return Row(sql, [](sqlite3_stmt* stmt) {
+      return std::string(reinterpret_cast<const char*>(sqlite3_column_text(stmt, 0)));
+    });
+  }
+
+ private:
+  // The first column of the first row of `sql`, read by `column`.
+  template <typename Column>
+  auto Row(const std::string& sql, Column column) -> decltype(column(nullptr)) {
     sqlite3_stmt* stmt = nullptr;
     EXPECT_EQ(sqlite3_prepare_v2(db_, sql.c_str(), -1, &stmt, nullptr), SQLITE_OK);
     EXPECT_EQ(sqlite3_step(stmt), SQLITE_ROW) << sqlite3_errmsg(db_);
-    std::string value(reinterpret_cast<const char*>(sqlite3_column_text(stmt, 0)));
+    auto value = column(stmt);
     sqlite3_finalize(stmt);
     return value;
   }
 
- private:
   sqlite3* db_ = nullptr;
 };
 
 TEST(WalWriteBatchingTest, ACommitOfManyPagesTakesFewWrites) {
   ASSERT_NE(WalWriteBatchingVfs(), nullptr);
   TempDir dir;
-  auto db = OpenLog(dir.Path("a.db"), SqliteDb::Mode::kCreate);
-  ASSERT_TRUE(db->Exec("CREATE TABLE t(tx INTEGER, payload BLOB)").ok());
+  auto db = NewTable(dir.Path("a.db"));
   const WalWriteCounts before = WalWriteCountsSoFar();
   ASSERT_TRUE(CommitRows(*db, 1).ok());
   const WalWriteCounts after = WalWriteCountsSoFar();
@@ -84,8 +93,7 @@ TEST(WalWriteBatchingTest, ACommitOfManyPagesTakesFewWrites) {
 TEST(WalWriteBatchingTest, AnotherConnectionSeesEachCommitAtOnce) {
   TempDir dir;
   const std::string path = dir.Path("a.db");
-  auto db = OpenLog(path, SqliteDb::Mode::kCreate);
-  ASSERT_TRUE(db->Exec("CREATE TABLE t(tx INTEGER, payload BLOB)").ok());
+  auto db = NewTable(path);
   PlainReader reader(path);
   for (int commit = 1; commit <= 20; ++commit) {
     ASSERT_TRUE(CommitRows(*db, commit).ok());
@@ -98,10 +106,7 @@ TEST(WalWriteBatchingTest, AnotherConnectionSeesEachCommitAtOnce) {
 TEST(WalWriteBatchingTest, AProcessKilledAfterItsCommitsLosesNone) {
   TempDir dir;
   const std::string path = dir.Path("a.db");
-  {
-    auto db = OpenLog(path, SqliteDb::Mode::kCreate);
-    ASSERT_TRUE(db->Exec("CREATE TABLE t(tx INTEGER, payload BLOB)").ok());
-  }
+  NewTable(path);  // closed again: the child opens its own connection
   constexpr int kCommits = 25;
   const pid_t child = fork();
   ASSERT_GE(child, 0);
@@ -125,8 +130,7 @@ TEST(WalWriteBatchingTest, AProcessKilledAfterItsCommitsLosesNone) {
 TEST(WalWriteBatchingTest, SpilledFramesOfARolledBackTransactionLeaveTheLogConsistent) {
   TempDir dir;
   const std::string path = dir.Path("a.db");
-  auto db = OpenLog(path, SqliteDb::Mode::kCreate);
-  ASSERT_TRUE(db->Exec("CREATE TABLE t(tx INTEGER, payload BLOB)").ok());
+  auto db = NewTable(path);
   ASSERT_TRUE(db->Exec("PRAGMA cache_size = 8").ok());  // a transaction spills frames early
   ASSERT_TRUE(CommitRows(*db, 1).ok());
   for (int round = 0; round < 3; ++round) {
