@@ -78,6 +78,7 @@ void MeshCache::Clear() {
 }
 
 void MeshCache::ForgetAllRows() {
+  whole_surface_ = false;
   triangles_.Clear();
   block_members_.clear();
   vertices_.Clear();
@@ -224,6 +225,9 @@ Result<std::vector<int64_t>> MeshCache::LoadSurface() {
     ids.push_back(id);
   }
   triangles->Reset();
+  // Every triangle is held now, so every block's members are known (ids ascending, as read).
+  block_members_.clear();
+  for (int64_t id : ids) block_members_[triangles_.Find(id)->block].push_back(id);
   TB_ASSIGN_OR_RETURN(Statement * vertices,
                       db.Cached("SELECT v.x, v.y, v.z, v.kind, v.id FROM vertices v " +
                                 SurfaceRowsInIdOrder("vertices", "v")));
@@ -235,6 +239,7 @@ Result<std::vector<int64_t>> MeshCache::LoadSurface() {
   }
   vertices->Reset();
   TB_RETURN_IF_ERROR(LoadOwners());
+  whole_surface_ = true;
   return ids;
 }
 

@@ -94,9 +94,12 @@ class MeshCache {
 
   // Reads every triangle, vertex and constraint row of the surface in one scan each (rows
   // already held are kept: they are as stored), so that an edit over most of the surface looks
-  // nothing up row by row; Owners() then answers from memory until an edge is forgotten. Returns
-  // the surface's triangle ids in id order.
+  // nothing up row by row; Owners() then answers from memory until an edge is forgotten, and
+  // TrianglesInBlocks() for every block. Returns the surface's triangle ids in id order.
   Result<std::vector<int64_t>> LoadSurface();
+  // Whether every triangle and vertex row of the surface is held (LoadSurface, then kept through
+  // the edits' writes); false again once the rows are dropped.
+  bool holds_whole_surface() const { return whole_surface_; }
 
   // The triangles around `vertex`, starting from `start` (one of them), counter-clockwise;
   // `closed` is false when the vertex lies on the domain boundary.
@@ -156,6 +159,7 @@ class MeshCache {
   // owners_ holds every constrained edge of the surface (LoadSurface): an edge it lacks is not
   // constrained. False once any edge is forgotten.
   bool owners_complete_ = false;
+  bool whole_surface_ = false;  // holds_whole_surface()
   // The last commit: its change number and the connection's data_version in its transaction
   // (unchanged by the connection's own commit); -1 when the rows are not known to be current
   // beyond the edit in progress.

@@ -151,6 +151,8 @@ struct SurfaceSession {
   // feature under the same rule (db/mesh_cache.h checks it), dropped after any failure.
   MeshCache mesh;
   bool verify_mesh = false;  // PolygonAddOptions::verify_mesh
+  // The ring points of every feature of a load feature by feature (LocalEdit::load_points).
+  size_t load_points = 0;
 };
 
 Result<std::unique_ptr<SurfaceSession>> OpenSession(Store& store, const SurfaceInfo& surface) {
@@ -170,6 +172,17 @@ Result<std::unique_ptr<SurfaceSession>> OpenSession(Store& store, const SurfaceI
     return z.ok() ? *z : std::numeric_limits<double>::quiet_NaN();
   };
   return session;
+}
+
+// The vertices of a feature's rings and lines, as read (draping adds some).
+size_t RingPoints(const EditorFeature& f) {
+  size_t points = 0;
+  for (const Polygon& polygon : f.polygons) {
+    points += polygon.shell.size();
+    for (const auto& hole : polygon.holes) points += hole.size();
+  }
+  for (const auto& line : f.lines) points += line.size();
+  return points;
 }
 
 // A feature to add with its draped polylines.
@@ -219,6 +232,7 @@ Result<PolygonAddReport> ApplyEditOnce(SurfaceSession& session, std::vector<NewF
     clip |= is_clip(f) && std::find(removed.begin(), removed.end(), f.id) != removed.end();
   LocalEdit edit;
   edit.remove = removed;
+  edit.load_points = session.load_points;
   if (clip) {
     const GridGeometry& g = session.dem.geometry;
     edit.changed.Add(Point2{g.MinX(), g.MinY()});
@@ -272,6 +286,7 @@ Result<PolygonAddReport> ApplyEditOnce(SurfaceSession& session, std::vector<NewF
   report.removed = result.removed;
   report.added = result.added;
   report.refinement_points = result.refinement_points;
+  report.surface_reads = result.read_whole_surface ? 1 : 0;
   report.first_feature_id = added.empty() ? 0 : added.front().feature.id;
   report.visible = result.visible_added;
   return report;
@@ -331,6 +346,7 @@ Result<PolygonAddReport> AddPolygons(Store& store, const PolygonAddOptions& opti
     }
     return ApplyEdit(*session, std::move(prepared), {}, "polygon add", options.fault_hook);
   }
+  for (const EditorFeature& f : features) session->load_points += RingPoints(f);
   for (EditorFeature& f : features) {
     const std::string label = f.label;
     auto one = [&]() -> Result<PolygonAddReport> {
@@ -351,6 +367,7 @@ Result<PolygonAddReport> AddPolygons(Store& store, const PolygonAddOptions& opti
     total.refinement_points += one->refinement_points;
     total.visible += one->visible;
     total.mesh_kept += one->mesh_kept;
+    total.surface_reads += one->surface_reads;
     total.tx = one->tx;
   }
   return total;

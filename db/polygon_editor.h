@@ -48,6 +48,10 @@ struct PolygonAddReport {
   // Edits that began from the mesh rows the edit before left in memory (db/mesh_cache.h): with
   // `each`, all but the first unless another writer came between or an edit failed.
   int64_t mesh_kept = 0;
+  // Edits that read every row of the surface in one scan first (db/mesh_cache.h LoadSurface):
+  // with `each` over a surface the load's points reach much of, the first edit only, while the
+  // rows stay kept.
+  int64_t surface_reads = 0;
   std::vector<std::string> failures;  // with `each`: "label: message" of features not added
 };
 

@@ -84,6 +84,9 @@ struct LocalEdit {
   std::vector<EditorFeature> features;
   // Geometry of the added and removed features: where paint or replace levels may change.
   Box changed;
+  // The new points of every edit of the load this one belongs to, when the caller applies a
+  // load edit by edit with one MeshCache (`polygon add --each`); 0 for an edit on its own.
+  size_t load_points = 0;
 };
 
 struct EditResult {
@@ -96,6 +99,8 @@ struct EditResult {
   Box region;      // bbox of R
   // R was the whole surface (kMinWholeSurfaceRegion).
   bool whole_surface = false;
+  // Every row of the surface was read in one scan (MeshCache::LoadSurface) before the edit.
+  bool read_whole_surface = false;
 };
 
 // Called before each write step (numbered 1, 2, ... within one Apply); a non-OK Status aborts

@@ -752,6 +752,34 @@ TEST_F(UpdateEngineTest, EachKeepsTheMeshRowsBetweenTransactions) {
   testing::ExpectStoreIntact(*store_, /*full=*/true);
 }
 
+// A load whose features together have at least a quarter as many ring points as the surface has
+// triangles reaches much of it: its first edit reads every row in one scan, and the edits after
+// it find every row and block held (and, with verify_mesh, equal to the store) instead of
+// reading them one by one.
+TEST_F(UpdateEngineTest, EachLoadOverMuchOfTheSurfaceReadsItOnce) {
+  auto triangles = store_->db().QueryInt("SELECT count(*) FROM triangles");
+  ASSERT_TRUE(triangles.ok());
+  constexpr int kFeatures = 40;
+  const int per_ring = static_cast<int>(*triangles / (4 * kFeatures)) + 10;  // that many points
+  std::vector<std::vector<PointList>> rings;
+  for (int k = 0; k < kFeatures; ++k)
+    rings.push_back({Ngon(kCx + (k % 8 - 4) * 7 * kCell, kCy + (k / 8 - 2) * 7 * kCell,
+                          3 * kCell, per_ring)});
+  PolygonAddOptions o = EachFillOptions("forty.geojson", rings);
+  auto report = AddPolygons(*store_, o);
+  ASSERT_TRUE(report.ok()) << report.status().ToString();
+  EXPECT_EQ(report->features, kFeatures);
+  EXPECT_TRUE(report->failures.empty());
+  EXPECT_EQ(report->surface_reads, 1);
+  EXPECT_EQ(report->mesh_kept, kFeatures - 1);
+  testing::ExpectStoreIntact(*store_, /*full=*/true);
+
+  // One feature on its own reads nothing whole.
+  auto one = Add(WritePolygons(dir_, "one.geojson", {{Ngon(kCx, kCy, 2 * kCell, 12)}}), "fill");
+  ASSERT_TRUE(one.ok()) << one.status().ToString();
+  EXPECT_EQ(one->surface_reads, 0);
+}
+
 // A failure injected at each write step of the third of five edits: the kept rows go with the
 // rollback (the failed edit may have forgotten only part of what it wrote), the fourth edit reads
 // everything again, the fifth keeps the fourth's rows, and no kept row differs from the store.
