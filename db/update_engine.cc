@@ -1362,14 +1362,12 @@ class Edit {
     TB_ASSIGN_OR_RETURN(
         Statement * del_edge,
         db.Cached("DELETE FROM constraints WHERE surface = ? AND va = ? AND vb = ?"));
+    // Sorted and made unique before use (a large edit adds thousands: sets cost more).
     std::vector<std::pair<Edge, int64_t>> added_edges;  // (edge, feature), written in bulk below
-    std::set<std::pair<Edge, int64_t>> edges_written;
-    std::set<Edge> accounted;  // store edges that are constraints after the edit, or R's outline
+    std::vector<Edge> accounted;  // store edges that are constraints after the edit, or R's outline
     const auto add_row = [&](const Edge& e, int64_t feature) {
-      accounted.insert(e);
-      if (!edges_written.insert({e, feature}).second) return;
+      accounted.push_back(e);
       added_edges.push_back({e, feature});
-      mesh_.AddOwner(e.first, e.second, feature);
     };
     const auto write_pieces = [&](uint32_t a, uint32_t b, int64_t feature) -> Status {
       TB_ASSIGN_OR_RETURN(auto pieces, Pieces(graph, tin, a, b));
@@ -1388,7 +1386,7 @@ class Edit {
       bool whole = false;
       for (uint32_t w : graph[a]) whole |= w == b;
       if (whole) {
-        accounted.insert(edge);
+        accounted.push_back(edge);
         for (int64_t f : joined) add_row(edge, f);
         continue;
       }
@@ -1409,10 +1407,13 @@ class Edit {
         if (idx[i] != idx[(i + 1) % n])
           TB_RETURN_IF_ERROR(write_pieces(idx[i], idx[(i + 1) % n], lines_[l].feature));
     }
-    // In the order of the (surface, va, vb) index, for the same reason as the vertices. Every
+    // In the order of the (surface, va, vb) index, so that its entries go in one sweep. Every
     // key holds: the surface is this one, each feature is an added one (its row is written
-    // before Apply) or an owner of a kept constraint.
+    // before Apply) or an owner of a kept constraint. No edge split above is among them (its
+    // pieces are), so the cache learns the owners after SetUnconstrained.
     std::sort(added_edges.begin(), added_edges.end());
+    added_edges.erase(std::unique(added_edges.begin(), added_edges.end()), added_edges.end());
+    for (const auto& [e, feature] : added_edges) mesh_.AddOwner(e.first, e.second, feature);
     {
       TB_ASSIGN_OR_RETURN(auto unchecked, UncheckedIfWholeSurface());
       TB_RETURN_IF_ERROR(InsertRows(db, "constraints(surface, va, vb, feature)", 4,
@@ -1442,12 +1443,13 @@ class Edit {
     // it (it has no triangle across), so its pieces count too.
     for (const OutlineEdge& e : outline_) {
       TB_ASSIGN_OR_RETURN(auto pieces, Pieces(graph, tin, local_.at(e.a), local_.at(e.b)));
-      for (const auto& [u, w] : pieces) accounted.insert(Key(ids[u], ids[w]));
+      for (const auto& [u, w] : pieces) accounted.push_back(Key(ids[u], ids[w]));
     }
+    std::sort(accounted.begin(), accounted.end());
     // Every edge CGAL constrained must be one we own; one that is not means CGAL rerouted a
     // constraint through another vertex (CGAL#6602) and the edge would be stored unconstrained.
     for (const auto& [a, b] : tin.constraints) {
-      if (accounted.count(Key(ids[a], ids[b]))) continue;
+      if (std::binary_search(accounted.begin(), accounted.end(), Key(ids[a], ids[b]))) continue;
       return Status::Corruption("surface '" + surface_.name +
                                 "': a constraint was rerouted through " +
                                 FormatPoint({tin.vertices[a].x, tin.vertices[a].y}) + " - " +
