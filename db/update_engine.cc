@@ -116,13 +116,36 @@ class SegmentIndex {
   std::vector<std::vector<uint32_t>> cells_;
 };
 
+// R's outline in local vertex indices, directed as R's triangles have it: each vertex's
+// outgoing edges (one or two, seldom more) in one array, so a lookup reads a few entries
+// instead of hashing (ClassifyInside asks six times a triangle).
+class DirectedOutline {
+ public:
+  DirectedOutline(size_t vertices, const std::vector<std::pair<uint32_t, uint32_t>>& edges)
+      : first_(vertices + 1, 0), to_(edges.size()) {
+    for (const auto& [a, b] : edges) ++first_[a + 1];
+    for (size_t v = 0; v < vertices; ++v) first_[v + 1] += first_[v];
+    std::vector<uint32_t> next(first_.begin(), first_.end() - 1);
+    for (const auto& [a, b] : edges) to_[next[a]++] = b;
+  }
+  // Whether (a, b) is an outline edge in that direction.
+  bool Has(uint32_t a, uint32_t b) const {
+    if (a + 1 >= first_.size()) return false;
+    for (uint32_t k = first_[a]; k < first_[a + 1]; ++k)
+      if (to_[k] == b) return true;
+    return false;
+  }
+
+ private:
+  std::vector<uint32_t> first_;  // per vertex, where its edges start in to_
+  std::vector<uint32_t> to_;
+};
+
 // Which triangles of a local triangulation lie in R, from R's outline alone: a triangle with an
 // outline edge in R's direction is inside, with it reversed outside, and the rest take the class
 // of their neighbours across edges that are not on the outline. Purely topological, so a sliver
 // outside R along a nearly straight outline is never taken for part of it.
-
-std::vector<uint8_t> ClassifyInside(const Tin& tin,
-                                    const std::unordered_set<Edge, EdgeHash>& outline) {
+std::vector<uint8_t> ClassifyInside(const Tin& tin, const DirectedOutline& outline) {
   constexpr uint8_t kUnknown = 2;
   std::vector<uint8_t> inside(tin.triangles.size(), kUnknown);
   std::vector<uint32_t> queue;
@@ -130,9 +153,9 @@ std::vector<uint8_t> ClassifyInside(const Tin& tin,
     const auto& v = tin.triangles[t].v;
     for (int i = 0; i < 3 && inside[t] == kUnknown; ++i) {
       const uint32_t a = v[i], b = v[(i + 1) % 3];
-      if (outline.count({a, b}))
+      if (outline.Has(a, b))
         inside[t] = 1;
-      else if (outline.count({b, a}))
+      else if (outline.Has(b, a))
         inside[t] = 0;
     }
     if (inside[t] != kUnknown) queue.push_back(t);
@@ -145,7 +168,7 @@ std::vector<uint8_t> ClassifyInside(const Tin& tin,
       const int32_t n = tri.n[i];
       if (n == kNoNeighbour || inside[n] != kUnknown) continue;
       const uint32_t a = tri.v[(i + 1) % 3], b = tri.v[(i + 2) % 3];
-      if (outline.count({a, b}) || outline.count({b, a})) continue;
+      if (outline.Has(a, b) || outline.Has(b, a)) continue;
       inside[n] = inside[t];
       queue.push_back(static_cast<uint32_t>(n));
     }
@@ -929,8 +952,9 @@ class Edit {
     const ElevationFn elevation = [this](double x, double y) { return NewZ(x, y); };
     cdt.IndexCrossings(elevation);
 
-    std::unordered_set<Edge, EdgeHash> outline_local;  // directed as R's triangles have them
-    for (const OutlineEdge& e : outline_) outline_local.insert({local.at(e.a), local.at(e.b)});
+    std::vector<std::pair<uint32_t, uint32_t>> outline_edges;
+    for (const OutlineEdge& e : outline_) outline_edges.push_back({local.at(e.a), local.at(e.b)});
+    const DirectedOutline outline_local(points.size(), outline_edges);
 
     // Refinement inside R only: the faces ClassifyInside finds now, and the faces refinement
     // creates (each has a new vertex). A cell centre exactly on the outline is left alone: it
