@@ -293,9 +293,9 @@ class Edit {
   // in three scans (MeshCache::LoadSurface) instead of one lookup per row as the walks reach it:
   // a scan costs a fraction of a lookup per row, and even if the region stays small the scan is
   // about the cost of locating that many points. The same holds for the edits of a load applied
-  // one by one through a cache that keeps the rows (LocalEdit::load_points): the first reads the
-  // surface, the others find it held, if the cache may keep that many rows. Edits of fewer than
-  // kMinWholeSurfaceRegion points never count the surface's triangles.
+  // one by one through a cache that keeps the rows (LocalEdit::load_points, which the caller
+  // sets only when the cache can keep them): the first reads the surface, the others find it
+  // held. Edits of fewer than kMinWholeSurfaceRegion points never count the surface's triangles.
   Status LoadSurfaceIfManyPoints() {
     if (mesh_.holds_whole_surface()) return Status::Ok();
     size_t own = 0;
@@ -304,11 +304,6 @@ class Edit {
     if (points < kMinWholeSurfaceRegion) return Status::Ok();
     TB_ASSIGN_OR_RETURN(const int64_t triangles, SurfaceTriangles());
     if (static_cast<int64_t>(points) * 4 < triangles) return Status::Ok();
-    // Only the load's points reach that far: worth it if the rows stay held as the load adds
-    // triangles (a cache over its limit drops them, and each edit would read them again).
-    if (own * 4 < static_cast<size_t>(triangles) &&
-        triangles * 2 > static_cast<int64_t>(MeshCache::kMaxKeptTriangles))
-      return Status::Ok();
     TB_ASSIGN_OR_RETURN(surface_ids_, mesh_.LoadSurface());
     result_.read_whole_surface = true;
     return Status::Ok();

@@ -85,7 +85,8 @@ struct LocalEdit {
   // Geometry of the added and removed features: where paint or replace levels may change.
   Box changed;
   // The new points of every edit of the load this one belongs to, when the caller applies a
-  // load edit by edit with one MeshCache (`polygon add --each`); 0 for an edit on its own.
+  // load edit by edit with one MeshCache (`polygon add --each`) that can keep the whole surface
+  // (at most half MeshCache::kMaxKeptTriangles); else 0, as for an edit on its own.
   size_t load_points = 0;
 };
 
