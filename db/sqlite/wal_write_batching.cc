@@ -19,9 +19,10 @@ std::atomic<int64_t> issued_writes{0};
 
 sqlite3_vfs* real_vfs = nullptr;
 
-// A log file: the default VFS's file after our header, and the bytes gathered for it.
+// A log file: the default VFS's file after our header, and the bytes gathered for it. A statement
+// journal has the same layout and gathers nothing (`gathered` is null).
 struct LogFile {
-  sqlite3_file base;  // base.pMethods is kLogMethods
+  sqlite3_file base;  // base.pMethods is kLogMethods (kStatementJournalMethods)
   sqlite3_file* real;
   std::vector<char>* gathered;
   sqlite3_int64 gathered_at;
@@ -40,6 +41,7 @@ int WriteThrough(LogFile* f, const void* data, int bytes, sqlite3_int64 offset) 
 constexpr size_t kMaxWrite = 0x1ffff;
 
 int Flush(LogFile* f) {
+  if (f->gathered == nullptr) return SQLITE_OK;
   f->expect_page = false;
   int rc = SQLITE_OK;
   for (size_t done = 0; done < f->gathered->size() && rc == SQLITE_OK; done += kMaxWrite) {
@@ -171,9 +173,32 @@ const sqlite3_io_methods kLogMethods = [] {
   return m;
 }();
 
+// A statement journal that outgrew memory is written by SQLite one in-memory chunk a call, and a
+// chunk is as large as SQLITE_CONFIG_STMTJRNL_SPILL (16 MiB: db/sqlite/sqlite_db.cc), longer than
+// the unix VFS writes in one call (it reports the rest as a full disk).
+int StatementJournalWrite(sqlite3_file* file, const void* data, int bytes, sqlite3_int64 offset) {
+  sqlite3_file* real = AsLog(file)->real;
+  for (int done = 0; done < bytes;) {
+    const int piece = std::min(static_cast<int>(kMaxWrite), bytes - done);
+    const int rc = real->pMethods->xWrite(real, static_cast<const char*>(data) + done, piece,
+                                          offset + done);
+    if (rc != SQLITE_OK) return rc;
+    done += piece;
+  }
+  return SQLITE_OK;
+}
+
+const sqlite3_io_methods kStatementJournalMethods = [] {
+  sqlite3_io_methods m = kLogMethods;
+  m.xWrite = StatementJournalWrite;
+  return m;
+}();
+
 int Open(sqlite3_vfs*, const char* name, sqlite3_file* file, int flags, int* out_flags) {
-  // Everything but a log is the default VFS's own file, in the same memory.
-  if (!(flags & SQLITE_OPEN_WAL)) return real_vfs->xOpen(real_vfs, name, file, flags, out_flags);
+  // Everything but a log or a statement journal is the default VFS's own file, in the same
+  // memory.
+  const bool log = flags & SQLITE_OPEN_WAL, statement_journal = flags & SQLITE_OPEN_SUBJOURNAL;
+  if (!log && !statement_journal) return real_vfs->xOpen(real_vfs, name, file, flags, out_flags);
   LogFile* f = AsLog(file);
   std::memset(f, 0, sizeof(LogFile));
   f->real = reinterpret_cast<sqlite3_file*>(reinterpret_cast<char*>(file) + sizeof(LogFile));
@@ -182,6 +207,10 @@ int Open(sqlite3_vfs*, const char* name, sqlite3_file* file, int flags, int* out
     if (f->real->pMethods) f->real->pMethods->xClose(f->real);
     f->base.pMethods = nullptr;
     return rc;
+  }
+  if (statement_journal) {
+    f->base.pMethods = &kStatementJournalMethods;
+    return SQLITE_OK;
   }
   f->gathered = new (std::nothrow) std::vector<char>();
   if (f->gathered == nullptr) {

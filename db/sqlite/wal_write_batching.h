@@ -12,7 +12,10 @@
 // killed after COMMIT returned loses nothing. Any other call on the log (read, sync, size,
 // truncate, close, file control) first writes what is gathered, and any write that does not follow
 // the frame pattern goes straight through, so a future SQLite that wrote its log differently would
-// only lose the batching. Main database files and journals are the default VFS's own.
+// only lose the batching. It also cuts a spilling statement journal's writes to lengths the
+// default VFS accepts (SQLite writes a whole in-memory chunk a call, as large as the in-memory
+// limit SqliteDb sets, and the unix VFS writes at most 128 KiB - 1 bytes a call and calls the rest
+// a full disk). Main database files and other journals are the default VFS's own.
 // Thread-safety: register once (done by SqliteDb::Open); each log file belongs to one connection.
 #pragma once
 
