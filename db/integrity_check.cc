@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <numbers>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "core/geometry/polygon_locator.h"
 #include "core/geometry/predicates.h"
@@ -25,6 +26,7 @@ struct Row {
   std::array<int64_t, 3> v{};
   std::array<std::optional<int64_t>, 3> n;
   int64_t block = 0;
+  std::optional<int64_t> tag;
   bool valid = false;  // all three vertices exist
   int orientation = 0;
 };
@@ -48,6 +50,7 @@ class SurfaceChecker {
   Status Run() {
     TB_RETURN_IF_ERROR(Read());
     CheckTriangles();
+    CheckTags();
     CheckDuplicateVertices();
     BuildHalfEdges();
     CheckNeighbours();
@@ -78,7 +81,7 @@ class SurfaceChecker {
     vertices->Reset();
 
     TB_ASSIGN_OR_RETURN(Statement * triangles,
-                        db.Cached("SELECT id, v0, v1, v2, n0, n1, n2, block FROM triangles " +
+                        db.Cached("SELECT id, v0, v1, v2, n0, n1, n2, block, tag FROM triangles " +
                                   SurfaceRowsInIdOrder("triangles", "triangles")));
     triangles->Bind(1, surface_.id);
     for (;;) {
@@ -91,10 +94,19 @@ class SurfaceChecker {
         if (!triangles->ColumnIsNull(4 + i)) r.n[i] = triangles->ColumnInt(4 + i);
       }
       r.block = triangles->ColumnInt(7);
+      if (!triangles->ColumnIsNull(8)) r.tag = triangles->ColumnInt(8);
       index_.emplace(r.id, static_cast<uint32_t>(rows_.size()));
       rows_.push_back(r);
     }
     triangles->Reset();
+
+    TB_ASSIGN_OR_RETURN(Statement * tags, db.Cached("SELECT id FROM tags"));
+    for (;;) {
+      TB_ASSIGN_OR_RETURN(bool row, tags->Step());
+      if (!row) break;
+      tag_ids_.insert(tags->ColumnInt(0));
+    }
+    tags->Reset();
 
     TB_ASSIGN_OR_RETURN(Statement * constraints,
                         db.Cached("SELECT va, vb FROM constraints WHERE surface = ? "
@@ -133,6 +145,14 @@ class SurfaceChecker {
       if (r.orientation < 0) Add("clockwise-triangle", r.id, "vertices are clockwise");
       if (r.orientation == 0) Add("degenerate-triangle", r.id, "vertices are collinear");
     }
+  }
+
+  // Invariant 6's referential half, on every check: triangles.tag is not a declared foreign key
+  // (migration 0009).
+  void CheckTags() {
+    for (const Row& r : rows_)
+      if (r.tag && !tag_ids_.count(*r.tag))
+        Add("unknown-tag", r.id, "tag " + std::to_string(*r.tag) + " is not a row of tags");
   }
 
   void CheckDuplicateVertices() {
@@ -470,6 +490,7 @@ class SurfaceChecker {
   std::vector<Problem>* problems_;
   std::vector<int64_t> vertex_ids_;
   std::unordered_map<int64_t, Point2> points_;
+  std::unordered_set<int64_t> tag_ids_;  // every id of tags
   std::vector<Row> rows_;  // by id
   std::unordered_map<int64_t, uint32_t> index_;
   std::vector<std::pair<int64_t, int64_t>> constraints_;  // (min, max), sorted

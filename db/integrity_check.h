@@ -1,5 +1,6 @@
-// IntegrityCheck: verifies the invariants a store promises (DESIGN.md 1-5 and 8; with the
-// `full` option also 6 and 7), as PRAGMA integrity_check does for SQLite. Each broken invariant is a coded Problem naming the
+// IntegrityCheck: verifies the invariants a store promises (DESIGN.md 1-5, 8 and that every tag
+// exists; with the `full` option also 6 and 7), as PRAGMA integrity_check does for SQLite. Each
+// broken invariant is a coded Problem naming the
 // surface and triangle, in a stable order (by surface, then triangle id), so the first one is
 // what `tinbase check` reports. Thread-safety: reads through one Store.
 #pragma once
@@ -29,6 +30,7 @@ namespace tinbase {
 //   4  constraint-not-edge   a constrained edge is not an edge (no triangle)
 //   5  not-delaunay          across an unconstrained edge the far vertex is strictly inside the
 //                            circumcircle (`delaunay` surfaces only; on the lower triangle id)
+//   6  unknown-tag           the tag is not an id of the tags table
 //   8  wrong-block           the block column is not the block of the centroid
 // With CheckOptions::full, on a surface whose structure (1-5, 8) is sound:
 //   6  wrong-visibility      visible differs from the features' paint recomputed from scratch

@@ -1591,9 +1591,8 @@ class Edit {
   }
 
   // The uniform blocks' triangles take their block's paint without being read: the block index
-  // holds their ids (it covers the query). Unchecked foreign keys halve the UPDATEs' cost
-  // (db/sqlite/unchecked_foreign_keys.h): every tag id they bind is interned here, in this
-  // transaction.
+  // holds their ids (it covers the query). Every tag id the UPDATEs bind is interned here, in
+  // this transaction (triangles.tag is not a declared foreign key: migration 0009).
   Status WriteUniformRepaints() {
     if (uniform_blocks_.empty()) return Status::Ok();
     std::vector<int64_t> tag_ids;
@@ -1623,7 +1622,6 @@ class Edit {
       ids_of->Reset();
       first = last + 1;
     }
-    TB_ASSIGN_OR_RETURN(UncheckedForeignKeys unchecked, UncheckedForeignKeys::Begin(store_.db()));
     return WriteRepaints(std::move(repaints));
   }
 

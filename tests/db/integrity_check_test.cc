@@ -378,6 +378,22 @@ TEST_F(IntegrityCheckTest, WrongBlockIsReported) {
                                      Id(block + 1) + " but the centroid is in block " + Id(block));
 }
 
+// triangles.tag is not a declared foreign key (migration 0009): the check stands in for it.
+TEST_F(IntegrityCheckTest, TagThatIsNotARowOfTagsIsUnknown) {
+  const int64_t tagged = TriangleId(7), dangling = TriangleId(loaded_.tin.triangles.size() / 2);
+  Sql("INSERT OR IGNORE INTO tags(value) VALUES ('granite')");
+  const int64_t granite = Int("SELECT id FROM tags WHERE value = 'granite'");
+  Sql("UPDATE triangles SET tag = " + Id(granite) + " WHERE id = " + Id(tagged));
+  EXPECT_TRUE(Check().empty()) << "a tag that exists is not a problem";
+  Sql("UPDATE triangles SET tag = " + Id(granite + 1000) + " WHERE id = " + Id(dangling));
+  const std::vector<Problem> problems = Check();
+  ASSERT_EQ(problems.size(), 1u);
+  EXPECT_EQ(problems[0].code, "unknown-tag");
+  EXPECT_EQ(problems[0].triangle, dangling);
+  EXPECT_EQ(problems[0].message, "surface 'terrain', triangle " + Id(dangling) + ": tag " +
+                                     Id(granite + 1000) + " is not a row of tags");
+}
+
 TEST_F(IntegrityCheckTest, ProblemsAreOrderedBySurfaceThenTriangle) {
   const int64_t late = TriangleId(loaded_.tin.triangles.size() - 1);
   const int64_t early = TriangleId(5);
