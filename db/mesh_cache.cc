@@ -1,6 +1,7 @@
 #include "db/mesh_cache.h"
 
 #include <algorithm>
+#include <limits>
 #include <string>
 
 namespace tinbase {
@@ -115,7 +116,7 @@ void MeshCache::AddOwner(int64_t a, int64_t b, int64_t feature) {
   const Edge e = Key(a, b);
   if (auto it = owners_.find(e); it != owners_.end()) {
     it->second.push_back(feature);
-  } else if (owners_complete_) {
+  } else if (owners_complete_ || KnowsOwnersOf(e.first)) {
     owners_.emplace(e, std::vector<int64_t>{feature});
   }  // else unknown: its rows are read when next asked for
 }
@@ -123,8 +124,9 @@ void MeshCache::AddOwner(int64_t a, int64_t b, int64_t feature) {
 void MeshCache::SetUnconstrained(int64_t a, int64_t b) {
   // A complete map says "unconstrained" by not holding the edge; an entry per edge would make it
   // hold every edge the edits wrote, and every lookup slower.
-  if (owners_complete_)
-    owners_.erase(Key(a, b));
+  const Edge e = Key(a, b);
+  if (owners_complete_ || KnowsOwnersOf(e.first))
+    owners_.erase(e);
   else
     owners_[Key(a, b)].clear();
 }
@@ -132,6 +134,7 @@ void MeshCache::SetUnconstrained(int64_t a, int64_t b) {
 void MeshCache::ForgetAllOwners() {
   owners_.clear();
   owners_complete_ = false;
+  owner_ranges_.clear();
 }
 
 Result<const MeshTriangle*> MeshCache::Triangle(int64_t id) {
@@ -185,7 +188,7 @@ Result<Point2> MeshCache::At(int64_t vertex) {
 Result<const std::vector<int64_t>*> MeshCache::Owners(int64_t a, int64_t b) {
   const Edge e = Key(a, b);
   if (auto it = owners_.find(e); it != owners_.end()) return &it->second;
-  if (owners_complete_) return &NoOwners();
+  if (owners_complete_ || KnowsOwnersOf(e.first)) return &NoOwners();
   TB_ASSIGN_OR_RETURN(Statement * stmt,
                       store_.db().Cached("SELECT coalesce(feature, 0) FROM constraints WHERE "
                                          "surface = ? AND va = ? AND vb = ?"));
@@ -312,6 +315,80 @@ Status MeshCache::TrianglesInBlocks(int64_t by, int64_t bx0, int64_t bx1,
   return Status::Ok();
 }
 
+Status MeshCache::ReadBlocks(const std::vector<int64_t>& packed) {
+  std::vector<int64_t> ids;
+  for (size_t first = 0; first < packed.size();) {
+    size_t last = first;
+    while (last + 1 < packed.size() && packed[last + 1] == packed[last] + 1 &&
+           packed[last + 1] / BlockGrid::kStride == packed[first] / BlockGrid::kStride)
+      ++last;
+    TB_RETURN_IF_ERROR(TrianglesInBlocks(packed[first] / BlockGrid::kStride,
+                                         packed[first] % BlockGrid::kStride,
+                                         packed[last] % BlockGrid::kStride, &ids));
+    first = last + 1;
+  }
+  return ReadVerticesOf(ids);
+}
+
+Status MeshCache::ReadVerticesOf(const std::vector<int64_t>& ids) {
+  std::vector<int64_t> wanted;
+  for (int64_t t : ids) {
+    const MeshTriangle* tri = triangles_.Find(t);
+    if (tri == nullptr) continue;
+    for (int64_t v : tri->v)
+      if (!vertices_.Contains(v)) wanted.push_back(v);
+  }
+  std::sort(wanted.begin(), wanted.end());
+  wanted.erase(std::unique(wanted.begin(), wanted.end()), wanted.end());
+  // By rowid alone: with the surface in the WHERE clause SQLite may pick the surface index and
+  // scan every vertex of the surface. Rows of other surfaces in a range are skipped.
+  TB_ASSIGN_OR_RETURN(Statement * range,
+                      store_.db().Cached("SELECT x, y, z, kind, id, surface FROM vertices "
+                                         "WHERE id BETWEEN ? AND ?"));
+  for (size_t first = 0; first < wanted.size();) {
+    size_t last = first;
+    while (last + 1 < wanted.size() && wanted[last + 1] - wanted[last] < kGap) ++last;
+    range->Bind(1, wanted[first]).Bind(2, wanted[last]);
+    for (;;) {
+      TB_ASSIGN_OR_RETURN(bool row, range->Step());
+      if (!row) break;
+      const int64_t id = range->ColumnInt(4);
+      if (range->ColumnInt(5) == surface_.id && !vertices_.Contains(id))
+        vertices_.Emplace(id, VertexFromRow(*range, 0));
+    }
+    range->Reset();
+    if (!owners_complete_) TB_RETURN_IF_ERROR(ReadOwnersOf(wanted[first], wanted[last]));
+    first = last + 1;
+  }
+  return Status::Ok();
+}
+
+bool MeshCache::KnowsOwnersOf(int64_t va) const {
+  // The last range starting at or before va (ranges may overlap: a miss only costs a lookup).
+  auto it = std::upper_bound(owner_ranges_.begin(), owner_ranges_.end(),
+                             std::make_pair(va, std::numeric_limits<int64_t>::max()));
+  return it != owner_ranges_.begin() && va <= std::prev(it)->second;
+}
+
+Status MeshCache::ReadOwnersOf(int64_t first, int64_t last) {
+  TB_ASSIGN_OR_RETURN(Statement * stmt,
+                      store_.db().Cached("SELECT va, vb, coalesce(feature, 0) FROM constraints "
+                                         "WHERE surface = ? AND va BETWEEN ? AND ?"));
+  stmt->Bind(1, surface_.id).Bind(2, first).Bind(3, last);
+  std::unordered_map<Edge, std::vector<int64_t>, EdgeHash> read;
+  for (;;) {
+    TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
+    if (!row) break;
+    read[Key(stmt->ColumnInt(0), stmt->ColumnInt(1))].push_back(stmt->ColumnInt(2));
+  }
+  stmt->Reset();
+  // An edge already held is as stored (kept through the edits' writes).
+  for (auto& [e, owners] : read) owners_.try_emplace(e, std::move(owners));
+  const auto range = std::make_pair(first, last);
+  owner_ranges_.insert(std::upper_bound(owner_ranges_.begin(), owner_ranges_.end(), range), range);
+  return Status::Ok();
+}
+
 Result<std::vector<int64_t>> MeshCache::Star(int64_t vertex, int64_t start, bool* closed) {
   std::vector<int64_t> star;
   *closed = true;
@@ -388,6 +465,20 @@ Status MeshCache::VerifyAgainstStore() {
       return Status::Corruption(where + "owners of edge (" + std::to_string(e.first) + ", " +
                                 std::to_string(e.second) + ") differ from the constraint rows");
     owner_rows += owners.size();
+  }
+  // In a known range too, an edge it lacks is unconstrained.
+  TB_ASSIGN_OR_RETURN(Statement * in_range,
+                      store_.db().Cached("SELECT count(*) FROM constraints WHERE surface = ? AND "
+                                         "va BETWEEN ? AND ?"));
+  for (const auto& [first, last] : owner_ranges_) {
+    in_range->Bind(1, surface_.id).Bind(2, first).Bind(3, last);
+    TB_ASSIGN_OR_RETURN(const std::vector<int64_t> count, FirstColumn(*in_range));
+    size_t known = 0;
+    for (const auto& [e, owners] : owners_)
+      if (e.first >= first && e.first <= last) known += owners.size();
+    if (count.empty() || static_cast<int64_t>(known) != count.front())
+      return Status::Corruption(where + "constraint rows from vertices " + std::to_string(first) +
+                                " to " + std::to_string(last) + " are not all known");
   }
   if (!owners_complete_) return Status::Ok();
   // Complete, an edge it lacks is unconstrained: every stored row must be in it.

@@ -92,6 +92,22 @@ class MeshCache {
   // edits' writes, so the next edit of a load finds them without a query.
   Status TrianglesInBlocks(int64_t by, int64_t bx0, int64_t bx1, std::vector<int64_t>* ids);
 
+  // Reads blocks `packed` (BlockGrid::Pack ids, sorted) whole, a run of consecutive blocks of a
+  // row in one range of the block index, and then the vertices of their triangles
+  // (ReadVerticesOf): an edit reads the blocks along its new rings in a few statements instead
+  // of one lookup per row as its walks reach them (a lookup costs several times a row of a
+  // range).
+  Status ReadBlocks(const std::vector<int64_t>& packed);
+  // Reads the vertices of triangles `ids` (cached) that are not cached yet, in ranges of ids:
+  // the builders give neighbouring vertices neighbouring ids (db/surface_store.cc), so the ids
+  // of a patch fall in runs. The constraint rows starting at a vertex of a range are read with
+  // them, so Owners() answers the edges from those vertices (nearly all unconstrained) without
+  // a lookup each.
+  Status ReadVerticesOf(const std::vector<int64_t>& ids);
+  // Rows between two wanted ids less than kGap apart are read with them (a lookup by id costs
+  // several times the next row of a range).
+  static constexpr int64_t kGap = 16;
+
   // Reads every triangle, vertex and constraint row of the surface in one scan each (rows
   // already held are kept: they are as stored), so that an edit over most of the surface looks
   // nothing up row by row; Owners() then answers from memory until an edge is forgotten, and
@@ -141,6 +157,10 @@ class MeshCache {
   const MeshTriangle* Remember(int64_t id, const Statement& row);
   // Every constraint row of the surface into owners_ (complete).
   Status LoadOwners();
+  // Whether every constraint row whose smaller vertex is `va` is in owners_.
+  bool KnowsOwnersOf(int64_t va) const;
+  // Reads the constraint rows whose smaller vertex lies in [first, last] into owners_.
+  Status ReadOwnersOf(int64_t first, int64_t last);
   // The same when the surface has at most kMaxKeptTriangles constraint rows: an edit asks for the
   // owners of every edge of its region, nearly all of them unconstrained, and a load feature by
   // feature whose rows are kept would otherwise look each new one up.
@@ -159,6 +179,9 @@ class MeshCache {
   // owners_ holds every constrained edge of the surface (LoadSurface): an edge it lacks is not
   // constrained. False once any edge is forgotten.
   bool owners_complete_ = false;
+  // Vertex id ranges whose constraint rows (by smaller vertex) are all in owners_, sorted by
+  // first id: an edge from such a vertex that owners_ lacks is unconstrained.
+  std::vector<std::pair<int64_t, int64_t>> owner_ranges_;
   bool whole_surface_ = false;  // holds_whole_surface()
   // The last commit: its change number and the connection's data_version in its transaction
   // (unchanged by the connection's own commit); -1 when the rows are not known to be current

@@ -242,6 +242,7 @@ class Edit {
   Result<EditResult> Run() {
     TB_RETURN_IF_ERROR(SeedRemovals());
     TB_RETURN_IF_ERROR(LoadSurfaceIfManyPoints());
+    TB_RETURN_IF_ERROR(ReadBlocksAlongNewRings());
     TB_RETURN_IF_ERROR(SnapPoints());
     TB_RETURN_IF_ERROR(SetAsidePresentSegments());
     TB_RETURN_IF_ERROR(SeedPolylines());
@@ -286,6 +287,25 @@ class Edit {
       count->Reset();
     }
     return *surface_triangles_;
+  }
+
+  // The blocks the added features' rings pass are read whole, with their triangles' vertices,
+  // before the walks along the rings (SnapPoints, SeedPolylines) look rows up one by one: the
+  // walks reach nearly only triangles of these blocks, and FindPaintArea reads the blocks anyway
+  // (their triangles' paint may change).
+  Status ReadBlocksAlongNewRings() {
+    if (mesh_.holds_whole_surface()) return Status::Ok();
+    std::set<int64_t> added;
+    for (const EditPolyline& line : edit_.add) added.insert(line.feature);
+    std::vector<int64_t> blocks;
+    for (const EditorFeature& f : edit_.features) {
+      if (!added.count(f.id)) continue;
+      const std::vector<int64_t>& near = RingBlocksOf(f, surface_.blocks);
+      blocks.insert(blocks.end(), near.begin(), near.end());
+    }
+    std::sort(blocks.begin(), blocks.end());
+    blocks.erase(std::unique(blocks.begin(), blocks.end()), blocks.end());
+    return mesh_.ReadBlocks(blocks);
   }
 
   // An edit with at least a quarter as many new points as the surface has triangles touches a
