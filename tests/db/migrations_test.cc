@@ -78,6 +78,50 @@ TEST(Store, OlderStoreIsMigratedForward) {
   EXPECT_TRUE((*store)->db().QueryInt("SELECT count(*) FROM triangles").ok());
 }
 
+// The first column of the first row of `sql`, as text.
+std::string Text(SqliteDb& db, const std::string& sql) {
+  auto stmt = db.Prepare(sql);
+  EXPECT_TRUE(stmt.ok());
+  if (!stmt.ok() || !*(*stmt)->Step()) return "";
+  return (*stmt)->ColumnText(0);
+}
+
+// 0009 rebuilds the triangles table without the foreign key on tag: every row stays as it was.
+TEST(Store, Migration0009KeepsTheTriangleRows) {
+  TempDir dir;
+  const std::string path = dir.Path("v8.tinbase");
+  const std::string rows =
+      "SELECT group_concat(id || ':' || surface || ':' || v0 || ':' || v1 || ':' || v2 || ':' || "
+      "coalesce(n0, '-') || ':' || coalesce(n1, '-') || ':' || coalesce(n2, '-') || ':' || "
+      "visible || ':' || coalesce(tag, '-') || ':' || block, ' ') FROM (SELECT * FROM triangles "
+      "ORDER BY id)";
+  std::string before;
+  {
+    auto db = SqliteDb::Open(path, SqliteDb::Mode::kCreate);
+    ASSERT_TRUE(db.ok());
+    SqliteDb& d = **db;
+    ASSERT_TRUE(d.Exec("PRAGMA application_id = " + std::to_string(kTinbaseApplicationId)).ok());
+    ASSERT_TRUE(MigrateSqlite(d, 8).ok());
+    ASSERT_TRUE(d.Exec("INSERT INTO surfaces(id, name, kind, method, block_origin_x, "
+                       "block_origin_y, block_size) VALUES (3, 's', 'free', 'test', 0, 0, 1);"
+                       "INSERT INTO tags(id, value) VALUES (7, 'granite');"
+                       "INSERT INTO triangles VALUES (10, 3, 1, 2, 3, 11, NULL, NULL, 1, 7, 5),"
+                       "(11, 3, 3, 2, 4, NULL, 10, NULL, 0, NULL, 16777222)")
+                    .ok());
+    before = Text(d, rows);
+    ASSERT_NE(before.find("10:3:1:2:3:11:-:-:1:7:5"), std::string::npos) << before;
+  }
+  auto store = Store::Open(path);
+  ASSERT_TRUE(store.ok()) << store.status().ToString();
+  SqliteDb& d = (*store)->db();
+  EXPECT_EQ(*d.QueryInt("PRAGMA user_version"), LatestSchemaVersion());
+  EXPECT_EQ(Text(d, rows), before);
+  EXPECT_EQ(*d.QueryInt("SELECT count(*) FROM pragma_foreign_key_list('triangles')"), 1)
+      << "only surface is a declared key";
+  EXPECT_TRUE(d.Exec("UPDATE triangles SET tag = 999 WHERE id = 10").ok())
+      << "an unknown tag is for tinbase check to report";
+}
+
 TEST(Store, NewerStoreIsRefusedWithAClearMessage) {
   TempDir dir;
   const std::string path = dir.Path("new.tinbase");
