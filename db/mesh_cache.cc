@@ -384,6 +384,10 @@ Status MeshCache::ReadOwnersOf(int64_t first, int64_t last) {
   stmt->Reset();
   // An edge already held is as stored (kept through the edits' writes).
   for (auto& [e, owners] : read) owners_.try_emplace(e, std::move(owners));
+  // Past the bound the ranges are dropped (the owners read stay): a cache kept through a long
+  // load over a surface with too many constraint rows to hold them all (LoadOwnersIfFew) would
+  // otherwise gather ranges without end, and each insertion moves the ones after it.
+  if (owner_ranges_.size() >= kMaxOwnerRanges) owner_ranges_.clear();
   const auto range = std::make_pair(first, last);
   owner_ranges_.insert(std::upper_bound(owner_ranges_.begin(), owner_ranges_.end(), range), range);
   return Status::Ok();

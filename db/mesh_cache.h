@@ -182,6 +182,7 @@ class MeshCache {
   // Vertex id ranges whose constraint rows (by smaller vertex) are all in owners_, sorted by
   // first id: an edge from such a vertex that owners_ lacks is unconstrained.
   std::vector<std::pair<int64_t, int64_t>> owner_ranges_;
+  static constexpr size_t kMaxOwnerRanges = size_t{1} << 16;
   bool whole_surface_ = false;  // holds_whole_surface()
   // The last commit: its change number and the connection's data_version in its transaction
   // (unchanged by the connection's own commit); -1 when the rows are not known to be current
