@@ -149,13 +149,11 @@ void InsertAndUndo(benchmark::State& state, int64_t side, int n, double r_cells)
 void BM_Insert200(benchmark::State& state) { InsertAndUndo(state, state.range(0), 200, 30); }
 // TINBASE_BENCH_ITERATIONS=N runs exactly N inserts (after the untimed warm-up), so that
 // instruction counts (valgrind --tool=callgrind) compare binaries on equal work.
-benchmark::internal::Benchmark* FixedIterationsIfAsked(benchmark::internal::Benchmark* b) {
+void FixedIterationsIfAsked(benchmark::internal::Benchmark* b) {
   if (const char* n = std::getenv("TINBASE_BENCH_ITERATIONS")) b->Iterations(std::atoll(n));
-  return b;
 }
-BENCHMARK(BM_Insert200)->Arg(225)->Arg(708)->Unit(benchmark::kMillisecond)->Apply([](auto* b) {
-  FixedIterationsIfAsked(b);
-});
+BENCHMARK(BM_Insert200)->Arg(225)->Arg(708)->Unit(benchmark::kMillisecond)->Apply(
+    FixedIterationsIfAsked);
 
 void BM_Insert200_1e7(benchmark::State& state) {
   if (!std::getenv("TINBASE_BENCH_1E7")) {

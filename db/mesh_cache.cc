@@ -128,7 +128,7 @@ void MeshCache::SetUnconstrained(int64_t a, int64_t b) {
   if (owners_complete_ || KnowsOwnersOf(e.first))
     owners_.erase(e);
   else
-    owners_[Key(a, b)].clear();
+    owners_[e].clear();
 }
 
 void MeshCache::ForgetAllOwners() {
@@ -319,12 +319,12 @@ Status MeshCache::ReadBlocks(const std::vector<int64_t>& packed) {
   std::vector<int64_t> ids;
   for (size_t first = 0; first < packed.size();) {
     size_t last = first;
+    const int64_t by = BlockGrid::RowOfPacked(packed[first]);
     while (last + 1 < packed.size() && packed[last + 1] == packed[last] + 1 &&
-           packed[last + 1] / BlockGrid::kStride == packed[first] / BlockGrid::kStride)
+           BlockGrid::RowOfPacked(packed[last + 1]) == by)
       ++last;
-    TB_RETURN_IF_ERROR(TrianglesInBlocks(packed[first] / BlockGrid::kStride,
-                                         packed[first] % BlockGrid::kStride,
-                                         packed[last] % BlockGrid::kStride, &ids));
+    TB_RETURN_IF_ERROR(TrianglesInBlocks(by, BlockGrid::ColumnOfPacked(packed[first]),
+                                         BlockGrid::ColumnOfPacked(packed[last]), &ids));
     first = last + 1;
   }
   return ReadVerticesOf(ids);

@@ -22,6 +22,9 @@ struct BlockGrid {
   int64_t ColumnOf(double x) const { return Clamp(std::floor((x - origin_x) / size)); }
   int64_t RowOf(double y) const { return Clamp(std::floor((y - origin_y) / size)); }
   static int64_t Pack(int64_t bx, int64_t by) { return by * kStride + bx; }
+  // bx and by of a packed id.
+  static int64_t ColumnOfPacked(int64_t packed) { return packed % kStride; }
+  static int64_t RowOfPacked(int64_t packed) { return packed / kStride; }
   int64_t BlockOf(double x, double y) const { return Pack(ColumnOf(x), RowOf(y)); }
 
   static constexpr int64_t kDefaultPerBlock = 32;

@@ -50,7 +50,7 @@ void RingBlocks::AddRings(const std::vector<Polygon>& polygons) {
 
 void RingBlocks::AddBlocks(const std::vector<int64_t>& packed) {
   for (int64_t id : packed) {
-    const int64_t by = id / BlockGrid::kStride, bx = id % BlockGrid::kStride;
+    const int64_t by = BlockGrid::RowOfPacked(id), bx = BlockGrid::ColumnOfPacked(id);
     if (window_.Contains(bx, by)) near_[Index(bx, by)] = 1;
   }
 }

@@ -40,15 +40,19 @@ int WriteThrough(LogFile* f, const void* data, int bytes, sqlite3_int64 offset) 
 // page of SQLite's is larger), so what is gathered goes out in pieces of that size.
 constexpr size_t kMaxWrite = 0x1ffff;
 
+// `bytes` of `data` at `offset` in the default VFS's file, in pieces it writes whole.
+int WriteInPieces(LogFile* f, const char* data, size_t bytes, sqlite3_int64 offset) {
+  int rc = SQLITE_OK;
+  for (size_t done = 0; done < bytes && rc == SQLITE_OK; done += kMaxWrite)
+    rc = WriteThrough(f, data + done, static_cast<int>(std::min(kMaxWrite, bytes - done)),
+                      offset + static_cast<sqlite3_int64>(done));
+  return rc;
+}
+
 int Flush(LogFile* f) {
   if (f->gathered == nullptr) return SQLITE_OK;
   f->expect_page = false;
-  int rc = SQLITE_OK;
-  for (size_t done = 0; done < f->gathered->size() && rc == SQLITE_OK; done += kMaxWrite) {
-    const size_t bytes = std::min(kMaxWrite, f->gathered->size() - done);
-    rc = WriteThrough(f, f->gathered->data() + done, static_cast<int>(bytes),
-                      f->gathered_at + static_cast<sqlite3_int64>(done));
-  }
+  const int rc = WriteInPieces(f, f->gathered->data(), f->gathered->size(), f->gathered_at);
   f->gathered->clear();
   return rc;
 }
@@ -177,15 +181,8 @@ const sqlite3_io_methods kLogMethods = [] {
 // chunk is as large as SQLITE_CONFIG_STMTJRNL_SPILL (16 MiB: db/sqlite/sqlite_db.cc), longer than
 // the unix VFS writes in one call (it reports the rest as a full disk).
 int StatementJournalWrite(sqlite3_file* file, const void* data, int bytes, sqlite3_int64 offset) {
-  sqlite3_file* real = AsLog(file)->real;
-  for (int done = 0; done < bytes;) {
-    const int piece = std::min(static_cast<int>(kMaxWrite), bytes - done);
-    const int rc = real->pMethods->xWrite(real, static_cast<const char*>(data) + done, piece,
-                                          offset + done);
-    if (rc != SQLITE_OK) return rc;
-    done += piece;
-  }
-  return SQLITE_OK;
+  return WriteInPieces(AsLog(file), static_cast<const char*>(data), static_cast<size_t>(bytes),
+                       offset);
 }
 
 const sqlite3_io_methods kStatementJournalMethods = [] {

@@ -26,8 +26,8 @@ namespace tinbase {
 // The VFS's name for sqlite3_open_v2, registered on first call (not as the default VFS).
 const char* WalWriteBatchingVfs();
 
-// Process-wide counts of log writes SQLite asked for and writes this VFS made, for tests and
-// benchmarks.
+// Process-wide counts of log writes SQLite asked for and writes this VFS made (with a spilling
+// statement journal's pieces), for tests and benchmarks.
 struct WalWriteCounts {
   int64_t requested = 0;
   int64_t issued = 0;

@@ -60,7 +60,7 @@ class MeshCacheTest : public ::testing::Test {
   std::vector<int64_t> RingTriangles(MeshCache& cache) {
     std::vector<int64_t> ids;
     for (int64_t b : ring_blocks_) {
-      const int64_t by = b / BlockGrid::kStride, bx = b % BlockGrid::kStride;
+      const int64_t by = BlockGrid::RowOfPacked(b), bx = BlockGrid::ColumnOfPacked(b);
       EXPECT_TRUE(cache.TrianglesInBlocks(by, bx, bx, &ids).ok());
     }
     return ids;
