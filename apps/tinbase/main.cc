@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 
+#include "apps/tinbase/bulk_commands.h"
 #include "apps/tinbase/command.h"
 #include "core/base/huge_page_malloc.h"
 #include "db/dem_block_cache.h"
@@ -50,7 +51,7 @@ Status ApplyMemoryLimits() {
 }  // namespace tinbase::cli
 
 int main(int argc, char** argv) {
-  tinbase::RestartWithHugePageMalloc(argv);
+  if (tinbase::cli::TriangulatesInBulk(argc, argv)) tinbase::RestartWithHugePageMalloc(argv);
   if (tinbase::Status s = tinbase::cli::ApplyMemoryLimits(); !s.ok())
     return tinbase::cli::ReportError(s);
   GDALAllRegister();

@@ -4,7 +4,8 @@
 // touch of each 4 KiB page is a costly fault: on our 2-core CI VM a 4 M-point LiDAR import into a
 // store ran 1.2-1.7x faster with 2 MiB pages. glibc backs its heap with huge pages only when told
 // so at start-up (GLIBC_TUNABLES=glibc.malloc.hugetlb=1, glibc 2.35 and later), so a program
-// calls RestartWithHugePageMalloc first thing in main.
+// calls RestartWithHugePageMalloc first thing in main. The restart loads the program's shared
+// libraries again, so the CLI restarts only for its bulk commands (apps/tinbase/bulk_commands.h).
 // Thread-safety: call before any thread starts.
 #pragma once
 

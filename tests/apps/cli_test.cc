@@ -38,20 +38,24 @@ class CliTest : public ::testing::Test {
   std::string store_;
 };
 
-// The CLI starts itself again on huge-page malloc (core/base/huge_page_malloc.h) unless told not
-// to or already told how: every way, it runs the command with its arguments once.
+// The CLI starts a bulk command again on huge-page malloc (core/base/huge_page_malloc.h) unless
+// told not to or already told how, and any other command not at all: every way, it runs the
+// command with its arguments once.
 TEST(CliStartTest, RunsTheCommandOnceWithOrWithoutHugePages) {
-  const CliResult plain = RunCli("--version");
-  ASSERT_EQ(plain.exit_code, 0) << plain.err;
-  ASSERT_FALSE(plain.out.empty());
-  for (const std::string env :
-       {"TINBASE_HUGE_PAGES=0", "GLIBC_TUNABLES=glibc.malloc.hugetlb=0",
-        "GLIBC_TUNABLES=glibc.malloc.check=0", "TINBASE_HUGE_PAGES_RESTARTED=1"}) {
-    const CliResult run = RunCli("--version", env);
-    EXPECT_EQ(run.exit_code, 0) << env << ": " << run.err;
-    EXPECT_EQ(run.out, plain.out) << env;
+  for (const std::string command : {"--version", "points import --help"}) {
+    const CliResult plain = RunCli(command);
+    ASSERT_EQ(plain.exit_code, 0) << command << ": " << plain.err;
+    ASSERT_FALSE(plain.out.empty()) << command;
+    for (const std::string env :
+         {"TINBASE_HUGE_PAGES=0", "GLIBC_TUNABLES=glibc.malloc.hugetlb=0",
+          "GLIBC_TUNABLES=glibc.malloc.check=0", "TINBASE_HUGE_PAGES_RESTARTED=1"}) {
+      const CliResult run = RunCli(command, env);
+      EXPECT_EQ(run.exit_code, 0) << command << ", " << env << ": " << run.err;
+      EXPECT_EQ(run.out, plain.out) << command << ", " << env;
+    }
   }
   EXPECT_NE(RunCli("no-such-command").exit_code, 0);
+  EXPECT_NE(RunCli("points no-such-command").exit_code, 0);
 }
 
 TEST_F(CliTest, InfoListsTheDemAndTheSurface) {
