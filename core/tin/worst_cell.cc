@@ -80,7 +80,16 @@ inline void ScanRows(Source& dem, const CellTriangle& t, const CellPlane& plane,
 
 }  // namespace
 
-__attribute__((target_clones("avx2", "default"), flatten)) void RaiseToWorstInRows(
+// The scan is cloned for AVX2, picked at load time by an ifunc resolver. ThreadSanitizer
+// instruments that resolver, which the dynamic loader runs before TSan's runtime has started: the
+// program crashes before main. Under TSan there is one plain version.
+#if defined(__SANITIZE_THREAD__)
+#define TINBASE_CLONED_FOR_AVX2
+#else
+#define TINBASE_CLONED_FOR_AVX2 target_clones("avx2", "default"),
+#endif
+
+__attribute__((TINBASE_CLONED_FOR_AVX2 flatten)) void RaiseToWorstInRows(
     CellSource& dem, const CellTriangle& t, const CellPlane& plane, int64_t row_min,
     int64_t row_max, WorstCell* worst) {
   if (auto* grid = dynamic_cast<GridCellSource*>(&dem)) {
