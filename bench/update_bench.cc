@@ -3,7 +3,8 @@
 //     TINBASE_BENCH_1E7=1: building that store takes minutes and ~2 GB): the insert is local, so
 //     its time should not grow with the store;
 //   - rebuilding the ~1e6-triangle CDT from scratch (CGAL, spatially sorted), the global
-//     alternative each local insert replaces;
+//     alternative each local insert replaces, in memory and stored (BM_InsertOverRebuild1e6 takes
+//     both ratios in alternated rounds);
 //   - paper 000's Table 1 case: one polygon of 6000 segments over a 300 x 300 DEM with every DEM
 //     point kept, end to end (read, validate, drape, insert, commit).
 //   - a 1000+ polygon map loaded feature by feature against the same surface rebuilt from
@@ -103,9 +104,38 @@ std::string PolygonFile(int64_t side, int n, double r_cells) {
   return path;
 }
 
+double Median(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  const size_t n = values.size();
+  return n % 2 ? values[n / 2] : (values[n / 2 - 1] + values[n / 2]) / 2;
+}
+
+// The fill of the n-gon of radius r_cells around the centre of the side x side store.
+PolygonAddOptions NgonFill(int64_t side, int n, double r_cells) {
+  PolygonAddOptions o;
+  o.surface = "terrain";
+  o.file = PolygonFile(side, n, r_cells);
+  o.mode = "fill";
+  o.tag_field = "unit";
+  return o;
+}
+
+double MillisecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+      .count();
+}
+
+// One insert of `o` into `store`, timed, then undone (untimed). Milliseconds.
+double TimedInsertUndone(Store& store, const PolygonAddOptions& o) {
+  const auto start = std::chrono::steady_clock::now();
+  auto report = AddPolygons(store, o);
+  const double ms = MillisecondsSince(start);
+  if (!report.ok() || !RemovePolygon(store, report->first_feature_id).ok()) std::abort();
+  return ms;
+}
+
 void InsertAndUndo(benchmark::State& state, int64_t side, int n, double r_cells) {
   const std::string path = BuildStore(side);
-  const std::string file = PolygonFile(side, n, r_cells);
   auto store = Store::Open(path);
   if (!store.ok()) std::abort();
   // A long-lived writer's page cache (TINBASE_BENCH_CACHE_KIB, default SQLite's 2 MiB).
@@ -115,11 +145,7 @@ void InsertAndUndo(benchmark::State& state, int64_t side, int n, double r_cells)
   if (const char* mib = std::getenv("TINBASE_BENCH_MMAP_MIB"))
     if (!(*store)->db().Exec("PRAGMA mmap_size = " + std::to_string(std::atoll(mib) << 20)).ok())
       std::abort();
-  PolygonAddOptions o;
-  o.surface = "terrain";
-  o.file = file;
-  o.mode = "fill";
-  o.tag_field = "unit";
+  const PolygonAddOptions o = NgonFill(side, n, r_cells);
   int64_t removed = 0, triangles = 0, rows_written = 0;
   // One untimed insert first: the statements are prepared and the pages read once.
   auto warm_up = AddPolygons(**store, o);
@@ -190,6 +216,23 @@ void BM_RebuildCdt1e6(benchmark::State& state) {
 }
 BENCHMARK(BM_RebuildCdt1e6)->Unit(benchmark::kMillisecond)->Iterations(3);
 
+void RemoveStoreFiles(const std::string& path) {
+  for (const char* suffix : {"", "-wal", "-shm"}) std::filesystem::remove(path + suffix);
+}
+
+// `surface`'s CDT from scratch, stored as the only surface of a new store at `path`.
+void RebuildIntoNewStore(const LoadedSurface& surface, const std::string& path) {
+  const Tin tin = RebuildCdt(surface).ToTin();
+  auto store = Store::Create(path, "EPSG:32632");
+  if (!store.ok()) std::abort();
+  auto tx = (*store)->BeginWrite();
+  if (!tx.ok()) std::abort();
+  SurfaceInfo spec;
+  spec.name = "terrain";
+  spec.method = "rebuild";
+  if (!SurfaceStore(**store).Create(spec, tin).ok() || !(*tx)->Commit().ok()) std::abort();
+}
+
 // The global alternative with its writes: that CDT from scratch, stored as a new surface in a new
 // store file and committed (what replacing the surface would cost).
 void BM_RebuildStored1e6(benchmark::State& state) {
@@ -197,21 +240,55 @@ void BM_RebuildStored1e6(benchmark::State& state) {
   const std::string path = BenchDir() + "/rebuilt.tinbase";
   for (auto _ : state) {
     state.PauseTiming();
-    for (const char* suffix : {"", "-wal", "-shm"}) std::filesystem::remove(path + suffix);
+    RemoveStoreFiles(path);
     state.ResumeTiming();
-    const Tin tin = RebuildCdt(loaded).ToTin();
-    auto store = Store::Create(path, "EPSG:32632");
-    if (!store.ok()) std::abort();
-    auto tx = (*store)->BeginWrite();
-    if (!tx.ok()) std::abort();
-    SurfaceInfo spec;
-    spec.name = "terrain";
-    spec.method = "rebuild";
-    if (!SurfaceStore(**store).Create(spec, tin).ok() || !(*tx)->Commit().ok()) std::abort();
+    RebuildIntoNewStore(loaded, path);
   }
-  for (const char* suffix : {"", "-wal", "-shm"}) std::filesystem::remove(path + suffix);
+  RemoveStoreFiles(path);
 }
 BENCHMARK(BM_RebuildStored1e6)->Unit(benchmark::kMillisecond)->Iterations(3);
+
+// The speed-up measured in rounds: kInserts inserts of the 200-vertex polygon into the
+// ~1e6 store (each undone, untimed), then CGAL's rebuild of that store's CDT in memory, then the
+// rebuild stored as a new store, kRounds times in turn. The VM's speed drifts (CGAL's rebuild took
+// 497-920 ms on different days), so the ratio within a round is steadier than the ratio of
+// separate benchmarks. Counters: medians of the rounds; speedup_*_min is the worst round.
+void BM_InsertOverRebuild1e6(benchmark::State& state) {
+  constexpr int kRounds = 5, kInserts = 20;
+  auto store = Store::Open(BuildStore(708));
+  if (!store.ok()) std::abort();
+  const PolygonAddOptions o = NgonFill(708, 200, 30);
+  TimedInsertUndone(**store, o);  // statements prepared, pages read once
+  const LoadedSurface loaded = Loaded1e6();
+  const std::string rebuilt = BenchDir() + "/rebuilt.tinbase";
+  std::vector<double> insert_ms, cgal_ms, stored_ms, over_cgal, over_stored;
+  for (auto _ : state) {
+    for (int round = 0; round < kRounds; ++round) {
+      std::vector<double> inserts;
+      for (int i = 0; i < kInserts; ++i) inserts.push_back(TimedInsertUndone(**store, o));
+      insert_ms.push_back(Median(inserts));
+      auto start = std::chrono::steady_clock::now();
+      benchmark::DoNotOptimize(RebuildCdt(loaded).FaceCount());
+      cgal_ms.push_back(MillisecondsSince(start));
+      RemoveStoreFiles(rebuilt);
+      start = std::chrono::steady_clock::now();
+      RebuildIntoNewStore(loaded, rebuilt);
+      stored_ms.push_back(MillisecondsSince(start));
+      over_cgal.push_back(cgal_ms.back() / insert_ms.back());
+      over_stored.push_back(stored_ms.back() / insert_ms.back());
+    }
+  }
+  RemoveStoreFiles(rebuilt);
+  state.counters["insert_ms"] = Median(insert_ms);
+  state.counters["cgal_ms"] = Median(cgal_ms);
+  state.counters["stored_ms"] = Median(stored_ms);
+  state.counters["speedup_cgal"] = Median(over_cgal);
+  state.counters["speedup_cgal_min"] = *std::min_element(over_cgal.begin(), over_cgal.end());
+  state.counters["speedup_stored"] = Median(over_stored);
+  state.counters["speedup_stored_min"] =
+      *std::min_element(over_stored.begin(), over_stored.end());
+}
+BENCHMARK(BM_InsertOverRebuild1e6)->Unit(benchmark::kMillisecond)->Iterations(1);
 
 // Paper 000, Table 1: one polygon of ~6000 segments over 300 x 300 DEM points, all kept.
 void BM_PaperTable1(benchmark::State& state) { InsertAndUndo(state, 300, 6000, 140); }
@@ -443,11 +520,6 @@ void BM_MapRebuildFromScratch(benchmark::State& state) {
 }
 BENCHMARK(BM_MapRebuildFromScratch)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(1);
 
-double Median(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  const size_t n = values.size();
-  return n % 2 ? values[n / 2] : (values[n / 2 - 1] + values[n / 2]) / 2;
-}
 
 // The ratio measured in pairs: a `--each` load, then the rebuild, each on a fresh copy of
 // the store, kPairs times in turn. On a VM whose speed drifts by 15 % within minutes, the ratio of
@@ -455,10 +527,6 @@ double Median(std::vector<double> values) {
 void BM_MapEachOverRebuild(benchmark::State& state) {
   constexpr int kPairs = 5;
   const MapCase map = Map(state.range(0));
-  const auto milliseconds = [](auto start) {
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-        .count();
-  };
   std::vector<double> each_ms, rebuild_ms, ratios;
   for (auto _ : state) {
     for (int pair = 0; pair < kPairs; ++pair) {
@@ -469,11 +537,11 @@ void BM_MapEachOverRebuild(benchmark::State& state) {
         state.SkipWithError("the --each load failed");
         return;
       }
-      each_ms.push_back(milliseconds(start));
+      each_ms.push_back(MillisecondsSince(start));
       store = FreshHamersleyCopy();
       start = std::chrono::steady_clock::now();
       RebuildMap(*store, map);
-      rebuild_ms.push_back(milliseconds(start));
+      rebuild_ms.push_back(MillisecondsSince(start));
       ratios.push_back(each_ms.back() / rebuild_ms.back());
     }
   }
