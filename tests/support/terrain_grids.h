@@ -2,9 +2,12 @@
 // functions.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <limits>
+#include <random>
 
 #include "core/raster/grid.h"
 
@@ -28,6 +31,43 @@ inline Grid MakeGrid(int64_t width, int64_t height,
 
 inline double Sines(double x, double y) {
   return 300 + 120 * std::sin(x / 170.0) * std::cos(y / 230.0) + 35 * std::sin((x + 2 * y) / 61.0);
+}
+
+// A random smooth terrain drawn from `rng`: a product of sines of random amplitude and
+// wavelengths with per-cell noise, 2 to max_side cells a side. With probability hole_chance it has
+// nodata patches; it may then hold no data at all (see AllNodata).
+inline Grid RandomTerrain(std::mt19937& rng, int max_side, double hole_chance) {
+  std::uniform_int_distribution<int> size(2, max_side);
+  std::uniform_real_distribution<double> unit(0, 1);
+  const double a = 200 * unit(rng), fx = 20 + 300 * unit(rng), fy = 20 + 300 * unit(rng);
+  const double noise = 5 * unit(rng);
+  const bool holes = unit(rng) < hole_chance;
+  std::mt19937 cell_rng(rng());
+  const int width = size(rng), height = size(rng);
+  return MakeGrid(width, height, [&](double x, double y) {
+    if (holes && std::sin(x / 37.0) * std::cos(y / 23.0) > 0.7)
+      return std::numeric_limits<double>::quiet_NaN();
+    return a * std::sin(x / fx) * std::cos(y / fy) + noise * unit(cell_rng);
+  });
+}
+
+inline bool AllNodata(const Grid& grid) {
+  return std::all_of(grid.cells.begin(), grid.cells.end(), [](float v) { return std::isnan(v); });
+}
+
+// The z the builders give a nodata corner cell (0, 0): the mean of the valid cells of the first
+// square window [0, radius]^2 that holds any. REQUIRES: the grid holds valid cells.
+inline double FirstValidWindowMean(const Grid& grid) {
+  for (int64_t radius = 1;; ++radius) {
+    double sum = 0;
+    int count = 0;
+    for (int64_t r = 0; r <= radius; ++r) {
+      for (int64_t c = 0; c <= radius; ++c) {
+        if (grid.IsValid(c, r)) sum += grid.At(c, r), ++count;
+      }
+    }
+    if (count > 0) return sum / count;
+  }
 }
 
 // The width x height window of `grid` whose top-left cell is (col, row), with its geometry.

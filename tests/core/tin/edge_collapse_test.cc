@@ -17,6 +17,7 @@
 
 #include "core/tin/grid_triangulation.h"
 #include "tests/support/read_grid.h"
+#include "tests/support/terrain_grids.h"
 #include "tests/support/test_support.h"
 #include "tests/support/tin_checks.h"
 #include "tests/support/tin_fixtures.h"
@@ -25,41 +26,15 @@ namespace tinbase {
 namespace {
 
 using testing::DataPath;
+using testing::MakeGrid;
+using testing::Window;
 
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
-
-Grid MakeGrid(int64_t width, int64_t height, const std::function<double(double, double)>& f) {
-  Grid grid;
-  grid.geometry = GridGeometry{500000.0, 5200000.0, 10.0, -10.0, width, height};
-  grid.cells.resize(static_cast<size_t>(width * height));
-  for (int64_t r = 0; r < height; ++r) {
-    for (int64_t c = 0; c < width; ++c) {
-      grid.cells[static_cast<size_t>(r * width + c)] = static_cast<float>(
-          f(grid.geometry.CellCenterX(c) - 500000.0, grid.geometry.CellCenterY(r) - 5200000.0));
-    }
-  }
-  return grid;
-}
 
 double Terrain(double x, double y) {
   const double hill = 180 * std::exp(-((x - 600) * (x - 600) + (y + 500) * (y + 500)) / 40000.0);
   return 300 + hill + 60 * std::sin(x / 170.0) * std::cos(y / 230.0) +
          12 * std::sin((x + 2 * y) / 61.0);
-}
-
-// The cols x rows window of `grid` starting at (col0, row0).
-Grid Window(const Grid& grid, int64_t col0, int64_t row0, int64_t cols, int64_t rows) {
-  Grid w;
-  w.crs_wkt = grid.crs_wkt;
-  w.geometry = grid.geometry;
-  w.geometry.origin_x += static_cast<double>(col0) * grid.geometry.cell_x;
-  w.geometry.origin_y += static_cast<double>(row0) * grid.geometry.cell_y;
-  w.geometry.width = cols;
-  w.geometry.height = rows;
-  for (int64_t r = 0; r < rows; ++r) {
-    for (int64_t c = 0; c < cols; ++c) w.cells.push_back(grid.At(col0 + c, row0 + r));
-  }
-  return w;
 }
 
 double PlanArea(const Tin& tin) {

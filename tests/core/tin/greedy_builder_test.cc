@@ -11,7 +11,9 @@
 
 #include "core/tin/split_refinement.h"
 #include "core/tin/tin_raster.h"
+#include "tests/support/lattice_tin_checks.h"
 #include "tests/support/read_grid.h"
+#include "tests/support/terrain_grids.h"
 #include "tests/support/test_support.h"
 #include "tests/support/tin_checks.h"
 
@@ -20,33 +22,11 @@ namespace {
 
 using testing::DataPath;
 using testing::FitToDem;
+using testing::HiddenTriangles;
+using testing::MakeGrid;
+using testing::Sines;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-// A width x height grid with 10 m cells whose origin is away from zero (as real data is), cell
-// values f(x, y) at the cell centres.
-Grid MakeGrid(int64_t width, int64_t height, const std::function<double(double, double)>& f) {
-  Grid grid;
-  grid.geometry = GridGeometry{500000.0, 5200000.0, 10.0, -10.0, width, height};
-  grid.cells.resize(static_cast<size_t>(width * height));
-  for (int64_t r = 0; r < height; ++r) {
-    for (int64_t c = 0; c < width; ++c) {
-      grid.cells[static_cast<size_t>(r * width + c)] = static_cast<float>(
-          f(grid.geometry.CellCenterX(c) - 500000.0, grid.geometry.CellCenterY(r) - 5200000.0));
-    }
-  }
-  return grid;
-}
-
-double Sines(double x, double y) {
-  return 300 + 120 * std::sin(x / 170.0) * std::cos(y / 230.0) + 35 * std::sin((x + 2 * y) / 61.0);
-}
-
-int HiddenTriangles(const Tin& tin) {
-  int hidden = 0;
-  for (const TinTriangle& t : tin.triangles) hidden += !t.visible;
-  return hidden;
-}
 
 // Everything a valid greedy result promises, checked independently of the builder.
 void ExpectValidGreedyTin(const Tin& tin, const Grid& dem, double tolerance,
@@ -139,15 +119,8 @@ TEST(GreedyBuilderTest, RandomTerrainsReproducibleBySeed) {
   std::mt19937 rng(seed);
   for (int round = 0; round < 8; ++round) {
     SCOPED_TRACE("seed " + std::to_string(seed) + " round " + std::to_string(round));
-    std::uniform_int_distribution<int> size(2, 90);
-    std::uniform_real_distribution<double> unit(0, 1);
-    const double a = 200 * unit(rng), fx = 20 + 300 * unit(rng), fy = 20 + 300 * unit(rng);
-    const double noise = 5 * unit(rng);
-    std::mt19937 cell_rng(rng());
-    const Grid dem = MakeGrid(size(rng), size(rng), [&](double x, double y) {
-      return a * std::sin(x / fx) * std::cos(y / fy) + noise * unit(cell_rng);
-    });
-    const double tolerance = 0.5 + 10 * unit(rng);
+    const Grid dem = testing::RandomTerrain(rng, 90, /*hole_chance=*/0);
+    const double tolerance = 0.5 + 10 * std::uniform_real_distribution<double>()(rng);
     GreedyReport report;
     auto tin = BuildGreedyTin(dem, {.tolerance = tolerance}, &report);
     ASSERT_TRUE(tin.ok()) << tin.status().ToString();
@@ -362,18 +335,7 @@ TEST(GreedyBuilderTest, NodataHolesAndCorners) {
     const TinVertex& corner = tin->vertices[0];
     ASSERT_EQ(corner.x, dem.geometry.CellCenterX(0));
     ASSERT_EQ(corner.y, dem.geometry.CellCenterY(0));
-    double expected = kNaN;
-    for (int64_t radius = 1; std::isnan(expected); ++radius) {
-      double sum = 0;
-      int count = 0;
-      for (int64_t r = 0; r <= radius; ++r) {
-        for (int64_t c = 0; c <= radius; ++c) {
-          if (dem.IsValid(c, r)) sum += dem.At(c, r), ++count;
-        }
-      }
-      if (count > 0) expected = sum / count;
-    }
-    EXPECT_NEAR(corner.z, expected, 1e-9);
+    EXPECT_NEAR(corner.z, testing::FirstValidWindowMean(dem), 1e-9);
     EXPECT_GT(HiddenTriangles(*tin), 0);
   }
 }

@@ -135,20 +135,9 @@ TEST(RtinBuilderTest, RandomTerrainsReproducibleBySeed) {
   std::mt19937 rng(seed);
   for (int round = 0; round < 12; ++round) {
     SCOPED_TRACE("seed " + std::to_string(seed) + " round " + std::to_string(round));
-    std::uniform_int_distribution<int> size(2, 90);
-    std::uniform_real_distribution<double> unit(0, 1);
-    const double a = 200 * unit(rng), fx = 20 + 300 * unit(rng), fy = 20 + 300 * unit(rng);
-    const double noise = 5 * unit(rng);
-    const bool holes = unit(rng) < 0.3;
-    std::mt19937 cell_rng(rng());
-    const Grid dem = MakeGrid(size(rng), size(rng), [&](double x, double y) {
-      if (holes && std::sin(x / 37.0) * std::cos(y / 23.0) > 0.7) return kNaN;
-      return a * std::sin(x / fx) * std::cos(y / fy) + noise * unit(cell_rng);
-    });
-    if (std::all_of(dem.cells.begin(), dem.cells.end(), [](float v) { return std::isnan(v); })) {
-      continue;
-    }
-    BuildAndCheck(dem, round % 4 == 0 ? 0.0 : 10 * unit(rng));
+    const Grid dem = testing::RandomTerrain(rng, 90, /*hole_chance=*/0.3);
+    if (testing::AllNodata(dem)) continue;
+    BuildAndCheck(dem, round % 4 == 0 ? 0.0 : 10 * std::uniform_real_distribution<double>()(rng));
   }
 }
 

@@ -196,20 +196,9 @@ TEST(VipBuilderTest, RandomTerrainsReproducibleBySeed) {
   std::mt19937 rng(seed);
   for (int round = 0; round < 10; ++round) {
     SCOPED_TRACE("seed " + std::to_string(seed) + " round " + std::to_string(round));
-    std::uniform_int_distribution<int> size(2, 80);
-    std::uniform_real_distribution<double> unit(0, 1);
-    const double a = 200 * unit(rng), fx = 20 + 300 * unit(rng), fy = 20 + 300 * unit(rng);
-    const double noise = 5 * unit(rng);
-    const bool holes = unit(rng) < 0.3;
-    std::mt19937 cell_rng(rng());
-    const Grid dem = MakeGrid(size(rng), size(rng), [&](double x, double y) {
-      if (holes && std::sin(x / 37.0) * std::cos(y / 23.0) > 0.7) return kNaN;
-      return a * std::sin(x / fx) * std::cos(y / fy) + noise * unit(cell_rng);
-    });
-    if (std::all_of(dem.cells.begin(), dem.cells.end(), [](float v) { return std::isnan(v); })) {
-      continue;
-    }
-    BuildAndCheck(dem, {.threshold = 3 * unit(rng)});
+    const Grid dem = testing::RandomTerrain(rng, 80, /*hole_chance=*/0.3);
+    if (testing::AllNodata(dem)) continue;
+    BuildAndCheck(dem, {.threshold = 3 * std::uniform_real_distribution<double>()(rng)});
   }
 }
 
@@ -228,18 +217,7 @@ TEST(VipBuilderTest, NodataHolesAndCorners) {
   const TinVertex& corner = tin.vertices[0];
   ASSERT_EQ(corner.x, dem.geometry.CellCenterX(0));
   ASSERT_EQ(corner.y, dem.geometry.CellCenterY(0));
-  double expected = kNaN;
-  for (int64_t radius = 1; std::isnan(expected); ++radius) {
-    double sum = 0;
-    int count = 0;
-    for (int64_t r = 0; r <= radius; ++r) {
-      for (int64_t c = 0; c <= radius; ++c) {
-        if (dem.IsValid(c, r)) sum += dem.At(c, r), ++count;
-      }
-    }
-    if (count > 0) expected = sum / count;
-  }
-  EXPECT_NEAR(corner.z, expected, 1e-9);
+  EXPECT_NEAR(corner.z, testing::FirstValidWindowMean(dem), 1e-9);
 }
 
 TEST(VipBuilderTest, SouthUpGrid) {
