@@ -3,6 +3,7 @@
 #include <sqlite3.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <condition_variable>
 #include <deque>
@@ -13,6 +14,7 @@
 #include <optional>
 #include <unordered_map>
 
+#include "core/base/paged_id_map.h"
 #include "db/sqlite/bulk_write.h"
 #include "db/sqlite/scoped_page_cache.h"
 #include "db/sqlite/unchecked_foreign_keys.h"
@@ -685,9 +687,15 @@ Result<int64_t> SurfaceStore::AnyTriangle(const SurfaceInfo& surface) {
 Result<LoadedSurface> SurfaceStore::Load(const SurfaceInfo& surface) {
   SqliteDb& db = store_.db();
   TB_ASSIGN_OR_RETURN(auto snapshot, SnapshotUnlessInTransaction(store_));
-  const std::string where = "surface " + Quoted(surface.name);
+  const auto corrupt = [&](const std::string& what) {
+    return Status::Corruption("surface " + Quoted(surface.name) + what);
+  };
   LoadedSurface out;
-  std::unordered_map<int64_t, uint32_t> vertex_index;
+  // Store id -> index. A surface's rows have runs of consecutive ids, so paged arrays hold this in
+  // a few bytes an id where hash maps took ~40 (and a loaded surface's memory is first touched
+  // page fault by page fault).
+  PagedIdMap<uint32_t> vertex_index;
+  PagedIdMap<int32_t> triangle_index;
 
   TB_ASSIGN_OR_RETURN(Statement * vertices,
                       db.Cached("SELECT id, x, y, z, kind FROM vertices " +
@@ -696,55 +704,79 @@ Result<LoadedSurface> SurfaceStore::Load(const SurfaceInfo& surface) {
   for (;;) {
     TB_ASSIGN_OR_RETURN(bool row, vertices->Step());
     if (!row) break;
+    const int64_t id = vertices->ColumnInt(0);
     TinVertex v{vertices->ColumnDouble(1), vertices->ColumnDouble(2), vertices->ColumnDouble(3)};
     if (!ParseVertexKind(vertices->ColumnText(4), &v.kind))
-      return Status::Corruption(where + ", vertex " + std::to_string(vertices->ColumnInt(0)) +
-                                ": unknown kind '" + vertices->ColumnText(4) + "'");
-    vertex_index.emplace(vertices->ColumnInt(0), static_cast<uint32_t>(out.tin.vertices.size()));
-    out.vertex_ids.push_back(vertices->ColumnInt(0));
+      return corrupt(", vertex " + std::to_string(id) + ": unknown kind '" +
+                     vertices->ColumnText(4) + "'");
+    vertex_index.Put(id, static_cast<uint32_t>(out.tin.vertices.size()));
+    out.vertex_ids.push_back(id);
     out.tin.vertices.push_back(v);
   }
   vertices->Reset();
 
-  TB_ASSIGN_OR_RETURN(Statement * triangles, db.Cached(std::string(kTriangleColumns) +
-                                                       SurfaceRowsInIdOrder("triangles", "t")));
+  // Tags by id, read once: the tags table is small, and joining it row by row would carry a string
+  // per triangle. A tag id not in it loads as no tag (`tinbase check` reports it: unknown-tag).
+  std::unordered_map<int64_t, std::string> tag_values;
+  TB_ASSIGN_OR_RETURN(Statement * tags, db.Cached("SELECT id, value FROM tags"));
+  for (;;) {
+    TB_ASSIGN_OR_RETURN(bool row, tags->Step());
+    if (!row) break;
+    tag_values.emplace(tags->ColumnInt(0), tags->ColumnText(1));
+  }
+  tags->Reset();
+  std::unordered_map<int64_t, int32_t> tag_index;  // tag id -> index into out.tin.tags
+
+  TB_ASSIGN_OR_RETURN(
+      Statement * triangles,
+      db.Cached("SELECT t.id, t.v0, t.v1, t.v2, t.n0, t.n1, t.n2, t.visible, t.tag FROM "
+                "triangles t " +
+                SurfaceRowsInIdOrder("triangles", "t")));
   triangles->Bind(1, surface.id);
-  std::vector<StoredTriangle> rows;
+  std::vector<std::array<std::optional<int64_t>, 3>> across;  // neighbour ids, resolved below
   for (;;) {
     TB_ASSIGN_OR_RETURN(bool row, triangles->Step());
     if (!row) break;
-    rows.push_back(TriangleFromRow(*triangles));
+    const int64_t id = triangles->ColumnInt(0);
+    TinTriangle tri;
+    std::array<std::optional<int64_t>, 3>& n = across.emplace_back();
+    for (int i = 0; i < 3; ++i) {
+      const int64_t v = triangles->ColumnInt(1 + i);
+      const uint32_t* index = vertex_index.Find(v);
+      if (index == nullptr)
+        return corrupt(", triangle " + std::to_string(id) + ": vertex " + std::to_string(v) +
+                       " is missing");
+      tri.v[i] = *index;
+      if (!triangles->ColumnIsNull(4 + i)) n[i] = triangles->ColumnInt(4 + i);
+    }
+    tri.visible = triangles->ColumnInt(7) != 0;
+    if (!triangles->ColumnIsNull(8)) {
+      const int64_t tag = triangles->ColumnInt(8);
+      auto known = tag_index.find(tag);
+      if (known == tag_index.end()) {
+        auto value = tag_values.find(tag);
+        const int32_t index = value == tag_values.end()
+                                  ? kNoTag
+                                  : static_cast<int32_t>(out.tin.tags.size());
+        if (value != tag_values.end()) out.tin.tags.push_back(value->second);
+        known = tag_index.emplace(tag, index).first;
+      }
+      tri.tag = known->second;
+    }
+    triangle_index.Put(id, static_cast<int32_t>(out.tin.triangles.size()));
+    out.triangle_ids.push_back(id);
+    out.tin.triangles.push_back(tri);
   }
   triangles->Reset();
-
-  std::unordered_map<int64_t, int32_t> triangle_index;
-  for (size_t t = 0; t < rows.size(); ++t) {
-    triangle_index.emplace(rows[t].id, static_cast<int32_t>(t));
-    out.triangle_ids.push_back(rows[t].id);
-  }
-  std::unordered_map<std::string, int32_t> tag_index;
-  out.tin.triangles.reserve(rows.size());
-  for (const StoredTriangle& row : rows) {
-    TinTriangle tri;
-    const std::string at = where + ", triangle " + std::to_string(row.id) + ": ";
+  for (size_t t = 0; t < across.size(); ++t) {
     for (int i = 0; i < 3; ++i) {
-      auto v = vertex_index.find(row.v[i]);
-      if (v == vertex_index.end())
-        return Status::Corruption(at + "vertex " + std::to_string(row.v[i]) + " is missing");
-      tri.v[i] = v->second;
-      if (!row.n[i]) continue;
-      auto n = triangle_index.find(*row.n[i]);
-      if (n == triangle_index.end())
-        return Status::Corruption(at + "neighbour " + std::to_string(*row.n[i]) + " is missing");
-      tri.n[i] = n->second;
+      if (!across[t][i]) continue;
+      const int32_t* index = triangle_index.Find(*across[t][i]);
+      if (index == nullptr)
+        return corrupt(", triangle " + std::to_string(out.triangle_ids[t]) + ": neighbour " +
+                       std::to_string(*across[t][i]) + " is missing");
+      out.tin.triangles[t].n[i] = *index;
     }
-    tri.visible = row.visible;
-    if (row.tag) {
-      auto [it, added] = tag_index.emplace(*row.tag, static_cast<int32_t>(out.tin.tags.size()));
-      if (added) out.tin.tags.push_back(*row.tag);
-      tri.tag = it->second;
-    }
-    out.tin.triangles.push_back(tri);
   }
 
   TB_ASSIGN_OR_RETURN(
@@ -755,11 +787,12 @@ Result<LoadedSurface> SurfaceStore::Load(const SurfaceInfo& surface) {
     TB_ASSIGN_OR_RETURN(bool row, constraints->Step());
     if (!row) break;
     const int64_t va = constraints->ColumnInt(0), vb = constraints->ColumnInt(1);
-    auto a = vertex_index.find(va), b = vertex_index.find(vb);
-    if (a == vertex_index.end() || b == vertex_index.end())
-      return Status::Corruption(where + ": constraint (" + std::to_string(va) + ", " +
-                                std::to_string(vb) + ") names a missing vertex");
-    out.tin.constraints.emplace_back(a->second, b->second);
+    const uint32_t* a = vertex_index.Find(va);
+    const uint32_t* b = vertex_index.Find(vb);
+    if (a == nullptr || b == nullptr)
+      return corrupt(": constraint (" + std::to_string(va) + ", " + std::to_string(vb) +
+                     ") names a missing vertex");
+    out.tin.constraints.emplace_back(*a, *b);
   }
   constraints->Reset();
   return out;

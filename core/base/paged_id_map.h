@@ -1,16 +1,16 @@
-// PagedIdMap: values by non-negative integer id, kept in pages of consecutive ids that are
-// allocated on first use.
+// PagedIdMap: values by integer id, kept in pages of consecutive ids that are allocated on first
+// use.
 //
 // Store row ids are dense where they are used: the builders and the update engine number rows in
 // increasing order, and an edit reads them in runs (one region, one block). For such ids a lookup
 // is two array indexings, where a hash map hashes, divides by a prime and chases a bucket list
 // (the mesh cache's lookups were ~7% of a feature-by-feature map load in std::unordered_map).
 // Memory is one page per id range in use, so ids scattered one per page cost a page each; ids past
-// kMaxPages pages go to a hash map. Not thread-safe.
+// kMaxPages pages, and negative ids (SQLite allows them; no tinbase writer makes them), go to a
+// hash map. Not thread-safe.
 #pragma once
 
 #include <array>
-#include <cassert>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -28,9 +28,8 @@ class PagedIdMap {
 
   T* Find(int64_t id) { return const_cast<T*>(static_cast<const PagedIdMap&>(*this).Find(id)); }
   const T* Find(int64_t id) const {
-    assert(id >= 0);
     const int64_t page = id >> kPageBits;
-    if (page >= kMaxPages) {
+    if (IsFar(page)) {
       const auto it = far_.find(id);
       return it == far_.end() ? nullptr : &it->second;
     }
@@ -56,9 +55,8 @@ class PagedIdMap {
   }
   // True when `id` was present.
   bool Erase(int64_t id) {
-    assert(id >= 0);
     const int64_t page = id >> kPageBits;
-    if (page >= kMaxPages) {
+    if (IsFar(page)) {
       const bool erased = far_.erase(id) > 0;
       size_ -= erased;
       return erased;
@@ -104,6 +102,8 @@ class PagedIdMap {
   }
 
  private:
+  static bool IsFar(int64_t page) { return page < 0 || page >= kMaxPages; }
+
   struct Page {
     std::array<T, kPageSize> values{};
     std::array<bool, kPageSize> present{};
@@ -112,9 +112,8 @@ class PagedIdMap {
 
   // Points `*slot` at the place for `id`, making it present; true when it was absent.
   bool Slot(int64_t id, T** slot) {
-    assert(id >= 0);
     const int64_t page = id >> kPageBits;
-    if (page >= kMaxPages) {
+    if (IsFar(page)) {
       const auto [it, added] = far_.try_emplace(id);
       size_ += added;
       *slot = &it->second;

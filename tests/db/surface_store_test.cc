@@ -250,6 +250,64 @@ TEST_F(SurfaceStoreTest, BadIndicesAreRejectedBeforeAnythingIsWritten) {
   EXPECT_EQ(refused.status().message(), "surface 'broken': vertex 4: coordinates not finite");
 }
 
+// Load names the row and the id a broken reference points to; a tag id the tags table lacks
+// loads as no tag (check reports it), and ids SQLite allows but tinbase never writes (negative)
+// load like any other. Each change is made in a transaction that is rolled back.
+TEST_F(SurfaceStoreTest, LoadNamesBrokenReferencesAndTakesAnyRowId) {
+  const Tin tin = testing::RandomDelaunayTin({.points = 300, .seed = 3, .ring = true});
+  ASSERT_FALSE(tin.tags.empty());
+  ASSERT_FALSE(tin.constraints.empty());
+  const SurfaceInfo info = CreateSurface("bedrock", SurfaceKind::kDelaunay, tin);
+  SqliteDb& db = store_->db();
+  const int64_t first = *db.QueryInt("SELECT min(id) FROM triangles");
+  const int64_t with_neighbour = *db.QueryInt("SELECT min(id) FROM triangles WHERE n1 IS NOT NULL");
+  const int64_t tagged = *db.QueryInt("SELECT min(id) FROM triangles WHERE tag IS NOT NULL");
+  const auto load_after = [&](const std::vector<std::string>& statements) {
+    auto tx = store_->BeginWrite();
+    EXPECT_TRUE(tx.ok());
+    for (const std::string& sql : statements) EXPECT_TRUE(db.Exec(sql).ok()) << sql;
+    return SurfaceStore(*store_).Load(info);  // the transaction rolls back when it goes
+  };
+  const auto expect_corrupt = [&](const std::vector<std::string>& statements,
+                                  const std::string& message) {
+    auto loaded = load_after(statements);
+    ASSERT_FALSE(loaded.ok()) << message;
+    EXPECT_EQ(loaded.status().code(), StatusCode::kCorruption);
+    EXPECT_NE(loaded.status().message().find(message), std::string::npos)
+        << loaded.status().message();
+  };
+  const std::string id = std::to_string(first);
+  expect_corrupt({"UPDATE triangles SET v1 = 999999 WHERE id = " + id},
+                 "surface 'bedrock', triangle " + id + ": vertex 999999 is missing");
+  expect_corrupt({"UPDATE triangles SET n1 = 888888 WHERE id = " + std::to_string(with_neighbour)},
+                 "triangle " + std::to_string(with_neighbour) + ": neighbour 888888 is missing");
+  expect_corrupt({"INSERT INTO constraints(surface, va, vb) VALUES (" + std::to_string(info.id) +
+                  ", 1, 777777)"},
+                 "constraint (1, 777777) names a missing vertex");
+
+  auto unknown_tag = load_after({"UPDATE triangles SET tag = 424242 WHERE id = " +
+                                 std::to_string(tagged)});
+  ASSERT_TRUE(unknown_tag.ok()) << unknown_tag.status().ToString();
+  const auto at = std::find(unknown_tag->triangle_ids.begin(), unknown_tag->triangle_ids.end(),
+                            tagged) - unknown_tag->triangle_ids.begin();
+  EXPECT_EQ(unknown_tag->tin.triangles[static_cast<size_t>(at)].tag, kNoTag);
+
+  // Every vertex and triangle moved to a negative id, references following: the same TIN.
+  const std::string shift = "-1000000 - id";
+  const std::string flip_ref = [] {
+    std::string sql = "UPDATE triangles SET ";
+    for (const char* v : {"v0", "v1", "v2"}) sql += std::string(v) + " = -1000000 - " + v + ", ";
+    for (const char* n : {"n0", "n1", "n2"}) sql += std::string(n) + " = -1000000 - " + n + ", ";
+    return sql + "id = -1000000 - id";
+  }();
+  auto negative = load_after({"PRAGMA defer_foreign_keys = ON",
+                              "UPDATE vertices SET id = " + shift, flip_ref,
+                              "UPDATE constraints SET va = -1000000 - vb, vb = -1000000 - va"});
+  ASSERT_TRUE(negative.ok()) << negative.status().ToString();
+  EXPECT_LT(negative->vertex_ids.front(), 0);
+  ExpectSameTin(tin, negative->tin);
+}
+
 TEST_F(SurfaceStoreTest, TagsAreOneDictionaryAcrossSurfaces) {
   const Tin a = testing::RandomDelaunayTin({.points = 300, .seed = 1, .ring = true});
   const Tin b = testing::RandomDelaunayTin({.points = 300, .seed = 2, .ring = true});

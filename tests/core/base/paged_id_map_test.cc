@@ -1,5 +1,5 @@
 // PagedIdMap against std::map under random puts, emplaces and erases over ids dense in places,
-// sparse in others and past the paged range: the same values, size and iteration.
+// sparse in others, past the paged range and negative: the same values, size and iteration.
 #include "core/base/paged_id_map.h"
 
 #include <gtest/gtest.h>
@@ -16,9 +16,11 @@ TEST(PagedIdMapTest, AgreesWithAnOrderedMap) {
   std::mt19937_64 rng(11);
   const int64_t far = PagedIdMap<int64_t, 4>::kPageSize * PagedIdMap<int64_t, 4>::kMaxPages;
   const auto random_id = [&]() -> int64_t {
-    switch (rng() % 4) {
+    switch (rng() % 5) {
       case 0:
         return static_cast<int64_t>(rng() % 64);  // dense
+      case 4:
+        return -1 - static_cast<int64_t>(rng() % 32);  // negative (SQLite allows such rowids)
       case 1:
         return static_cast<int64_t>(rng() % 100000);  // sparse
       case 2:
