@@ -6,9 +6,10 @@
 #include <cmath>
 #include <cstdio>
 #include <numbers>
-#include <unordered_map>
+#include <tuple>
 #include <unordered_set>
 
+#include "core/base/paged_id_map.h"
 #include "core/geometry/polygon_locator.h"
 #include "core/geometry/predicates.h"
 #include "core/tin/cell_cover.h"
@@ -39,8 +40,8 @@ struct HalfEdge {
   bool operator<(const HalfEdge& o) const { return a != o.a ? a < o.a : b < o.b; }
 };
 
-// Checks one surface; reads it with three queries and keeps it in hash maps and sorted vectors,
-// so the whole check is O(n log n).
+// Checks one surface; reads it with three queries and keeps it in paged id maps and sorted
+// vectors, so the whole check is O(n log n).
 class SurfaceChecker {
  public:
   SurfaceChecker(Store& store, const SurfaceInfo& surface, bool full,
@@ -75,8 +76,7 @@ class SurfaceChecker {
       TB_ASSIGN_OR_RETURN(bool row, vertices->Step());
       if (!row) break;
       vertex_ids_.push_back(vertices->ColumnInt(0));
-      points_.emplace(vertices->ColumnInt(0),
-                      Point2{vertices->ColumnDouble(1), vertices->ColumnDouble(2)});
+      points_.Put(vertices->ColumnInt(0), Point2{vertices->ColumnDouble(1), vertices->ColumnDouble(2)});
     }
     vertices->Reset();
 
@@ -95,7 +95,7 @@ class SurfaceChecker {
       }
       r.block = triangles->ColumnInt(7);
       if (!triangles->ColumnIsNull(8)) r.tag = triangles->ColumnInt(8);
-      index_.emplace(r.id, static_cast<uint32_t>(rows_.size()));
+      index_.Put(r.id, static_cast<uint32_t>(rows_.size()));
       rows_.push_back(r);
     }
     triangles->Reset();
@@ -129,14 +129,15 @@ class SurfaceChecker {
     problems_->push_back({code, surface_.id, triangle, message + ": " + text});
   }
 
-  const Point2& At(int64_t vertex) const { return points_.at(vertex); }
+  // REQUIRES: the vertex was read (CheckTriangles marks rows whose vertices were not invalid).
+  const Point2& At(int64_t vertex) const { return *points_.Find(vertex); }
 
   // Invariant 1: vertices exist and turn counter-clockwise.
   void CheckTriangles() {
     for (Row& r : rows_) {
       r.valid = true;
       for (int64_t v : r.v) {
-        if (points_.count(v)) continue;
+        if (points_.Contains(v)) continue;
         r.valid = false;
         Add("vertex-missing", r.id, "vertex " + std::to_string(v) + " is not in the surface");
       }
@@ -156,15 +157,16 @@ class SurfaceChecker {
   }
 
   void CheckDuplicateVertices() {
-    std::vector<int64_t> order = vertex_ids_;
-    const auto xy = [&](int64_t v) { return std::make_pair(At(v).x, At(v).y); };
-    std::stable_sort(order.begin(), order.end(),
-                     [&](int64_t a, int64_t b) { return xy(a) < xy(b); });
+    std::vector<std::tuple<double, double, int64_t>> order;  // (x, y, id): ids in order on ties
+    order.reserve(vertex_ids_.size());
+    for (int64_t v : vertex_ids_) order.emplace_back(At(v).x, At(v).y, v);
+    std::sort(order.begin(), order.end());
     for (size_t k = 1; k < order.size(); ++k) {
-      if (xy(order[k - 1]) != xy(order[k])) continue;
+      const auto& [x0, y0, a] = order[k - 1];
+      const auto& [x1, y1, b] = order[k];
+      if (x0 != x1 || y0 != y1) continue;
       Add("duplicate-vertex", std::nullopt,
-          "vertices " + std::to_string(order[k - 1]) + " and " + std::to_string(order[k]) +
-              " share x, y");
+          "vertices " + std::to_string(a) + " and " + std::to_string(b) + " share x, y");
     }
   }
 
@@ -216,20 +218,21 @@ class SurfaceChecker {
                     std::to_string(rows_[twin->t].id) + " but has no neighbour");
           continue;
         }
-        const std::string across =
-            "neighbour " + std::to_string(*r.n[i]) + " across edge " + EdgeText(r, i);
-        auto it = index_.find(*r.n[i]);
-        if (it == index_.end()) {
-          Add("bad-neighbour", r.id, across + " is not a triangle of the surface");
+        const auto across = [&] {
+          return "neighbour " + std::to_string(*r.n[i]) + " across edge " + EdgeText(r, i);
+        };
+        const uint32_t* index = index_.Find(*r.n[i]);
+        if (index == nullptr) {
+          Add("bad-neighbour", r.id, across() + " is not a triangle of the surface");
           continue;
         }
-        const Row& u = rows_[it->second];
+        const Row& u = rows_[*index];
         int j = 0;
         while (j < 3 && !(u.v[(j + 1) % 3] == b && u.v[(j + 2) % 3] == a)) ++j;
         if (j == 3) {
-          Add("neighbour-edge-mismatch", r.id, across + " does not have that edge");
+          Add("neighbour-edge-mismatch", r.id, across() + " does not have that edge");
         } else if (u.n[j] != r.id) {
-          Add("asymmetric-neighbour", r.id, across + " does not name this triangle back");
+          Add("asymmetric-neighbour", r.id, across() + " does not name this triangle back");
         }
       }
     }
@@ -311,10 +314,10 @@ class SurfaceChecker {
       int64_t first_triangle = INT64_MAX;
       bool complete = true;  // every triangle around it could be measured
     };
-    std::unordered_map<int64_t, Fan> fans;
+    PagedIdMap<Fan> fans;
     for (const Row& r : rows_) {
       for (int i = 0; i < 3; ++i) {
-        Fan& fan = fans[r.v[i]];
+        Fan& fan = fans.Emplace(r.v[i], Fan{});
         fan.first_triangle = std::min(fan.first_triangle, r.id);
         if (!r.valid) {
           fan.complete = false;
@@ -334,12 +337,12 @@ class SurfaceChecker {
     std::sort(on_boundary.begin(), on_boundary.end());
     std::vector<int64_t> vertices;  // in id order, so problems come out in a stable order
     vertices.reserve(fans.size());
-    for (const auto& entry : fans) vertices.push_back(entry.first);
+    fans.ForEach([&](int64_t vertex, const Fan&) { vertices.push_back(vertex); });
     std::sort(vertices.begin(), vertices.end());
     constexpr double kTurn = 2 * std::numbers::pi;
     constexpr double kTolerance = 1e-9;
     for (int64_t vertex : vertices) {
-      const Fan& fan = fans[vertex];
+      const Fan& fan = *fans.Find(vertex);
       if (!fan.complete) continue;
       const bool boundary = std::binary_search(on_boundary.begin(), on_boundary.end(), vertex);
       const double turns = fan.angle / kTurn;
@@ -489,10 +492,10 @@ class SurfaceChecker {
   const bool full_;
   std::vector<Problem>* problems_;
   std::vector<int64_t> vertex_ids_;
-  std::unordered_map<int64_t, Point2> points_;
+  PagedIdMap<Point2> points_;
   std::unordered_set<int64_t> tag_ids_;  // every id of tags
   std::vector<Row> rows_;  // by id
-  std::unordered_map<int64_t, uint32_t> index_;
+  PagedIdMap<uint32_t> index_;  // triangle id -> index into rows_
   std::vector<std::pair<int64_t, int64_t>> constraints_;  // (min, max), sorted
   std::vector<HalfEdge> half_edges_;                      // sorted by (a, b), then triangle
   bool overused_ = false;
