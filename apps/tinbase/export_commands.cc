@@ -1,6 +1,7 @@
 // Kernel: `export` (a surface, or the inside of one polygon feature, to OBJ or GeoJSON).
 #include <iostream>
 
+#include "apps/tinbase/bulk_commands.h"
 #include "apps/tinbase/command.h"
 #include "apps/tinbase/output.h"
 #include "core/export/tin_export.h"
@@ -23,6 +24,7 @@ struct ExportArgs {
 int RunExport(const ExportArgs& args) {
   auto format = ParseExportFormat(args.format);
   if (!format.ok()) return ReportError(format.status());
+  RestartOnHugePagesIfLarge(args.store);
   auto store = Store::Open(args.store, Store::Access::kReadOnly);
   if (!store.ok()) return ReportError(store.status());
   if (args.surface.empty() == (args.feature == 0))

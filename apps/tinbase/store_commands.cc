@@ -3,6 +3,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "apps/tinbase/bulk_commands.h"
 #include "apps/tinbase/command.h"
 #include "apps/tinbase/output.h"
 #include "db/dem_store.h"
@@ -98,6 +99,7 @@ struct CheckArgs {
 };
 
 int RunCheck(const CheckArgs& args) {
+  RestartOnHugePagesIfLarge(args.store);
   auto store = Store::Open(args.store, Store::Access::kReadOnly);
   if (!store.ok()) return ReportError(store.status());
   CheckOptions options;

@@ -1,7 +1,10 @@
 #include "core/base/huge_page_malloc.h"
 
 #include <cstdlib>
+#include <fstream>
+#include <iterator>
 #include <string>
+#include <vector>
 
 #if defined(__linux__)
 #include <unistd.h>
@@ -40,6 +43,25 @@ void RestartWithHugePageMalloc(char** argv) {
   }
 #else
   (void)argv;
+#endif
+}
+
+void RestartWithHugePageMalloc() {
+#if defined(TINBASE_HUGE_PAGE_MALLOC)
+  std::ifstream in("/proc/self/cmdline", std::ios::binary);
+  const std::string cmdline((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (cmdline.empty()) return;
+  // NUL-separated arguments, each NUL-terminated: pointers into the copy are C strings.
+  std::vector<char> text(cmdline.begin(), cmdline.end());
+  if (text.back() != '\0') text.push_back('\0');
+  std::vector<char*> argv;
+  for (size_t start = 0; start < text.size();) {
+    argv.push_back(&text[start]);
+    while (text[start] != '\0') ++start;
+    ++start;
+  }
+  argv.push_back(nullptr);
+  RestartWithHugePageMalloc(argv.data());
 #endif
 }
 

@@ -3,8 +3,12 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
+
+#include "tests/support/test_support.h"
 
 namespace tinbase::cli {
 namespace {
@@ -31,6 +35,21 @@ TEST(BulkCommandsTest, QueriesEditsAndDemImportsAreNot) {
   EXPECT_FALSE(Bulk({"dem"}));
   EXPECT_FALSE(Bulk({"dem", "import", "s.tinbase", "srtm.hgt"}));
   EXPECT_FALSE(Bulk({"export", "s.tinbase", "--surface", "terrain", "out.obj"}));
+}
+
+// Whole-surface reads restart for a store file of kLargeStoreBytes or more: sparse files of
+// either side of the bound, and paths that are no file.
+TEST(BulkCommandsTest, LargeStoresAreThoseOfTheBoundOrMore) {
+  testing::TempDir dir;
+  const std::string file = dir.Path("s.tinbase");
+  std::ofstream(file).put('x');
+  EXPECT_FALSE(IsLargeStore(file));
+  std::filesystem::resize_file(file, kLargeStoreBytes - 1);
+  EXPECT_FALSE(IsLargeStore(file));
+  std::filesystem::resize_file(file, kLargeStoreBytes);
+  EXPECT_TRUE(IsLargeStore(file));
+  EXPECT_FALSE(IsLargeStore(dir.Path("missing.tinbase")));
+  EXPECT_FALSE(IsLargeStore(dir.Path("")));
 }
 
 }  // namespace

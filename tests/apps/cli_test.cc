@@ -5,9 +5,13 @@
 
 #include <filesystem>
 #include <fstream>
+#include <random>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "apps/tinbase/bulk_commands.h"
+#include "core/geometry/crs.h"
+#include "core/raster/gdal_raster.h"
 #include "db/sqlite/sqlite_db.h"
 #include "tests/support/cli_support.h"
 #include "tests/support/test_support.h"
@@ -38,24 +42,51 @@ class CliTest : public ::testing::Test {
   std::string store_;
 };
 
+// Runs `command` plainly and then in every environment that turns the huge-page restart on,
+// off or makes it moot: it must exit 0 with the same output every way.
+void ExpectSameRunWithOrWithoutHugePages(const std::string& command) {
+  const CliResult plain = RunCli(command);
+  ASSERT_EQ(plain.exit_code, 0) << command << ": " << plain.err;
+  ASSERT_FALSE(plain.out.empty()) << command;
+  for (const std::string env :
+       {"TINBASE_HUGE_PAGES=0", "GLIBC_TUNABLES=glibc.malloc.hugetlb=0",
+        "GLIBC_TUNABLES=glibc.malloc.check=0", "TINBASE_HUGE_PAGES_RESTARTED=1"}) {
+    const CliResult run = RunCli(command, env);
+    EXPECT_EQ(run.exit_code, 0) << command << ", " << env << ": " << run.err;
+    EXPECT_EQ(run.out, plain.out) << command << ", " << env;
+  }
+}
+
 // The CLI starts a bulk command again on huge-page malloc (core/base/huge_page_malloc.h) unless
 // told not to or already told how, and any other command not at all: every way, it runs the
 // command with its arguments once.
 TEST(CliStartTest, RunsTheCommandOnceWithOrWithoutHugePages) {
-  for (const std::string command : {"--version", "points import --help"}) {
-    const CliResult plain = RunCli(command);
-    ASSERT_EQ(plain.exit_code, 0) << command << ": " << plain.err;
-    ASSERT_FALSE(plain.out.empty()) << command;
-    for (const std::string env :
-         {"TINBASE_HUGE_PAGES=0", "GLIBC_TUNABLES=glibc.malloc.hugetlb=0",
-          "GLIBC_TUNABLES=glibc.malloc.check=0", "TINBASE_HUGE_PAGES_RESTARTED=1"}) {
-      const CliResult run = RunCli(command, env);
-      EXPECT_EQ(run.exit_code, 0) << command << ", " << env << ": " << run.err;
-      EXPECT_EQ(run.out, plain.out) << command << ", " << env;
-    }
-  }
+  for (const std::string command : {"--version", "points import --help"})
+    ExpectSameRunWithOrWithoutHugePages(command);
   EXPECT_NE(RunCli("no-such-command").exit_code, 0);
   EXPECT_NE(RunCli("points no-such-command").exit_code, 0);
+}
+
+// `check` of a large store starts again from its handler, once it knows the store's size
+// (apps/tinbase/bulk_commands.h), after the command line was parsed: still one run, same output.
+TEST(CliStartTest, ChecksALargeStoreOnceWithOrWithoutHugePages) {
+  TempDir dir;
+  const std::string store = dir.Path("large.tinbase");
+  const std::string tif = dir.Path("noise.tif");
+  // Noise hardly compresses, so this DEM alone makes a store past the bound.
+  Grid noise;
+  noise.geometry = GridGeometry{500000, 5200000, 10, -10, 3200, 3200};
+  noise.crs_wkt = Crs::FromUserInput("EPSG:32632")->Wkt();
+  noise.cells.resize(3200 * 3200);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> height(0, 1000);
+  for (float& cell : noise.cells) cell = height(rng);
+  ASSERT_TRUE(WriteGeoTiff(noise, tif).ok());
+  ASSERT_EQ(RunCli("init " + Quote(store) + " --crs EPSG:32632").exit_code, 0);
+  const CliResult imported = RunCli("dem import " + Quote(store) + " " + Quote(tif));
+  ASSERT_EQ(imported.exit_code, 0) << imported.err;
+  ASSERT_TRUE(cli::IsLargeStore(store));
+  ExpectSameRunWithOrWithoutHugePages("check " + Quote(store));
 }
 
 TEST_F(CliTest, InfoListsTheDemAndTheSurface) {
