@@ -285,8 +285,7 @@ void BM_InsertOverRebuild1e6(benchmark::State& state) {
   state.counters["speedup_cgal"] = Median(over_cgal);
   state.counters["speedup_cgal_min"] = *std::min_element(over_cgal.begin(), over_cgal.end());
   state.counters["speedup_stored"] = Median(over_stored);
-  state.counters["speedup_stored_min"] =
-      *std::min_element(over_stored.begin(), over_stored.end());
+  state.counters["speedup_stored_min"] = *std::min_element(over_stored.begin(), over_stored.end());
 }
 BENCHMARK(BM_InsertOverRebuild1e6)->Unit(benchmark::kMillisecond)->Iterations(1);
 
@@ -519,7 +518,6 @@ void BM_MapRebuildFromScratch(benchmark::State& state) {
   state.counters["triangles"] = static_cast<double>(triangles);
 }
 BENCHMARK(BM_MapRebuildFromScratch)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(1);
-
 
 // The ratio measured in pairs: a `--each` load, then the rebuild, each on a fresh copy of
 // the store, kPairs times in turn. On a VM whose speed drifts by 15 % within minutes, the ratio of

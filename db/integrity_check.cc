@@ -76,7 +76,8 @@ class SurfaceChecker {
       TB_ASSIGN_OR_RETURN(bool row, vertices->Step());
       if (!row) break;
       vertex_ids_.push_back(vertices->ColumnInt(0));
-      points_.Put(vertices->ColumnInt(0), Point2{vertices->ColumnDouble(1), vertices->ColumnDouble(2)});
+      points_.Put(vertices->ColumnInt(0),
+                  Point2{vertices->ColumnDouble(1), vertices->ColumnDouble(2)});
     }
     vertices->Reset();
 
@@ -129,7 +130,8 @@ class SurfaceChecker {
     problems_->push_back({code, surface_.id, triangle, message + ": " + text});
   }
 
-  // REQUIRES: the vertex was read (CheckTriangles marks rows whose vertices were not invalid).
+  // REQUIRES: the vertex was read. CheckTriangles marks a row that names a missing vertex invalid,
+  // and the checks after it skip invalid rows.
   const Point2& At(int64_t vertex) const { return *points_.Find(vertex); }
 
   // Invariant 1: vertices exist and turn counter-clockwise.
@@ -495,7 +497,7 @@ class SurfaceChecker {
   PagedIdMap<Point2> points_;
   std::unordered_set<int64_t> tag_ids_;  // every id of tags
   std::vector<Row> rows_;  // by id
-  PagedIdMap<uint32_t> index_;  // triangle id -> index into rows_
+  PagedIdMap<uint32_t> index_;                            // triangle id -> index into rows_
   std::vector<std::pair<int64_t, int64_t>> constraints_;  // (min, max), sorted
   std::vector<HalfEdge> half_edges_;                      // sorted by (a, b), then triangle
   bool overused_ = false;

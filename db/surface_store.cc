@@ -755,9 +755,8 @@ Result<LoadedSurface> SurfaceStore::Load(const SurfaceInfo& surface) {
       auto known = tag_index.find(tag);
       if (known == tag_index.end()) {
         auto value = tag_values.find(tag);
-        const int32_t index = value == tag_values.end()
-                                  ? kNoTag
-                                  : static_cast<int32_t>(out.tin.tags.size());
+        const int32_t index =
+            value == tag_values.end() ? kNoTag : static_cast<int32_t>(out.tin.tags.size());
         if (value != tag_values.end()) out.tin.tags.push_back(value->second);
         known = tag_index.emplace(tag, index).first;
       }

@@ -285,11 +285,12 @@ TEST_F(SurfaceStoreTest, LoadNamesBrokenReferencesAndTakesAnyRowId) {
                   ", 1, 777777)"},
                  "constraint (1, 777777) names a missing vertex");
 
-  auto unknown_tag = load_after({"UPDATE triangles SET tag = 424242 WHERE id = " +
-                                 std::to_string(tagged)});
+  auto unknown_tag =
+      load_after({"UPDATE triangles SET tag = 424242 WHERE id = " + std::to_string(tagged)});
   ASSERT_TRUE(unknown_tag.ok()) << unknown_tag.status().ToString();
-  const auto at = std::find(unknown_tag->triangle_ids.begin(), unknown_tag->triangle_ids.end(),
-                            tagged) - unknown_tag->triangle_ids.begin();
+  const auto at =
+      std::find(unknown_tag->triangle_ids.begin(), unknown_tag->triangle_ids.end(), tagged) -
+      unknown_tag->triangle_ids.begin();
   EXPECT_EQ(unknown_tag->tin.triangles[static_cast<size_t>(at)].tag, kNoTag);
 
   // Every vertex and triangle moved to a negative id, references following: the same TIN.
@@ -300,9 +301,9 @@ TEST_F(SurfaceStoreTest, LoadNamesBrokenReferencesAndTakesAnyRowId) {
     for (const char* n : {"n0", "n1", "n2"}) sql += std::string(n) + " = -1000000 - " + n + ", ";
     return sql + "id = -1000000 - id";
   }();
-  auto negative = load_after({"PRAGMA defer_foreign_keys = ON",
-                              "UPDATE vertices SET id = " + shift, flip_ref,
-                              "UPDATE constraints SET va = -1000000 - vb, vb = -1000000 - va"});
+  auto negative =
+      load_after({"PRAGMA defer_foreign_keys = ON", "UPDATE vertices SET id = " + shift, flip_ref,
+                  "UPDATE constraints SET va = -1000000 - vb, vb = -1000000 - va"});
   ASSERT_TRUE(negative.ok()) << negative.status().ToString();
   EXPECT_LT(negative->vertex_ids.front(), 0);
   ExpectSameTin(tin, negative->tin);
