@@ -1,10 +1,10 @@
 // Which tinbase commands start again on huge-page malloc (core/base/huge_page_malloc.h).
 //
 // Two kinds: the bulk commands, decided from the command line before anything runs, and the
-// whole-surface reads (`export`, `check`) of a large store, decided by their handlers from the
-// store's file size before they open it. On the 1e6-triangle benchmark store (117 MB), restart
-// included, huge pages took `export` from 1.6 to 1.2 s, `check` from 3.1-3.3 to 2.4-2.6 s and
-// `check --full` from 4.2-4.4 to 3.2-3.4 s; on a 1e5-triangle store (11 MB) `check` gained less
+// whole-surface reads (`export --surface`, `check`) of a large store, decided by their handlers
+// from the store's file size before they open it. On the 1e6-triangle benchmark store (117 MB),
+// restart included, huge pages took `export` from 1.6 to 1.2 s, `check` from 3.1-3.3 to 2.4-2.6 s
+// and `check --full` from 4.2-4.4 to 3.2-3.4 s; on a 1e5-triangle store (11 MB) `check` gained less
 // than the restart costs.
 //
 // The second start loads the program's ~120 shared libraries again: about 0.14 s on the CI VM,

@@ -24,11 +24,12 @@ struct ExportArgs {
 int RunExport(const ExportArgs& args) {
   auto format = ParseExportFormat(args.format);
   if (!format.ok()) return ReportError(format.status());
-  RestartOnHugePagesIfLarge(args.store);
-  auto store = Store::Open(args.store, Store::Access::kReadOnly);
-  if (!store.ok()) return ReportError(store.status());
   if (args.surface.empty() == (args.feature == 0))
     return ReportError(Status::InvalidArgument("give --surface or --feature (one of them)"));
+  // A feature's surface is read from the blocks of its box only: no need for huge pages.
+  if (args.feature == 0) RestartOnHugePagesIfLarge(args.store);
+  auto store = Store::Open(args.store, Store::Access::kReadOnly);
+  if (!store.ok()) return ReportError(store.status());
   SurfaceStore surfaces(**store);
   auto crs = (*store)->GetCrs();
   if (!crs.ok()) return ReportError(crs.status());
