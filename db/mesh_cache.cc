@@ -4,6 +4,8 @@
 #include <limits>
 #include <string>
 
+#include "db/edit/mesh_delta.h"
+
 namespace tinbase {
 
 namespace {
@@ -503,6 +505,29 @@ const MeshTriangle* MeshCache::Remember(int64_t id, const Statement& row) {
   if (!row.ColumnIsNull(7)) t.tag = row.ColumnInt(7);
   t.block = row.ColumnInt(8);
   return &triangles_.Emplace(id, t);
+}
+
+void MeshCache::Apply(const MeshDelta& delta) {
+  for (size_t k = 0; k < delta.new_vertices.size(); ++k)
+    PutVertex(delta.first_vertex + static_cast<int64_t>(k), delta.new_vertices[k]);
+  for (const VertexZ& v : delta.region_z) PutVertex(v.id, v.vertex);
+  for (size_t k = 0; k < delta.new_triangles.size(); ++k)
+    PutTriangle(delta.first_triangle + static_cast<int64_t>(k), delta.new_triangles[k]);
+  if (!delta.whole_surface)
+    for (int64_t t : delta.deleted_triangles) ForgetTriangle(t);
+  for (int64_t v : delta.deleted_vertices) ForgetVertex(v);
+  if (delta.whole_surface) ForgetAllRows();
+  for (const auto& [id, t] : delta.relinked) PutTriangle(id, t);
+  if (!delta.removed_features.empty()) ForgetAllOwners();
+  for (const auto& e : delta.split_constraints) SetUnconstrained(e.first, e.second);
+  for (const auto& [e, feature] : delta.added_constraints) AddOwner(e.first, e.second, feature);
+  // The new triangles' other edges are unconstrained: said so, the next edits need not look
+  // their rows up (a cache that knows every constraint needs no telling).
+  if (!knows_every_constraint())
+    for (const auto& e : delta.free_edges) SetUnconstrained(e.first, e.second);
+  for (const TriangleRepaint& r : delta.repaints) Repaint(r.triangle, r.visible, r.tag);
+  for (const TriangleRepaint& r : delta.block_repaints) Repaint(r.triangle, r.visible, r.tag);
+  for (const VertexZ& v : delta.around_z) PutVertex(v.id, v.vertex);
 }
 
 }  // namespace tinbase

@@ -33,6 +33,8 @@
 
 namespace tinbase {
 
+struct MeshDelta;  // db/edit/mesh_delta.h
+
 struct MeshTriangle {
   std::array<int64_t, 3> v{};
   std::array<std::optional<int64_t>, 3> n;
@@ -142,6 +144,11 @@ class MeshCache {
   // Every row (an edit rewrote the whole surface); unlike Clear() the rows of the next edit may
   // still be kept (Begin).
   void ForgetAllRows();
+
+  // Applies an edit's MeshDelta (written to the store in this transaction) to the rows held, in
+  // the order the writer wrote them: new rows are put, deleted ones forgotten, relinked and
+  // repainted ones updated. The only way the edit path changes the cache.
+  void Apply(const MeshDelta& delta);
 
   // Tests: reads every cached row again from the store; Corruption naming the first row that
   // differs from (or is missing in) the store.

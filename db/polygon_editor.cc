@@ -12,6 +12,7 @@
 #include "core/vector/polygon_source.h"
 #include "db/change_log.h"
 #include "db/dem_store.h"
+#include "db/edit/update_engine_test_hooks.h"
 #include "db/feature_store.h"
 #include "db/mesh_cache.h"
 #include "db/point_locator.h"
@@ -150,7 +151,6 @@ struct SurfaceSession {
   // The surface's mesh rows the edits read, kept across the transactions of a load feature by
   // feature under the same rule (db/mesh_cache.h checks it), dropped after any failure.
   MeshCache mesh;
-  bool verify_mesh = false;  // PolygonAddOptions::verify_mesh
   // The ring points of every feature of a load feature by feature (LocalEdit::load_points).
   size_t load_points = 0;
 };
@@ -221,7 +221,7 @@ Result<NewFeature> Prepare(SurfaceSession& session, EditorFeature f) {
 // lines of `added` are moved into the edit; their features stay.
 Result<PolygonAddReport> ApplyEditOnce(SurfaceSession& session, std::vector<NewFeature>& added,
                                        const std::vector<int64_t>& removed,
-                                       const std::string& action, const FaultHook& hook) {
+                                       const std::string& action) {
   Store& store = session.store;
   TB_ASSIGN_OR_RETURN(auto tx, store.BeginWrite());
   Change change;
@@ -231,7 +231,7 @@ Result<PolygonAddReport> ApplyEditOnce(SurfaceSession& session, std::vector<NewF
   TB_ASSIGN_OR_RETURN(report.tx, AppendChange(store, change));
   TB_ASSIGN_OR_RETURN(bool mesh_kept, session.mesh.Begin(report.tx));
   report.mesh_kept = mesh_kept ? 1 : 0;
-  if (mesh_kept && session.verify_mesh) TB_RETURN_IF_ERROR(session.mesh.VerifyAgainstStore());
+  if (mesh_kept && TEST_VerifyMesh()) TB_RETURN_IF_ERROR(session.mesh.VerifyAgainstStore());
   std::vector<EditorFeature> existing;
   if (session.features_tx >= 0 && report.tx == session.features_tx + 1) {
     existing = std::move(session.features);
@@ -275,7 +275,6 @@ Result<PolygonAddReport> ApplyEditOnce(SurfaceSession& session, std::vector<NewF
     edit.features.push_back(n.feature);
   }
   UpdateEngine engine(store, session.surface, session.dems, session.dem);
-  engine.set_fault_hook(hook);
   engine.set_mesh_cache(&session.mesh);
   TB_ASSIGN_OR_RETURN(EditResult result, engine.Apply(edit));
   for (int64_t id : removed) TB_RETURN_IF_ERROR(DeleteFeature(store, id));
@@ -313,10 +312,9 @@ Result<PolygonAddReport> ApplyEditOnce(SurfaceSession& session, std::vector<NewF
 // edit wrote, and it may have forgotten only part of it), and an input vertex outside the surface
 // named (the engine names only the draped point).
 Result<PolygonAddReport> ApplyEdit(SurfaceSession& session, std::vector<NewFeature> added,
-                                   const std::vector<int64_t>& removed, const std::string& action,
-                                   const FaultHook& hook) {
-  if (hook) TB_RETURN_IF_ERROR(hook(0));
-  auto report = ApplyEditOnce(session, added, removed, action, hook);
+                                   const std::vector<int64_t>& removed, const std::string& action) {
+  TB_RETURN_IF_ERROR(TEST_FaultStep(0));
+  auto report = ApplyEditOnce(session, added, removed, action);
   if (report.ok()) return report;
   session.mesh.Clear();
   session.features_tx = -1;
@@ -347,7 +345,6 @@ Result<PolygonAddReport> AddPolygons(Store& store, const PolygonAddOptions& opti
   TB_RETURN_IF_ERROR(CheckModeOptions(options));
   TB_ASSIGN_OR_RETURN(SurfaceInfo surface, SurfaceStore(store).Find(options.surface));
   TB_ASSIGN_OR_RETURN(auto session, OpenSession(store, surface));
-  session->verify_mesh = options.verify_mesh;
   PolygonAddReport total;
   TB_ASSIGN_OR_RETURN(
       std::vector<EditorFeature> features,
@@ -361,7 +358,7 @@ Result<PolygonAddReport> AddPolygons(Store& store, const PolygonAddOptions& opti
       TB_ASSIGN_OR_RETURN(NewFeature n, Prepare(*session, std::move(f)));
       prepared.push_back(std::move(n));
     }
-    return ApplyEdit(*session, std::move(prepared), {}, "polygon add", options.fault_hook);
+    return ApplyEdit(*session, std::move(prepared), {}, "polygon add");
   }
   TB_ASSIGN_OR_RETURN(session->load_points, LoadPointsThatReadTheSurface(store, surface, features));
   for (EditorFeature& f : features) {
@@ -370,7 +367,7 @@ Result<PolygonAddReport> AddPolygons(Store& store, const PolygonAddOptions& opti
       TB_ASSIGN_OR_RETURN(NewFeature n, Prepare(*session, std::move(f)));
       std::vector<NewFeature> single;
       single.push_back(std::move(n));
-      return ApplyEdit(*session, std::move(single), {}, "polygon add", options.fault_hook);
+      return ApplyEdit(*session, std::move(single), {}, "polygon add");
     }();
     if (!one.ok()) {
       total.failures.push_back(label + ": " + one.status().message());
@@ -390,10 +387,10 @@ Result<PolygonAddReport> AddPolygons(Store& store, const PolygonAddOptions& opti
   return total;
 }
 
-Result<PolygonAddReport> RemovePolygon(Store& store, int64_t id, const FaultHook& hook) {
+Result<PolygonAddReport> RemovePolygon(Store& store, int64_t id) {
   TB_ASSIGN_OR_RETURN(SurfaceInfo surface, SurfaceOfFeature(store, id));
   TB_ASSIGN_OR_RETURN(auto session, OpenSession(store, surface));
-  return ApplyEdit(*session, {}, {id}, "polygon remove", hook);
+  return ApplyEdit(*session, {}, {id}, "polygon remove");
 }
 
 Result<PolygonAddReport> UpdatePolygon(Store& store, int64_t id, const PolygonAddOptions& options) {
@@ -416,7 +413,7 @@ Result<PolygonAddReport> UpdatePolygon(Store& store, int64_t id, const PolygonAd
   TB_ASSIGN_OR_RETURN(NewFeature n, Prepare(*session, std::move(merged)));
   std::vector<NewFeature> added;
   added.push_back(std::move(n));
-  return ApplyEdit(*session, std::move(added), {id}, "polygon update", o.fault_hook);
+  return ApplyEdit(*session, std::move(added), {id}, "polygon update");
 }
 
 }  // namespace tinbase

@@ -3,11 +3,11 @@
 //
 // The features are read and validated (core/vector/polygon_source), their rings draped on the
 // surface's DEM and densified to the surface tolerance (core/tin/drape), all before the write
-// transaction starts; then the update engine (db/update_engine) re-triangulates only the conflict
-// region, refines it to the tolerance and repaints around the features. Removing or updating a
-// feature is the same local edit with its constraints going. Each call is one transaction (or,
-// with `each`, one per feature) with one `changes` row; any error leaves the store as it was
-// (per feature with `each`). Thread-safety: one Store.
+// transaction starts; then the update engine (db/edit/update_engine) re-triangulates only the
+// conflict region, refines it to the tolerance and repaints around the features. Removing or
+// updating a feature is the same local edit with its constraints going. Each call is one
+// transaction (or, with `each`, one per feature) with one `changes` row; any error leaves the store
+// as it was (per feature with `each`). Thread-safety: one Store.
 #pragma once
 
 #include <cstdint>
@@ -16,8 +16,8 @@
 #include <vector>
 
 #include "core/base/status.h"
+#include "db/edit/update_engine.h"
 #include "db/store.h"
-#include "db/update_engine.h"
 
 namespace tinbase {
 
@@ -32,8 +32,6 @@ struct PolygonAddOptions {
   std::optional<double> level;  // replace: the flat z
   bool repair = false;          // GEOS MakeValid before validation (core/vector/polygon_source)
   bool each = false;            // one transaction per feature; failures are reported, not fatal
-  FaultHook fault_hook;         // tests: called before each write step of the engine
-  bool verify_mesh = false;     // tests: each edit checks the mesh rows it kept against the store
 };
 
 struct PolygonAddReport {
@@ -63,7 +61,7 @@ Result<PolygonAddReport> AddPolygons(Store& store, const PolygonAddOptions& opti
 
 // Removes feature `id` locally: its constraints go, the region is re-triangulated from the DEM to
 // the tolerance, visibility and tags around it are recomputed. NotFound "no feature 12".
-Result<PolygonAddReport> RemovePolygon(Store& store, int64_t id, const FaultHook& hook = nullptr);
+Result<PolygonAddReport> RemovePolygon(Store& store, int64_t id);
 
 // Replaces feature `id` by the features of options.file (merged into one feature): mode, tag and
 // level default to the old feature's when options leave them empty. One transaction. Errors as

@@ -19,6 +19,7 @@
 
 #include "core/geometry/cdt.h"
 #include "db/dem_store.h"
+#include "db/edit/update_engine_test_hooks.h"
 #include "db/integrity_check.h"
 #include "db/polygon_editor.h"
 #include "db/surface_builder.h"
@@ -216,16 +217,17 @@ RC_GTEST_PROP(UpdateEngineProperty, LoadsFeatureByFeatureKeepOnlyCurrentRows, ()
   o.mode = RandomMode();
   if (o.mode == "replace") o.level = *rc::gen::inRange(300, 700);
   o.each = true;
-  o.verify_mesh = true;
   const bool inject = *rc::gen::inRange(0, 2) == 0;
   const int fail_edit = *rc::gen::inRange(1, count + 1);
   const int fail_step = *rc::gen::inRange(1, 8);
   int edits = 0;
-  o.fault_hook = [&](int step) {
-    if (step == 0) ++edits;
-    return inject && edits == fail_edit && step == fail_step ? Status::IOError("injected failure")
-                                                             : Status::Ok();
-  };
+  ScopedUpdateEngineTestHooks hooks({[&](int step) {
+                                       if (step == 0) ++edits;
+                                       return inject && edits == fail_edit && step == fail_step
+                                                  ? Status::IOError("injected failure")
+                                                  : Status::Ok();
+                                     },
+                                     /*verify_mesh=*/true});
   auto report = AddPolygons(store, o);
   const std::string what = "--each " + o.mode + " of " + std::to_string(count);
   if (!report.ok()) {

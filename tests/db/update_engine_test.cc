@@ -2,7 +2,7 @@
 // after every write the store passes the full check (all eight invariants), triangles outside
 // the conflict region keep their ids and rows (except links across its outline), the changes
 // log records the region, and a failure injected at any write step leaves the store unchanged.
-#include "db/update_engine.h"
+#include "db/edit/update_engine.h"
 
 #include <gtest/gtest.h>
 
@@ -23,6 +23,7 @@
 #include "core/raster/gdal_raster.h"
 #include "db/change_log.h"
 #include "db/dem_store.h"
+#include "db/edit/update_engine_test_hooks.h"
 #include "db/integrity_check.h"
 #include "db/point_locator.h"
 #include "db/polygon_editor.h"
@@ -187,9 +188,15 @@ class UpdateEngineTest : public ::testing::Test {
     o.mode = "fill";
     o.tag_field = "unit";
     o.each = true;
-    o.verify_mesh = true;
     o.file = WritePolygons(dir_, name, rings);
     return o;
+  }
+
+  // AddPolygons(o) with every mesh row kept between transactions compared with the store before
+  // use (verify_mesh) and `fault` called before each write step.
+  Result<PolygonAddReport> AddVerifyingMesh(const PolygonAddOptions& o, FaultHook fault = nullptr) {
+    ScopedUpdateEngineTestHooks hooks({std::move(fault), /*verify_mesh=*/true});
+    return AddPolygons(*store_, o);
   }
 
   void Reopen() {
@@ -207,11 +214,11 @@ class UpdateEngineTest : public ::testing::Test {
       store_.reset();
       const auto before = testing::TableChecksums(path);
       Reopen();
-      options.fault_hook = [fail_at](int step) {
+      ScopedUpdateEngineTestHooks hooks({[fail_at](int step) {
         return step == fail_at
                    ? Status::IOError("injected failure at write step " + std::to_string(step))
                    : Status::Ok();
-      };
+      }});
       auto report = AddPolygons(*store_, options);
       if (report.ok()) {
         EXPECT_GT(fail_at, 3);
@@ -720,11 +727,11 @@ TEST_F(UpdateEngineTest, EachForgetsTheFeatureOfAFailedTransaction) {
   for (int k = 0; k < 5; ++k) rings.push_back({Ngon(kCx + k * 2 * kCell, kCy, 5 * kCell, 14)});
   o.file = WritePolygons(dir_, "five.geojson", rings);
   int edits = 0;
-  o.fault_hook = [&edits](int step) {
+  ScopedUpdateEngineTestHooks hooks({[&edits](int step) {
     if (step == 1) ++edits;
     return edits == 3 && step == 1 ? Status::IOError("injected failure in the third edit")
                                    : Status::Ok();
-  };
+  }});
   auto report = AddPolygons(*store_, o);
   ASSERT_TRUE(report.ok()) << report.status().ToString();
   EXPECT_EQ(report->features, 4);
@@ -744,7 +751,7 @@ TEST_F(UpdateEngineTest, EachKeepsTheMeshRowsBetweenTransactions) {
     rings.push_back(
         {Ngon(kCx + (k % 4) * 3 * kCell, kCy + (k / 4) * 3 * kCell, 4 * kCell, 13 + k)});
   PolygonAddOptions o = EachFillOptions("eight.geojson", rings);
-  auto report = AddPolygons(*store_, o);
+  auto report = AddVerifyingMesh(o);
   ASSERT_TRUE(report.ok()) << report.status().ToString();
   EXPECT_EQ(report->features, 8);
   EXPECT_TRUE(report->failures.empty());
@@ -766,7 +773,7 @@ TEST_F(UpdateEngineTest, EachLoadOverMuchOfTheSurfaceReadsItOnce) {
     rings.push_back({Ngon(kCx + (k % 8 - 4) * 7 * kCell, kCy + (k / 8 - 2) * 7 * kCell,
                           3 * kCell, per_ring)});
   PolygonAddOptions o = EachFillOptions("forty.geojson", rings);
-  auto report = AddPolygons(*store_, o);
+  auto report = AddVerifyingMesh(o);
   ASSERT_TRUE(report.ok()) << report.status().ToString();
   EXPECT_EQ(report->features, kFeatures);
   EXPECT_TRUE(report->failures.empty());
@@ -792,12 +799,11 @@ TEST_F(UpdateEngineTest, EachDropsTheMeshRowsAfterAFailedTransaction) {
           {Ngon(kCx + k * 2 * kCell, kCy + (fail_at - 4) * 6 * kCell, 5 * kCell, 14 + fail_at)});
     PolygonAddOptions o = EachFillOptions("five_" + std::to_string(fail_at) + ".geojson", rings);
     int edits = 0;
-    o.fault_hook = [&edits, fail_at](int step) {
+    auto report = AddVerifyingMesh(o, [&edits, fail_at](int step) {
       if (step == 0) ++edits;
       return edits == 3 && step == fail_at ? Status::IOError("injected failure in the third edit")
                                            : Status::Ok();
-    };
-    auto report = AddPolygons(*store_, o);
+    });
     ASSERT_TRUE(report.ok()) << report.status().ToString();
     EXPECT_EQ(report->features, 4);
     ASSERT_EQ(report->failures.size(), 1u);
@@ -821,7 +827,7 @@ TEST_F(UpdateEngineTest, EachDropsTheMeshRowsWhenAnotherWriterCommits) {
   PolygonAddOptions o = EachFillOptions("over.geojson", rings);
   const std::string path = dir_.Path("s.tinbase");
   int edits = 0;
-  o.fault_hook = [&](int step) -> Status {
+  const FaultHook other_writer = [&](int step) -> Status {
     if (step != 0) return Status::Ok();
     ++edits;
     if (edits != 3 && edits != 5) return Status::Ok();
@@ -834,7 +840,7 @@ TEST_F(UpdateEngineTest, EachDropsTheMeshRowsWhenAnotherWriterCommits) {
           "UPDATE triangles SET visible = 1 - visible WHERE id = (SELECT max(id) FROM triangles)"));
     return tx->Commit();
   };
-  auto report = AddPolygons(*store_, o);
+  auto report = AddVerifyingMesh(o, other_writer);
   ASSERT_TRUE(report.ok()) << report.status().ToString();
   EXPECT_EQ(report->features, 5);
   EXPECT_TRUE(report->failures.empty());

@@ -1,0 +1,51 @@
+// ElevationRules: the z an edit gives a vertex (docs/design.md, "Inserting a polygon"). A point
+// inside a replace feature takes its level (the last such feature in id order wins, as in
+// painting); an existing vertex inside a removed replace feature gets its DEM z back; a new point
+// elsewhere takes the DEM's z. Borrows the DEM store; not thread-safe (sampling reads blocks
+// through the store's cache).
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "core/geometry/polygon_locator.h"
+#include "core/tin/tin.h"
+#include "db/dem_store.h"
+#include "db/feature_store.h"
+
+namespace tinbase {
+
+class ElevationRules {
+ public:
+  // `features`: the surface's features after the edit; `restore`: the inside of the removed
+  // replace features, or null.
+  ElevationRules(DemStore& dems, const DemInfo& dem, const std::vector<EditorFeature>& features,
+                 std::shared_ptr<const PolygonLocator> restore);
+
+  // The level of the last replace feature covering `p`, if any.
+  std::optional<double> Level(const Point2& p) const;
+  // z of an existing vertex after the edit: a replace level, the DEM again where a removed
+  // replace feature had flattened it (when the DEM has data there), else as stored.
+  double TargetZ(const TinVertex& v) const;
+  // z of a point the edit creates (ring points, crossings): the replace level or the DEM (NaN
+  // where the DEM has no data or cannot be read).
+  double NewZ(double x, double y) const;
+  // Whether `p` lies inside a replace feature: the tolerance does not apply there.
+  bool Replaced(const Point2& p) const;
+  // Whether some replace feature has a polygon.
+  bool has_replace() const { return has_replace_polygons_; }
+
+ private:
+  double DemZ(double x, double y) const;
+
+  DemStore& dems_;
+  const DemInfo& dem_;
+  std::vector<std::shared_ptr<const PolygonLocator>> locators_;  // replace features, id order
+  std::vector<double> levels_;
+  std::unique_ptr<PolygonLocator> replaced_;  // the union of the replace features' polygons
+  bool has_replace_polygons_ = false;
+  std::shared_ptr<const PolygonLocator> restore_;
+};
+
+}  // namespace tinbase

@@ -1,0 +1,28 @@
+// The one writer of an edit's mesh rows: applies a MeshDelta (db/edit/mesh_delta.h) to the
+// triangles, vertices and constraints tables of a store in seven steps, with the bulk statements
+// of db/sqlite/bulk_write.h and the connection's cached prepared statements. Every SQL string
+// that writes mesh rows for the edit path lives in this file.
+//
+// Ownership: borrows the connection. Not thread-safe.
+#pragma once
+
+#include <functional>
+
+#include "core/base/status.h"
+#include "db/edit/mesh_delta.h"
+#include "db/sqlite/sqlite_db.h"
+
+namespace tinbase {
+
+// Called before each of the seven write steps with its number; a non-OK Status stops the write
+// with it.
+using WriteStepHook = std::function<Status(int step)>;
+
+// Writes `delta`. Returns the number of stored triangles whose paint changed (the repaints'
+// rows that did not have it already). Corruption when the rows deleted or numbered are not the
+// ones the delta names (another writer came between); any error of the store; the hook's Status.
+// On error some steps may have run: the caller's transaction rolls them back.
+// REQUIRES: inside a write transaction; the delta built in it from the rows as stored.
+Result<int64_t> WriteMeshDelta(SqliteDb& db, const MeshDelta& delta, const WriteStepHook& step);
+
+}  // namespace tinbase

@@ -1,0 +1,79 @@
+#include "db/edit/update_engine.h"
+
+#include <algorithm>
+#include <utility>
+
+#include "db/edit/conflict_region.h"
+#include "db/edit/edit_context.h"
+#include "db/edit/elevation_rules.h"
+#include "db/edit/local_patch.h"
+#include "db/edit/mesh_delta.h"
+#include "db/edit/mesh_delta_builder.h"
+#include "db/edit/mesh_delta_writer.h"
+#include "db/edit/repaint_plan.h"
+#include "db/edit/update_engine_test_hooks.h"
+
+namespace tinbase {
+namespace {
+
+// The rows the write deletes, inserts and repaints (a uniform block holds about the builders'
+// number), which the connection's page cache is raised to hold.
+size_t RowsWritten(const ConflictRegion& region, const LocalPatch& patch, const RepaintPlan& plan) {
+  const auto inserted =
+      static_cast<size_t>(std::count(patch.inside.begin(), patch.inside.end(), uint8_t{1}));
+  return region.triangles.size() + inserted + plan.around.size() +
+         plan.uniform_blocks.size() * BlockGrid::kDefaultPerBlock;
+}
+
+EditResult Summarize(const ConflictRegion& region, const LocalPatch& patch, const MeshDelta& delta,
+                     int64_t repainted) {
+  EditResult result;
+  result.removed = static_cast<int64_t>(delta.deleted_triangles.size());
+  result.added = static_cast<int64_t>(delta.new_triangles.size());
+  for (const MeshTriangle& t : delta.new_triangles) result.visible_added += t.visible;
+  result.repainted = repainted;
+  result.refinement_points = patch.refinement_points;
+  result.rounds = patch.rounds;
+  result.region = patch.region;
+  result.whole_surface = region.whole_surface;
+  result.read_whole_surface = region.read_whole_surface;
+  return result;
+}
+
+}  // namespace
+
+UpdateEngine::UpdateEngine(Store& store, const SurfaceInfo& surface, DemStore& dems,
+                           const DemInfo& dem)
+    : store_(store), surface_(surface), dems_(dems), dem_(dem) {}
+
+UpdateEngine::~UpdateEngine() = default;
+
+Result<EditResult> UpdateEngine::Apply(const LocalEdit& edit) {
+  std::unique_ptr<MeshCache> own;
+  MeshCache* mesh = mesh_cache_;
+  if (!mesh) {
+    own = std::make_unique<MeshCache>(store_, surface_);
+    mesh = own.get();
+  }
+  const EditContext ctx{store_, surface_, dems_, dem_, *mesh};
+
+  TB_ASSIGN_OR_RETURN(ConflictRegion region, FindConflictRegion(ctx, edit));
+  RepaintPlan plan;
+  if (region.whole_surface) {
+    plan = WholeSurfaceRepaintPlan(edit);
+  } else {
+    TB_ASSIGN_OR_RETURN(plan, PlanRepaint(ctx, edit, region.removed_features));
+  }
+  const ElevationRules rules(dems_, dem_, edit.features, region.restore);
+  TB_ASSIGN_OR_RETURN(LocalPatch patch,
+                      RetriangulateUntilSettled(ctx, rules, plan.paint_box, edit.remove, &region));
+  if (!page_cache_ || !page_cache_->raised())
+    page_cache_ = std::make_unique<ScopedPageCache>(store_.db(), RowsWritten(region, patch, plan));
+  TB_ASSIGN_OR_RETURN(const MeshDelta delta, BuildMeshDelta(ctx, rules, edit, region, patch, plan));
+
+  TB_ASSIGN_OR_RETURN(const int64_t repainted, WriteMeshDelta(store_.db(), delta, TEST_FaultStep));
+  mesh->Apply(delta);
+  return Summarize(region, patch, delta, repainted);
+}
+
+}  // namespace tinbase
