@@ -57,20 +57,24 @@ Result<EditResult> UpdateEngine::Apply(const LocalEdit& edit) {
   }
   const EditContext ctx{store_, surface_, dems_, dem_, *mesh};
 
+  // 1. The conflict region R (seeded by the new segments and the removed constraints).
   TB_ASSIGN_OR_RETURN(ConflictRegion region, FindConflictRegion(ctx, edit));
+  // 2. Where paint may change: planned first, the patch's DEM window covers it.
   RepaintPlan plan;
   if (region.whole_surface) {
     plan = WholeSurfaceRepaintPlan(edit);
   } else {
     TB_ASSIGN_OR_RETURN(plan, PlanRepaint(ctx, edit, region.removed_features));
   }
+  // 3. R re-triangulated and refined until its outline is locally Delaunay (R may grow).
   const ElevationRules rules(dems_, dem_, edit.features, region.restore);
   TB_ASSIGN_OR_RETURN(LocalPatch patch,
                       RetriangulateUntilSettled(ctx, rules, plan.paint_box, edit.remove, &region));
+  // 4. Everything the edit changes, as one value; the last read of the edit.
   if (!page_cache_ || !page_cache_->raised())
     page_cache_ = std::make_unique<ScopedPageCache>(store_.db(), RowsWritten(region, patch, plan));
   TB_ASSIGN_OR_RETURN(const MeshDelta delta, BuildMeshDelta(ctx, rules, edit, region, patch, plan));
-
+  // 5. The one writer, then the cache from the same delta.
   TB_ASSIGN_OR_RETURN(const int64_t repainted, WriteMeshDelta(store_.db(), delta, TEST_FaultStep));
   mesh->Apply(delta);
   return Summarize(region, patch, delta, repainted);
