@@ -217,7 +217,7 @@ int Measure(const std::string& dir, const std::vector<double>& errors, bool all_
   // One untimed pass of the timed builders first. The peers run in a Node process whose heap has
   // grown by the time they are timed; here the first error's runs, warm-up included, found
   // freshly mapped memory (glibc returns large blocks until its thresholds grow with them) and
-  // took up to 4x (rtin) and 1.4x (greedy) what the same builds took at the next error.
+  // took several times what the same builds took at the next error.
   if (!errors.empty()) {
     (void)BuildGreedyTin(grid, {.tolerance = errors.front(), .threads = threads});
     (void)BuildRtinTin(grid, {.tolerance = errors.front()});

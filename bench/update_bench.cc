@@ -249,9 +249,9 @@ BENCHMARK(BM_RebuildStored1e6)->Unit(benchmark::kMillisecond)->Iterations(3);
 
 // The speed-up measured in rounds: kInserts inserts of the 200-vertex polygon into the
 // ~1e6 store (each undone, untimed), then CGAL's rebuild of that store's CDT in memory, then the
-// rebuild stored as a new store, kRounds times in turn. The VM's speed drifts (CGAL's rebuild took
-// 497-920 ms on different days), so the ratio within a round is steadier than the ratio of
-// separate benchmarks. Counters: medians of the rounds; speedup_*_min is the worst round.
+// rebuild stored as a new store, kRounds times in turn. A VM's speed drifts from day to day (and
+// CGAL's rebuild with it), so the ratio within a round is steadier than the ratio of separate
+// benchmarks. Counters: medians of the rounds; speedup_*_min is the worst round.
 void BM_InsertOverRebuild1e6(benchmark::State& state) {
   constexpr int kRounds = 5, kInserts = 20;
   auto store = Store::Open(BuildStore(708));
@@ -519,7 +519,7 @@ void BM_MapRebuildFromScratch(benchmark::State& state) {
 BENCHMARK(BM_MapRebuildFromScratch)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(1);
 
 // The ratio measured in pairs: a `--each` load, then the rebuild, each on a fresh copy of
-// the store, kPairs times in turn. On a VM whose speed drifts by 15 % within minutes, the ratio of
+// the store, kPairs times in turn. On a VM whose speed drifts within minutes, the ratio of
 // the two runs of one pair is steadier than the ratio of two separate benchmarks' times.
 void BM_MapEachOverRebuild(benchmark::State& state) {
   constexpr int kPairs = 5;

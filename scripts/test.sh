@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
 # Second command of the README (and what .ci/run calls): install dependencies, build everything
-# with warnings as errors, and run the whole test suite with CTest.
+# with warnings as errors, run the whole test suite with CTest, then the style checks
+# (scripts/lint.sh: clang-format and clang-tidy).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
 cmake -S . -B build/test -G Ninja -DCMAKE_BUILD_TYPE=Release -DTINBASE_BUILD_TESTS=ON \
   -DTINBASE_WERROR=ON -DTINBASE_BUILD_BENCH=ON >/dev/null
 cmake --build build/test -j "$(nproc)"
-cd build/test
-ctest --output-on-failure -j "$(nproc)" --timeout 900
+(cd build/test && ctest --output-on-failure -j "$(nproc)" --timeout 900)
+scripts/lint.sh all build/test

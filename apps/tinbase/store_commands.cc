@@ -157,7 +157,7 @@ void RegisterStoreCommands(CLI::App& app, int* exit_code) {
   });
 
   auto check_args = std::make_shared<CheckArgs>();
-  CLI::App* check = app.add_subcommand("check", "Verify the store's invariants (DESIGN.md 1-5, 8; --full: all 8)");
+  CLI::App* check = app.add_subcommand("check", "Verify the store's invariants (docs/design.md, Invariants 1-5, 8; --full: all 8)");
   check->add_option("store", check_args->store, "Store file")->required();
   check->add_option("--surface", check_args->surface, "Check only this surface");
   check->add_flag("--json", check_args->json, "Print every problem as JSON");

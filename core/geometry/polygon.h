@@ -1,5 +1,5 @@
 // Polygon: a shell with holes in plan view, and the validation every polygon passes before it
-// reaches a surface (DESIGN.md, "Inserting a polygon", step 1).
+// reaches a surface (docs/design.md, "Inserting a polygon", step 1).
 //
 // Rings are stored open (the closing vertex is not repeated), the shell counter-clockwise and
 // holes clockwise. Validation works on rings as a reader found them (closed, possibly with

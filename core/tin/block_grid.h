@@ -1,9 +1,9 @@
 // BlockGrid: the spatial buckets that index a surface's triangles by centroid.
 //
 // Each stored triangle carries the block of its centroid, so point location can jump to a
-// triangle near the query point with one indexed lookup and walk from there (DESIGN.md, "Point
-// location"). Blocks are squares of `size` map units from `origin`; a block id packs (bx, by) so
-// it fits one indexed integer column. Plain value type.
+// triangle near the query point with one indexed lookup and walk from there (docs/design.md,
+// "Point location"). Blocks are squares of `size` map units from `origin`; a block id packs
+// (bx, by) so it fits one indexed integer column. Plain value type.
 #pragma once
 
 #include <algorithm>

@@ -1,5 +1,5 @@
 // CellCover: how a TIN's triangles meet a grid DEM's cells, defined once for the builders, the
-// tolerance refiner and the integrity checker (DESIGN.md invariants 6 and 7).
+// tolerance refiner and the integrity checker (docs/design.md, "Invariants", 6 and 7).
 //
 //   - A triangle covers the cells whose centres lie inside it or on its edges, decided exactly
 //     in world coordinates (HoldsCellCentre), so every cell under the surface is covered by at

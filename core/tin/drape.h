@@ -1,8 +1,8 @@
-// Drape: a plan-view polyline laid on an elevation surface (DESIGN.md, "Inserting a polygon",
-// step 2). Vertices take the surface's z; a segment is split at its midpoint, recursively, while
-// the surface departs from the straight 3D segment there by more than the tolerance and the
-// pieces are still longer than `min_spacing` (about a DEM cell: below that the DEM has no more
-// detail to follow). Thread-safety: pure function.
+// Drape: a plan-view polyline laid on an elevation surface (docs/design.md, "Inserting a
+// polygon", step 2). Vertices take the surface's z; a segment is split at its midpoint,
+// recursively, while the surface departs from the straight 3D segment there by more than the
+// tolerance and the pieces are still longer than `min_spacing` (about a DEM cell: below that the
+// DEM has no more detail to follow). Thread-safety: pure function.
 #pragma once
 
 #include <vector>

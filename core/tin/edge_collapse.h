@@ -13,7 +13,7 @@
 //     difference, low degree of the two vertices. The new vertex is one of the two endpoints, so
 //     every vertex stays a DEM sample.
 // Two rules hold for every collapse, whatever the strategy, so the result is a valid plan-view
-// tiling of the same domain (a "free" surface, DESIGN.md):
+// tiling of the same domain (a "free" surface, docs/design.md, "Data model"):
 //   - no fold-over: a placement is refused when any triangle around it would turn clockwise or
 //     collinear in plan view (exact orientation, core/geometry/predicates.h); then the new fan
 //     covers exactly the old one. Between two free vertices the placement falls back to an

@@ -1,5 +1,5 @@
 // The CGAL adapter: bulk insertion with our indices, constraints by index pair (including the
-// CGAL edge cases DESIGN.md lists), crossing vertices, and extraction into a Tin.
+// CGAL edge cases of docs/design.md, "Pitfalls"), crossing vertices, and extraction into a Tin.
 #include "core/geometry/cdt.h"
 
 #include <gtest/gtest.h>
@@ -584,8 +584,8 @@ TEST(CdtTest, OneBandIsOneBatchOfEverything) {
 }
 
 TEST(CdtTest, BulkInsertionScales) {
-  // A million points one by one without hints would take minutes (DESIGN.md); sorted bulk
-  // insertion of 300k must take a few seconds at most.
+  // A million points one by one without hints would take minutes (docs/design.md,
+  // "Pitfalls"); sorted bulk insertion of 300k must take a few seconds at most.
   std::mt19937 rng(11);
   const auto points = RandomPoints(300000, rng);
   const auto start = std::chrono::steady_clock::now();

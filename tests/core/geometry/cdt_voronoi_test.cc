@@ -24,7 +24,7 @@ TEST(CdtVoronoi, RegularGridCellsAreSquares) {
   ASSERT_EQ(cells.size(), grid.size());
   for (int i = 0; i < n; ++i) {
     for (int j = 0; j < n; ++j) {
-      const VoronoiCell& c = cells[static_cast<size_t>(i * n + j)];
+      const VoronoiCell& c = cells[static_cast<size_t>(i) * n + j];
       const bool border = i == 0 || j == 0 || i == n - 1 || j == n - 1;
       EXPECT_EQ(c.bounded, !border) << i << "," << j;
       if (!border) {
