@@ -211,9 +211,9 @@ TEST(PointTin, LargeFilesSortAndDropDuplicatesAsSmallOnes) {
   }
   // Copies of points from the first half appended at the end (the other half), and copies of
   // second-half points placed right after them (the same half).
-  for (int i = 0; i < 3000; ++i) lines.push_back(lines[static_cast<size_t>(i * 17)]);
+  for (int i = 0; i < 3000; ++i) lines.push_back(lines[static_cast<size_t>(i) * 17]);
   for (int i = 0; i < 3000; ++i)
-    lines.insert(lines.begin() + 100000 + i * 2, lines[static_cast<size_t>(99000 + i * 2)]);
+    lines.insert(lines.begin() + 100000 + i * 2, lines[99000 + static_cast<size_t>(i) * 2]);
   {
     std::ofstream out(path);
     for (size_t i = 0; i < lines.size(); ++i)
@@ -225,12 +225,13 @@ TEST(PointTin, LargeFilesSortAndDropDuplicatesAsSmallOnes) {
   ASSERT_EQ(points->vertices.size(), static_cast<size_t>(kSide * kSide));
   std::vector<double> first_line(static_cast<size_t>(kSide * kSide), -1);
   for (size_t i = 0; i < lines.size(); ++i) {
-    double& first = first_line[static_cast<size_t>(lines[i][0] * kSide + lines[i][1])];
+    double& first = first_line[static_cast<size_t>(lines[i][0]) * kSide + lines[i][1]];
     if (first < 0) first = static_cast<double>(i);
   }
   for (size_t i = 0; i < points->vertices.size(); ++i) {
     const TinVertex& v = points->vertices[i];
-    ASSERT_EQ(v.x, static_cast<double>(i / kSide)) << i;
+    const size_t row = i / kSide;  // the grid row of the i-th point, whole
+    ASSERT_EQ(v.x, static_cast<double>(row)) << i;
     ASSERT_EQ(v.y, static_cast<double>(i % kSide)) << i;
     ASSERT_EQ(v.z, first_line[i]) << "the first of the copies in file order is kept, at " << i;
   }

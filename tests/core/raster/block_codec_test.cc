@@ -27,7 +27,7 @@ std::vector<float> TerrainBlock(int size, uint32_t seed) {
   std::vector<float> cells(static_cast<size_t>(size) * size);
   for (int r = 0; r < size; ++r)
     for (int c = 0; c < size; ++c)
-      cells[static_cast<size_t>(r * size + c)] = 800 + 3.5f * r - 1.25f * c + noise(rng);
+      cells[static_cast<size_t>(r) * size + c] = 800 + 3.5f * r - 1.25f * c + noise(rng);
   for (int i = 0; i < size * 3; ++i) cells[rng() % cells.size()] = std::nanf("");
   cells[0] = -0.0f;
   cells[1] = std::numeric_limits<float>::infinity();
@@ -54,7 +54,7 @@ TEST(BlockCodec, PlanarPredictionBeatsShuffleOnSmoothTerrain) {
   std::vector<float> cells(256 * 256);
   for (int r = 0; r < 256; ++r)
     for (int c = 0; c < 256; ++c)
-      cells[static_cast<size_t>(r * 256 + c)] =
+      cells[static_cast<size_t>(r) * 256 + c] =
           static_cast<float>(900 + 40 * std::sin(r / 37.0) * std::cos(c / 23.0) + 0.31 * r);
   const size_t shuffled = EncodeBlock(cells, 256, BlockCodec::kBloscZstd).size();
   const size_t planar = EncodeBlock(cells, 256, BlockCodec::kPlanarBloscZstd).size();

@@ -140,7 +140,7 @@ TEST(GridTriangulation, SplitsEverySquareCounterClockwise) {
 TEST(GridTriangulation, SkipsNodataAndNeverPinchesAVertex) {
   Grid grid = MakeGrid(6, 6, Terrain);
   // Nodata at (2, 2) and (3, 3)'s neighbours so that squares meet at one corner only.
-  for (auto [c, r] : {std::pair{2, 3}, {3, 2}}) grid.cells[static_cast<size_t>(r * 6 + c)] = kNaN;
+  for (auto [c, r] : {std::pair{2, 3}, {3, 2}}) grid.cells[static_cast<size_t>(r) * 6 + c] = kNaN;
   const Tin tin = GridTriangulation(grid);
   testing::ExpectCounterClockwise(tin);
   testing::ExpectNeighboursConsistent(tin);

@@ -120,7 +120,7 @@ TEST(RtinBuilderTest, SpikeUnderACoarseTriangleIsResolved) {
   for (auto [col, row] : {std::pair{5, 3}, std::pair{61, 17}, std::pair{1, 1}, std::pair{63, 62}}) {
     SCOPED_TRACE("spike at " + std::to_string(col) + ", " + std::to_string(row));
     Grid dem = MakeGrid(65, 65, [](double, double) { return 50.0; });
-    dem.cells[static_cast<size_t>(row * 65 + col)] = 57;
+    dem.cells[static_cast<size_t>(row) * 65 + col] = 57;
     Tin tin;
     BuildAndCheck(dem, 1.0, &tin);
     bool spike_is_vertex = false;
@@ -282,7 +282,7 @@ class MartiniMesh {
   Tri Root1() const { return {n_, n_, 0, 0, 0, n_}; }
   int Depth() const { return 2 * static_cast<int>(std::log2(n_)); }
   float Z(int x, int y) const { return dem_.At(x, y); }
-  float& Error(int x, int y) { return errors_[static_cast<size_t>(y * (n_ + 1) + x)]; }
+  float& Error(int x, int y) { return errors_[static_cast<size_t>(y) * (n_ + 1) + x]; }
   static bool Splittable(const Tri& t) { return (t.ax + t.bx) % 2 == 0 && (t.ay + t.by) % 2 == 0; }
   static std::pair<Tri, Tri> Children(const Tri& t) {
     const int mx = (t.ax + t.bx) / 2, my = (t.ay + t.by) / 2;
