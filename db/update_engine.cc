@@ -183,7 +183,7 @@ class ReplaceLevels {
  public:
   explicit ReplaceLevels(const std::vector<EditorFeature>& features) {
     for (const EditorFeature& f : features) {
-      if (f.mode != "replace") continue;
+      if (f.mode != FeatureMode::kReplace) continue;
       locators_.push_back(InsideOf(f));
       levels_.push_back(f.level.value_or(0));
     }
@@ -234,7 +234,7 @@ class Edit {
         levels_(edit.features),
         lines_(edit.add) {
     for (const EditorFeature& f : edit.features)
-      if (f.mode == "replace")
+      if (f.mode == FeatureMode::kReplace)
         replace_polygons_.insert(replace_polygons_.end(), f.polygons.begin(), f.polygons.end());
     replaced_ = std::make_unique<PolygonLocator>(replace_polygons_);
   }
@@ -442,7 +442,7 @@ class Edit {
       if (!f.ok()) return f.status();
       removed_features_.push_back(std::move(*f));
       const EditorFeature& removed = removed_features_.back();
-      if (removed.mode != "replace") continue;
+      if (removed.mode != FeatureMode::kReplace) continue;
       polygons.insert(polygons.end(), removed.polygons.begin(), removed.polygons.end());
       box.Add(BoxOf(removed));
     }
@@ -787,13 +787,13 @@ class Edit {
     window_box.Add(Point2{high.x + reach, high.y + reach});
     const auto note = [&](const EditorFeature& f, bool is_changed) {
       if (!is_changed && !BoxOf(f).Meets(window_box)) return;  // no ring of it near the window
-      if (IsBreakline(f.mode) || !ParsePaintMode(f.mode).ok()) return;
+      if (f.mode == FeatureMode::kBreakline) return;
       near_any.AddBlocks(RingBlocksOf(f, g));
       if (!is_changed) return;
       near_changed.AddBlocks(RingBlocksOf(f, g));
       changed.insert(changed.end(), f.polygons.begin(), f.polygons.end());
-      anywhere |= f.mode == "clip";
-      per_triangle |= f.mode == "replace";
+      anywhere |= f.mode == FeatureMode::kClip;
+      per_triangle |= f.mode == FeatureMode::kReplace;
     };
     for (const EditorFeature& f : edit_.features) note(f, added_ids.count(f.id) > 0);
     for (const EditorFeature& f : removed_features_) note(f, true);
