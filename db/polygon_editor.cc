@@ -117,13 +117,17 @@ Status FeatureOnSurface(Store& store, const SurfaceInfo& surface, const EditorFe
 // point and refuses any outside), so that the message can name the input vertex: locating every
 // vertex up front would walk the mesh once more for every vertex of every feature.
 Status DrapeFeature(Store& store, const SurfaceInfo& surface, const EditorFeature& f,
-                    const ElevationFn& elevation, const DrapeOptions& base,
+                    const DrapeElevationFn& elevation, const DrapeOptions& base,
                     std::vector<EditPolyline>* out) {
   return ForEachPolyline(
       f, [&](const std::vector<Point2>& points, bool closed, const std::string& where) -> Status {
         DrapeOptions options = base;
         options.closed = closed;
         auto draped = DrapePolyline(points, elevation, options);
+        // A DEM block that cannot be read is the store's fault, not the feature's: its error
+        // goes out as it is, before anything that would blame the input vertices.
+        if (!draped.ok() && draped.status().code() != StatusCode::kInvalidArgument)
+          return draped.status().WithContext(f.label + ", " + where);
         if (!draped.ok()) {
           TB_RETURN_IF_ERROR(CheckOnSurface(store, surface, f, points, where));
           return draped.status().WithContext(f.label + ", " + where);
@@ -142,7 +146,7 @@ struct SurfaceSession {
   DemInfo dem;
   std::optional<Crs> crs;
   DrapeOptions drape;
-  ElevationFn elevation;
+  DrapeElevationFn elevation;  // NaN where the DEM has no data; an error where a read failed
   // The surface's features as they are after change `features_tx`: a load feature by feature
   // (`--each`) hands them from one transaction to the next instead of reading and parsing them
   // all again for every feature. Valid only while no other change came between (change numbers
@@ -169,10 +173,7 @@ Result<std::unique_ptr<SurfaceSession>> OpenSession(Store& store, const SurfaceI
   session->drape.min_spacing =
       std::min(session->dem.geometry.cell_x, std::fabs(session->dem.geometry.cell_y));
   SurfaceSession* s = session.get();
-  session->elevation = [s](double x, double y) {
-    auto z = s->dems.Sample(s->dem, x, y);
-    return z.ok() ? *z : std::numeric_limits<double>::quiet_NaN();
-  };
+  session->elevation = [s](double x, double y) { return s->dems.Elevation(s->dem, x, y); };
   return session;
 }
 

@@ -58,7 +58,9 @@ struct PolygonAddReport {
 };
 
 // InvalidArgument naming the file, feature, ring and vertex for bad input (and for no mode);
-// NotFound for an unknown surface; the store is unchanged on every error.
+// NotFound for an unknown surface; Corruption or IOError naming the DEM block when a ring is
+// draped over a block that cannot be read (never "no elevation"); the store is unchanged on every
+// error.
 // With options.each, a feature that fails is listed in the report's failures and the others go
 // on (the call fails only when none could be read).
 Result<PolygonAddReport> AddPolygons(Store& store, const PolygonAddOptions& options);
