@@ -115,7 +115,7 @@ PolygonAddOptions NgonFill(int64_t side, int n, double r_cells) {
   PolygonAddOptions o;
   o.surface = "terrain";
   o.file = PolygonFile(side, n, r_cells);
-  o.mode = "fill";
+  o.mode = FeatureMode::kFill;
   o.tag_field = "unit";
   return o;
 }
@@ -359,7 +359,7 @@ Result<PolygonAddReport> AddMap(Store& store, const MapCase& map, bool each) {
   PolygonAddOptions o;
   o.surface = "terrain";
   o.file = map.file;
-  o.mode = "fill";
+  o.mode = FeatureMode::kFill;
   o.tag_field = map.tag_field;
   o.each = each;
   o.repair = true;  // clipping the bands left a few holes outside their shells
@@ -476,7 +476,7 @@ int64_t RebuildMap(Store& store, const MapCase& map) {
   std::vector<EditorFeature> features;
   for (const PolygonFeature& f : *read) {
     EditorFeature e;
-    e.mode = "fill";
+    e.mode = FeatureMode::kFill;
     e.tag = f.tag;
     e.polygons = f.polygons;
     features.push_back(std::move(e));

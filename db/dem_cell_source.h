@@ -4,7 +4,8 @@
 // Blocks come through the process-wide block cache (db/dem_block_cache.h), whose memory limit
 // bounds what stays decoded; the source itself pins only the few dozen blocks it used last, so a
 // scan that walks back and forth over a block edge costs no cache lookups. A block that cannot
-// be read reads as nodata and status() reports it.
+// be read reads as NaN and status() reports the first such error (Corruption naming the block
+// when its bytes do not decode); callers must return that error, not take the NaN for nodata.
 // Thread-safety: one thread at a time; holds references to the DemStore and the DemInfo's copy.
 #pragma once
 

@@ -42,6 +42,15 @@ std::string Point(double x, double y) {
 
 std::string Quoted(const std::string& name) { return "'" + name + "'"; }
 
+// A stored block that does not decode is damaged, whatever the codec reported (an unknown codec
+// number is InvalidArgument to the codec, but here the store wrote it): Corruption naming the
+// block, so that no caller can take it for nodata or for the user's mistake.
+Status DamagedBlock(const Status& decode, const DemInfo& dem, int level, int64_t bx, int64_t by) {
+  return Status::Corruption("DEM " + Quoted(dem.name) + ", level " + std::to_string(level) +
+                            " block (" + std::to_string(bx) + ", " + std::to_string(by) +
+                            ") is damaged: " + decode.message());
+}
+
 // A whole number of cells `offset / cell` away, or nullopt when the grids do not line up. The
 // tolerance (1e-6 of a cell) absorbs the round-off of origins written as decimal text.
 std::optional<int64_t> WholeCells(double offset, double cell) {
@@ -379,10 +388,7 @@ Result<DemStore::Impl::Block> DemStore::Impl::LoadBlock(const DemInfo& dem, int 
   auto cells = DecodeBlock(static_cast<int>(stmt->ColumnInt(0)), std::span(data, size),
                            static_cast<size_t>(dem.block_size) * dem.block_size);
   stmt->Reset();
-  if (!cells.ok())
-    return cells.status().WithContext("DEM " + Quoted(dem.name) + ", level " +
-                                      std::to_string(level) + " block (" + std::to_string(bx) +
-                                      ", " + std::to_string(by) + ")");
+  if (!cells.ok()) return DamagedBlock(cells.status(), dem, level, bx, by);
   return Block(std::make_shared<const std::vector<float>>(std::move(cells).value()));
 }
 
@@ -747,6 +753,14 @@ Result<double> DemStore::Sample(const DemInfo& dem, double x, double y, DemSampl
   return z;
 }
 
+Result<double> DemStore::Elevation(const DemInfo& dem, double x, double y) {
+  if (!dem.geometry.Contains(x, y)) return std::numeric_limits<double>::quiet_NaN();
+  Impl::CellReader reader(*impl_, dem, 0);
+  const double z = SampleBilinear(dem.geometry, x, y, reader);
+  TB_RETURN_IF_ERROR(reader.status());
+  return z;
+}
+
 Status DemStore::SampleMany(const DemInfo& dem, std::span<const double> xs,
                             std::span<const double> ys, std::span<double> out, DemSampling method) {
   if (xs.size() != ys.size() || xs.size() != out.size())
@@ -833,9 +847,7 @@ Status DemStore::Impl::LoadCells(const DemInfo& dem, int level, std::span<Stored
   for (size_t i = 0; i < misses.size(); ++i) {
     StoredBlock& block = *misses[i].block;
     if (!misses[i].status.ok())
-      return misses[i].status.WithContext(
-          "DEM " + Quoted(dem.name) + ", level " + std::to_string(level) + " block (" +
-          std::to_string(block.bx) + ", " + std::to_string(block.by) + ")");
+      return DamagedBlock(misses[i].status, dem, level, block.bx, block.by);
     cache.Insert(DemBlockKey{token, dem.id, level, block.bx, block.by}, block.cells);
   }
   return Status::Ok();

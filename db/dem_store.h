@@ -140,6 +140,10 @@ class DemStore {
   // decoded.
   Result<double> Sample(const DemInfo& dem, double x, double y,
                         DemSampling method = DemSampling::kBilinear);
+  // The bilinear elevation at (x, y) as draping and re-triangulation take it: NaN means "no data
+  // here" (the point is outside the DEM or its cells are nodata); an error means the read failed
+  // (Corruption or IOError naming the block) and is never turned into NaN.
+  Result<double> Elevation(const DemInfo& dem, double x, double y);
   // Samples many points in one call: out[i] = the elevation at (xs[i], ys[i]), NaN where the point
   // is outside the DEM or has no data. Points close together are fastest (the last block is kept
   // at hand). InvalidArgument when the spans differ in length; Corruption as Sample (out is then
@@ -148,7 +152,8 @@ class DemStore {
                     std::span<double> out, DemSampling method = DemSampling::kBilinear);
   // The decoded cells of block (bx, by) of `level` (block_size x block_size, row-major, NaN =
   // nodata; LevelOf gives where it lies) through the process-wide cache; null when no block is
-  // stored there. Corruption naming the block when it cannot be decoded.
+  // stored there. Corruption naming the block when it cannot be decoded (whatever the codec says:
+  // the store wrote the bytes, so bytes it cannot decode are damaged).
   Result<std::shared_ptr<const std::vector<float>>> ReadBlock(const DemInfo& dem, int level,
                                                               int64_t bx, int64_t by);
   // The whole level-0 grid in memory (REQUIRES: it fits).

@@ -37,7 +37,13 @@ Result<std::vector<EditorFeature>> SelectFeatures(Store& store, const SurfaceInf
     EditorFeature f;
     f.id = stmt->ColumnInt(0);
     f.label = "feature " + std::to_string(f.id);
-    f.mode = stmt->ColumnText(2);
+    // The store's text is parsed here, once: past this row nothing compares mode strings.
+    auto mode = ParseFeatureMode(stmt->ColumnText(2));
+    if (!mode.ok()) {
+      status = Status::Corruption(f.label + ": " + mode.status().message());
+      break;
+    }
+    f.mode = *mode;
     if (!stmt->ColumnIsNull(3)) f.level = stmt->ColumnDouble(3);
     if (!stmt->ColumnIsNull(4)) f.tag = stmt->ColumnText(4);
     f.attributes = nlohmann::json::parse(stmt->ColumnText(6), nullptr, /*allow_exceptions=*/false);
@@ -45,7 +51,7 @@ Result<std::vector<EditorFeature>> SelectFeatures(Store& store, const SurfaceInf
     size_t size = 0;
     const uint8_t* blob = stmt->ColumnBlob(5, &size);
     std::vector<uint8_t> wkb(blob, blob + size);
-    if (IsBreakline(f.mode)) {
+    if (f.mode == FeatureMode::kBreakline) {
       auto lines = LinesFromWkb(wkb);
       if (!lines.ok()) {
         status = lines.status().WithContext(f.label);
@@ -131,9 +137,9 @@ Status WriteFeature(Store& store, const SurfaceInfo& surface, int64_t tx, Editor
     TB_ASSIGN_OR_RETURN(tag_id, InternTag(store, *f.tag));
   }
   const std::vector<uint8_t> wkb =
-      IsBreakline(f.mode) ? LinesToWkb(f.lines) : PolygonsToWkb(f.polygons);
+      f.mode == FeatureMode::kBreakline ? LinesToWkb(f.lines) : PolygonsToWkb(f.polygons);
   const Box box = BoxOf(f);
-  stmt->Bind(1, surface.id).Bind(2, f.tag.value_or(f.label)).Bind(3, f.mode);
+  stmt->Bind(1, surface.id).Bind(2, f.tag.value_or(f.label)).Bind(3, FeatureModeName(f.mode));
   if (f.level)
     stmt->Bind(4, *f.level);
   else
@@ -176,13 +182,11 @@ Paint PaintFromFeatures(const std::vector<EditorFeature>& features, CellSource* 
     // that clipping is on: it stays, with no polygons. (The box first: most features of a map
     // are away from an edit.)
     const bool near = BoxOf(f).Meets(reach);
-    if (!near && f.mode != PaintModeName(PaintMode::kClip)) continue;
-    if (IsBreakline(f.mode)) continue;
-    auto mode = ParsePaintMode(f.mode);
-    if (!mode.ok()) continue;  // the schema's CHECK allows only the known modes
+    if (!near && f.mode != FeatureMode::kClip) continue;
+    if (f.mode == FeatureMode::kBreakline) continue;
     PaintedFeature p;
     if (near) p.inside = InsideOf(f);
-    p.mode = *mode;
+    p.mode = f.mode;
     p.level = f.level.value_or(0);
     if (f.tag) {
       auto [it, added] = tag_index.emplace(*f.tag, static_cast<int32_t>(tin.tags.size()));
@@ -211,7 +215,7 @@ Result<LoadedSurface> LoadFeatureSurface(Store& store, int64_t feature) {
   SurfaceStore surfaces(store);
   TB_ASSIGN_OR_RETURN(SurfaceInfo surface, surfaces.FindById(surface_id));
   TB_ASSIGN_OR_RETURN(EditorFeature f, LoadFeature(store, surface, feature));
-  if (IsBreakline(f.mode))
+  if (f.mode == FeatureMode::kBreakline)
     return Status::InvalidArgument("feature " + std::to_string(feature) +
                                    " is a breakline: it has no inside to export");
   const PolygonLocator& inside = *InsideOf(f);
@@ -304,7 +308,8 @@ Result<LoadedSurface> LoadFeatureSurface(Store& store, int64_t feature) {
 std::vector<Polygon> ReplacePolygons(const std::vector<EditorFeature>& features) {
   std::vector<Polygon> out;
   for (const EditorFeature& f : features)
-    if (f.mode == "replace") out.insert(out.end(), f.polygons.begin(), f.polygons.end());
+    if (f.mode == FeatureMode::kReplace)
+      out.insert(out.end(), f.polygons.begin(), f.polygons.end());
   return out;
 }
 

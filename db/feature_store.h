@@ -1,8 +1,8 @@
 // FeatureStore: the `features` rows of a surface (polygons and breaklines with their mode, tag,
-// level and WKB geometry), and the one definition of a surface's paint from them (DESIGN.md
-// invariant 6): the features' modes in id order (core/tin/feature_paint), and no triangle visible
-// whose centroid lies on DEM nodata (core/tin/tin_raster). The polygon editor writes with it,
-// the update engine repaints with it and the integrity checker verifies with it.
+// level and WKB geometry), and the one definition of a surface's paint from them (docs/design.md,
+// "Invariants", invariant 6): the features' modes in id order (core/tin/feature_paint), and no
+// triangle visible whose centroid lies on DEM nodata (core/tin/tin_raster). The polygon editor
+// writes with it, the update engine repaints with it and the integrity checker verifies with it.
 // Thread-safety: through one Store.
 #pragma once
 
@@ -20,6 +20,7 @@
 #include "core/raster/cell_source.h"
 #include "core/raster/grid.h"
 #include "core/tin/block_grid.h"
+#include "core/tin/feature_mode.h"
 #include "core/tin/feature_paint.h"
 #include "core/tin/tin.h"
 #include "db/store.h"
@@ -52,7 +53,7 @@ struct Box {
 struct EditorFeature {
   int64_t id = 0;     // store id; 0 until written
   std::string label;  // "feature 12", or the source's "file.geojson, feature 3"
-  std::string mode;   // clip, erase, fill, replace, breakline
+  FeatureMode mode = FeatureMode::kFill;
   std::optional<std::string> tag;
   std::optional<double> level;
   nlohmann::json attributes = nlohmann::json::object();
@@ -62,16 +63,13 @@ struct EditorFeature {
   // Derived from polygons and lines on first use (BoxOf, InsideOf, RingBlocksOf) and shared by
   // later copies:
   // `--each` hands the same features from one transaction to the next, and rebuilding every
-  // nearby feature's index in each was a sixth of a feature's cost. Hence polygons and lines
+  // nearby feature's index in each would repeat the same work per feature. Hence polygons and lines
   // must not change once either has been asked for.
   mutable std::optional<Box> box_cache;
   mutable std::shared_ptr<const PolygonLocator> inside_cache;
   mutable std::shared_ptr<const std::vector<int64_t>> ring_blocks_cache;  // of ring_blocks_grid
   mutable BlockGrid ring_blocks_grid;
 };
-
-inline bool IsBreakline(const std::string& mode) { return mode == "breakline"; }
-
 
 // The plan-view box of the feature's rings and lines.
 Box BoxOf(const EditorFeature& f);
@@ -80,12 +78,15 @@ const std::shared_ptr<const PolygonLocator>& InsideOf(const EditorFeature& f);
 // The blocks of `grid` the feature's rings come near (core/tin/ring_blocks.h BlocksNearRings).
 const std::vector<int64_t>& RingBlocksOf(const EditorFeature& f, const BlockGrid& grid);
 
-// Every feature of `surface`, in id order (the order their paint applies in).
+// Every feature of `surface`, in id order (the order their paint applies in). Corruption naming
+// the feature when a row's mode is not one of FeatureMode's spellings; an error naming it when
+// its geometry does not parse.
 Result<std::vector<EditorFeature>> LoadFeatures(Store& store, const SurfaceInfo& surface);
 // NotFound "surface 's' has no feature 12" when absent.
 Result<EditorFeature> LoadFeature(Store& store, const SurfaceInfo& surface, int64_t id);
 
-// Writes `f` as a new feature row of transaction `tx` and sets f.id.
+// Writes `f` as a new feature row of transaction `tx` (its mode in the canonical spelling,
+// FeatureModeName) and sets f.id.
 // REQUIRES: inside a WriteTransaction.
 Status WriteFeature(Store& store, const SurfaceInfo& surface, int64_t tx, EditorFeature& f);
 // The id of tag `value`, adding it to the dictionary when new. REQUIRES: a WriteTransaction.
@@ -101,10 +102,11 @@ Paint PaintFromFeatures(const std::vector<EditorFeature>& features, const Grid* 
 // The same with the DEM streamed (db/dem_cell_source.h); the caller checks dem->status().
 Paint PaintFromFeatures(const std::vector<EditorFeature>& features, CellSource* dem, Tin& tin);
 
-// The surface of one polygon feature as paper 000 cuts it out: the triangles inside its
-// polygons (its rings are constrained edges, so they tile the inside exactly; holes are left
-// out), all visible, with their tags, neighbours re-linked among themselves. Reads the blocks of
-// the feature's box only. NotFound "no feature 12"; InvalidArgument for a breakline.
+// The surface of one polygon feature as paper 000 (docs/design.md, "Where the ideas come from")
+// cuts it out: the triangles inside its polygons (its rings are constrained edges, so they tile
+// the inside exactly; holes are left out), all visible, with their tags, neighbours re-linked
+// among themselves. Reads the blocks of the feature's box only. NotFound "no feature 12";
+// InvalidArgument for a breakline.
 Result<LoadedSurface> LoadFeatureSurface(Store& store, int64_t feature);
 
 // The polygons of the replace features: where invariant 7 does not apply.

@@ -23,8 +23,10 @@ namespace tinbase {
 namespace {
 
 Status CheckModeOptions(const PolygonAddOptions& o) {
-  if (!IsBreakline(o.mode)) TB_RETURN_IF_ERROR(ParsePaintMode(o.mode).status());
-  if (o.mode == "replace" && !o.level)
+  if (!o.mode)
+    return Status::InvalidArgument(
+        "a feature mode is needed (clip, erase, fill, replace or breakline)");
+  if (*o.mode == FeatureMode::kReplace && !o.level)
     return Status::InvalidArgument("mode replace needs --level (the flat z)");
   if (o.level && !std::isfinite(*o.level))
     return Status::InvalidArgument("--level must be a finite number");
@@ -47,12 +49,12 @@ Result<std::vector<EditorFeature>> ReadFeatures(const PolygonAddOptions& o, cons
   const auto base = [&](EditorFeature& f, const std::string& label, const nlohmann::json& attrs,
                         const std::optional<std::string>& tag) {
     f.label = label;
-    f.mode = o.mode;
+    f.mode = *o.mode;
     f.attributes = attrs;
     f.tag = o.tag.empty() ? tag : std::optional<std::string>(o.tag);
     f.level = o.level;
   };
-  if (IsBreakline(o.mode)) {
+  if (*o.mode == FeatureMode::kBreakline) {
     TB_ASSIGN_OR_RETURN(auto lines, ReadLineFeatures(o.file, source));
     for (auto& line : lines) {
       EditorFeature f;
@@ -114,15 +116,19 @@ Status FeatureOnSurface(Store& store, const SurfaceInfo& surface, const EditorFe
 // Every ring and line of `f`, draped and densified. Whether the input vertices lie on the
 // surface is checked only when something fails (here or in the edit: the engine locates every
 // point and refuses any outside), so that the message can name the input vertex: locating every
-// vertex up front cost ~7% of a map load.
+// vertex up front would walk the mesh once more for every vertex of every feature.
 Status DrapeFeature(Store& store, const SurfaceInfo& surface, const EditorFeature& f,
-                    const ElevationFn& elevation, const DrapeOptions& base,
+                    const DrapeElevationFn& elevation, const DrapeOptions& base,
                     std::vector<EditPolyline>* out) {
   return ForEachPolyline(
       f, [&](const std::vector<Point2>& points, bool closed, const std::string& where) -> Status {
         DrapeOptions options = base;
         options.closed = closed;
         auto draped = DrapePolyline(points, elevation, options);
+        // A DEM block that cannot be read is the store's fault, not the feature's: its error
+        // goes out as it is, before anything that would blame the input vertices.
+        if (!draped.ok() && draped.status().code() != StatusCode::kInvalidArgument)
+          return draped.status().WithContext(f.label + ", " + where);
         if (!draped.ok()) {
           TB_RETURN_IF_ERROR(CheckOnSurface(store, surface, f, points, where));
           return draped.status().WithContext(f.label + ", " + where);
@@ -141,7 +147,7 @@ struct SurfaceSession {
   DemInfo dem;
   std::optional<Crs> crs;
   DrapeOptions drape;
-  ElevationFn elevation;
+  DrapeElevationFn elevation;  // NaN where the DEM has no data; an error where a read failed
   // The surface's features as they are after change `features_tx`: a load feature by feature
   // (`--each`) hands them from one transaction to the next instead of reading and parsing them
   // all again for every feature. Valid only while no other change came between (change numbers
@@ -167,10 +173,7 @@ Result<std::unique_ptr<SurfaceSession>> OpenSession(Store& store, const SurfaceI
   session->drape.min_spacing =
       std::min(session->dem.geometry.cell_x, std::fabs(session->dem.geometry.cell_y));
   SurfaceSession* s = session.get();
-  session->elevation = [s](double x, double y) {
-    auto z = s->dems.Sample(s->dem, x, y);
-    return z.ok() ? *z : std::numeric_limits<double>::quiet_NaN();
-  };
+  session->elevation = [s](double x, double y) { return s->dems.Elevation(s->dem, x, y); };
   return session;
 }
 
@@ -188,7 +191,7 @@ size_t RingPoints(const EditorFeature& f) {
 // LocalEdit::load_points for a load of `features` feature by feature: their ring points when
 // they are at least a quarter as many as the surface's triangles and the session's cache can keep
 // the surface as the load adds triangles (at most half its limit), else 0. Decided once for the
-// load: counting the triangles in every edit would cost ~0.1 s an edit on a 1e6-triangle surface.
+// load: counting the triangles is a scan of the surface's rows, too slow to repeat in every edit.
 Result<size_t> LoadPointsThatReadTheSurface(Store& store, const SurfaceInfo& surface,
                                             const std::vector<EditorFeature>& features) {
   size_t points = 0;
@@ -242,7 +245,7 @@ Result<PolygonAddReport> ApplyEditOnce(SurfaceSession& session, std::vector<NewF
 
   // Clip polygons act as one union over the whole surface: adding or removing one can hide or
   // show triangles anywhere, so the paint area is then the whole DEM.
-  const auto is_clip = [](const EditorFeature& f) { return f.mode == "clip"; };
+  const auto is_clip = [](const EditorFeature& f) { return f.mode == FeatureMode::kClip; };
   bool clip = std::any_of(added.begin(), added.end(),
                           [&](const NewFeature& n) { return is_clip(n.feature); });
   for (const EditorFeature& f : existing)
@@ -256,7 +259,7 @@ Result<PolygonAddReport> ApplyEditOnce(SurfaceSession& session, std::vector<NewF
     edit.changed.Add(Point2{g.MaxX(), g.MaxY()});
   }
   // The kept features go over whole: moving them one by one made a load of a thousand features
-  // feature by feature quadratic (2-3 % of an edit).
+  // feature by feature quadratic.
   const auto is_removed = [&](const EditorFeature& f) {
     return std::find(removed.begin(), removed.end(), f.id) != removed.end();
   };
@@ -397,7 +400,7 @@ Result<PolygonAddReport> UpdatePolygon(Store& store, int64_t id, const PolygonAd
   TB_ASSIGN_OR_RETURN(SurfaceInfo surface, SurfaceOfFeature(store, id));
   TB_ASSIGN_OR_RETURN(EditorFeature old, LoadFeature(store, surface, id));
   PolygonAddOptions o = options;
-  if (o.mode.empty()) o.mode = old.mode;
+  if (!o.mode) o.mode = old.mode;
   if (!o.level) o.level = old.level;
   TB_RETURN_IF_ERROR(CheckModeOptions(o));
   TB_ASSIGN_OR_RETURN(auto session, OpenSession(store, surface));

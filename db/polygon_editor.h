@@ -1,5 +1,5 @@
 // PolygonEditor: inserts polygon and line features into a surface in one transaction
-// (DESIGN.md, "Inserting a polygon").
+// (docs/design.md, "Inserting a polygon").
 //
 // The features are read and validated (core/vector/polygon_source), their rings draped on the
 // surface's DEM and densified to the surface tolerance (core/tin/drape), all before the write
@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "core/base/status.h"
+#include "core/tin/feature_mode.h"
 #include "db/edit/update_engine.h"
 #include "db/store.h"
 
@@ -26,7 +27,8 @@ struct PolygonAddOptions {
   std::string file;
   std::string layer;            // OGR layer; empty: the only one
   std::string where;            // OGR attribute filter
-  std::string mode;             // clip, erase, fill, replace, breakline
+  // Required by AddPolygons; UpdatePolygon keeps the old feature's mode when absent.
+  std::optional<FeatureMode> mode;
   std::string tag_field;        // the field whose value tags the triangles (fill, replace)
   std::string tag;              // or one tag for every feature
   std::optional<double> level;  // replace: the flat z
@@ -53,8 +55,10 @@ struct PolygonAddReport {
   std::vector<std::string> failures;  // with `each`: "label: message" of features not added
 };
 
-// InvalidArgument naming the file, feature, ring and vertex for bad input; NotFound for an
-// unknown surface; the store is unchanged on every error.
+// InvalidArgument naming the file, feature, ring and vertex for bad input (and for no mode);
+// NotFound for an unknown surface; Corruption or IOError naming the DEM block when a ring is
+// draped over a block that cannot be read (never "no elevation"); the store is unchanged on every
+// error.
 // With options.each, a feature that fails is listed in the report's failures and the others go
 // on (the call fails only when none could be read).
 Result<PolygonAddReport> AddPolygons(Store& store, const PolygonAddOptions& options);

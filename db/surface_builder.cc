@@ -4,8 +4,6 @@
 #include <chrono>
 #include <limits>
 
-#include "core/tin/grid_triangulation.h"
-#include "core/tin/terrain_builder.h"
 #include "db/change_log.h"
 #include "db/dem_block_cache.h"
 #include "db/dem_cell_source.h"
@@ -37,7 +35,8 @@ Change BuildChange(const SurfaceInfo& surface, const Tin& tin) {
 // Greedy insertion of a DEM the block cache can hold works on its grid in memory, so it can
 // refine on two threads (a DemCellSource serves one). A larger DEM is read block by block as the
 // refinement goes, so the build is bounded by the TIN's size and the block cache, not by the
-// DEM's: DEMs larger than memory build.
+// DEM's: DEMs larger than memory build. A block that cannot be read fails the build with its
+// error (the streamed source is sticky, and BuildGreedyTin checks it), never as nodata.
 Result<Tin> GreedyTinOfStoredDem(DemStore& dems, const DemInfo& dem, GreedyOptions greedy,
                                  GreedyReport* report) {
   const double dem_bytes = static_cast<double>(dem.geometry.CellCount()) * sizeof(float);
@@ -67,35 +66,22 @@ Result<Tin> BuildGreedy(DemStore& dems, const DemInfo& dem, const SurfaceBuildOp
 Result<Tin> BuildInMemory(DemStore& dems, const DemInfo& dem, const SurfaceBuildOptions& options,
                           SurfaceInfo* spec, SurfaceBuildReport* report) {
   TB_ASSIGN_OR_RETURN(Grid grid, dems.ReadGrid(dem));
-  TerrainMethod terrain;
-  if (ParseTerrainMethod(options.method, &terrain)) {
-    TerrainBuildOptions o;
-    o.method = terrain;
-    o.tolerance = options.greedy.tolerance;
-    o.threshold = options.vip_threshold;
-    o.max_points = options.greedy.max_points;
-    TerrainBuildReport r;
-    TB_ASSIGN_OR_RETURN(Tin tin, BuildTerrainTin(grid, o, &r));
-    report->quality.max_error = r.max_error;
-    report->quality.rms_error = r.rms_error;
-    report->quality.points = r.points;
-    spec->kind = r.delaunay ? SurfaceKind::kDelaunay : SurfaceKind::kFree;
-    // VIP has no error bound: its tolerance is the error it measured.
-    spec->tolerance = terrain == TerrainMethod::kVip
-                          ? r.max_error
-                          : std::max(options.greedy.tolerance, r.max_error);
-    return tin;
-  }
-  const Tin full = GridTriangulation(grid);
-  if (full.triangles.empty())
-    return Status::InvalidArgument("the DEM has no 2 x 2 cells of data to triangulate");
-  TB_ASSIGN_OR_RETURN(Tin tin,
-                      CollapseToFaceBudget(full, options.collapse, &report->collapse, &grid));
-  report->quality.max_error = report->collapse.max_error;
-  report->quality.rms_error = report->collapse.rms_error;
-  report->quality.points = report->collapse.vertices_out;
-  spec->kind = SurfaceKind::kFree;
-  spec->tolerance = report->collapse.max_error;
+  TerrainBuildOptions o;
+  o.method = options.method;
+  o.tolerance = options.greedy.tolerance;
+  o.threshold = options.vip_threshold;
+  o.max_points = options.greedy.max_points;
+  o.collapse = options.collapse;
+  TerrainBuildReport r;
+  TB_ASSIGN_OR_RETURN(Tin tin, BuildTerrainTin(grid, o, &r));
+  report->quality.max_error = r.max_error;
+  report->quality.rms_error = r.rms_error;
+  report->quality.points = r.points;
+  report->collapse = r.collapse;
+  spec->kind = r.delaunay ? SurfaceKind::kDelaunay : SurfaceKind::kFree;
+  // VIP and collapse have no error bound: their tolerance is the error they measured.
+  const bool bounded = o.method == TerrainMethod::kGreedy || o.method == TerrainMethod::kRtin;
+  spec->tolerance = bounded ? std::max(options.greedy.tolerance, r.max_error) : r.max_error;
   return tin;
 }
 
@@ -115,11 +101,7 @@ Result<DemInfo> ResolveDem(DemStore& dems, const std::string& name) {
 }
 
 Result<SurfaceBuildReport> BuildSurfaceFromDem(Store& store, const SurfaceBuildOptions& options) {
-  TerrainMethod terrain;
-  if (options.method != "collapse" && !ParseTerrainMethod(options.method, &terrain))
-    return Status::InvalidArgument("unknown TIN method '" + options.method +
-                                   "' (known: greedy, vip, rtin, collapse)");
-  if (options.method == "collapse" && options.collapse.faces < 2)
+  if (options.method == TerrainMethod::kCollapse && options.collapse.faces < 2)
     return Status::InvalidArgument("the collapse method needs a face budget of at least 2");
   if (options.surface.empty()) return Status::InvalidArgument("a surface needs a name");
   SurfaceStore surfaces(store);
@@ -131,7 +113,7 @@ Result<SurfaceBuildReport> BuildSurfaceFromDem(Store& store, const SurfaceBuildO
   SurfaceBuildReport report;
   auto start = std::chrono::steady_clock::now();
   SurfaceInfo spec;
-  TB_ASSIGN_OR_RETURN(Tin tin, options.method == "greedy"
+  TB_ASSIGN_OR_RETURN(Tin tin, options.method == TerrainMethod::kGreedy
                                    ? BuildGreedy(dems, dem, options, &spec, &report)
                                    : BuildInMemory(dems, dem, options, &spec, &report));
   report.build_seconds = SecondsSince(start);
@@ -139,7 +121,7 @@ Result<SurfaceBuildReport> BuildSurfaceFromDem(Store& store, const SurfaceBuildO
   start = std::chrono::steady_clock::now();
   TB_ASSIGN_OR_RETURN(auto tx, store.BeginWrite());
   spec.name = options.surface;
-  spec.method = options.method;
+  spec.method = TerrainMethodName(options.method);
   spec.dem = dem.id;
   TB_ASSIGN_OR_RETURN(report.surface, surfaces.Create(spec, tin));
   TB_ASSIGN_OR_RETURN(report.tx, AppendChange(store, BuildChange(report.surface, tin)));

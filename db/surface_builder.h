@@ -3,7 +3,8 @@
 // Runs a core TIN builder on the DEM (greedy streams it block by block, so its DEM may be larger
 // than memory; the others read the level-0 grid into memory) and writes
 // vertices, triangles, neighbour links, visibility, blocks and a `changes` row together: on any
-// error nothing is written. Builders, by `method`:
+// error nothing is written. Builders, by `method` (core/tin/terrain_builder.h TerrainMethod; the
+// surface's `method` column records its canonical spelling):
 //   greedy    greedy insertion to a vertical tolerance (core/tin/greedy_builder.h); a
 //             `delaunay` surface.
 //   vip       very important points (core/tin/vip_builder.h) above a threshold, Delaunay; no
@@ -22,6 +23,7 @@
 #include "core/base/status.h"
 #include "core/tin/edge_collapse.h"
 #include "core/tin/greedy_builder.h"
+#include "core/tin/terrain_builder.h"
 #include "db/dem_store.h"
 #include "db/store.h"
 #include "db/surface_store.h"
@@ -31,10 +33,10 @@ namespace tinbase {
 struct SurfaceBuildOptions {
   std::string surface;            // new surface name
   std::string dem;                // DEM name; empty: the store's only DEM
-  std::string method = "greedy";  // "greedy", "vip", "rtin" or "collapse"
-  GreedyOptions greedy;           // tolerance (greedy, rtin) and max_points (greedy, vip)
-  double vip_threshold = 1.0;     // vip: the significance threshold in metres
-  CollapseOptions collapse;       // for collapse
+  TerrainMethod method = TerrainMethod::kGreedy;
+  GreedyOptions greedy;        // tolerance (greedy, rtin) and max_points (greedy, vip)
+  double vip_threshold = 1.0;  // vip: the significance threshold in metres
+  CollapseOptions collapse;    // for collapse
 };
 
 struct SurfaceBuildReport {
@@ -52,7 +54,8 @@ struct SurfaceBuildReport {
 // choices when there are several, NotFound when there is none).
 Result<DemInfo> ResolveDem(DemStore& dems, const std::string& name);
 
-// Conflict when the surface name is taken; InvalidArgument for an unknown method or bad options.
+// Conflict when the surface name is taken; InvalidArgument for bad options; Corruption or IOError
+// naming the DEM block when a block the builder needs cannot be read (never taken for nodata).
 Result<SurfaceBuildReport> BuildSurfaceFromDem(Store& store, const SurfaceBuildOptions& options);
 
 }  // namespace tinbase

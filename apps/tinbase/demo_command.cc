@@ -97,7 +97,7 @@ int RunDemo(const DemoArgs& args) {
         PolygonAddOptions o;
         o.surface = "terrain";
         o.file = geology;
-        o.mode = "fill";
+        o.mode = FeatureMode::kFill;
         o.tag_field = "unitname";
         TB_ASSIGN_OR_RETURN(auto r, AddPolygons(*store, o));
         return std::to_string(r.features) + " geological units (fill, tag = unitname), " +

@@ -13,10 +13,19 @@ namespace {
 struct AddArgs {
   std::string store;
   PolygonAddOptions options;
+  std::string mode;  // parsed into options.mode by the handler
   double level = 0;
 };
 
+// --mode's text as a FeatureMode: the one place a polygon command reads a mode string.
+Status ParseModeOption(const std::string& text, PolygonAddOptions* options) {
+  if (text.empty()) return Status::Ok();  // update: keep the feature's mode
+  TB_ASSIGN_OR_RETURN(options->mode, ParseFeatureMode(text));
+  return Status::Ok();
+}
+
 int RunAdd(AddArgs args, bool level_given) {
+  if (Status s = ParseModeOption(args.mode, &args.options); !s.ok()) return ReportError(s);
   auto store = Store::Open(args.store);
   if (!store.ok()) return ReportError(store.status());
   if (level_given) args.options.level = args.level;
@@ -25,11 +34,11 @@ int RunAdd(AddArgs args, bool level_given) {
   if (!report.ok()) return ReportError(report.status());
   for (const std::string& failure : report->failures)
     std::cerr << "tinbase: not added: " << failure << "\n";
-  std::cout << "added " << report->features << " " << args.options.mode << " feature(s) to '"
+  std::cout << "added " << report->features << " " << args.mode << " feature(s) to '"
             << args.options.surface << "' (" << report->ring_vertices
             << " draped ring vertices): " << report->removed << " triangles replaced by "
-            << report->added << ", " << report->visible << " of them visible; transaction " << report->tx
-            << " in " << Num(watch.Seconds(), 3) << " s\n";
+            << report->added << ", " << report->visible << " of them visible; transaction "
+            << report->tx << " in " << Num(watch.Seconds(), 3) << " s\n";
   return report->failures.empty() ? kExitOk : kExitFailure;
 }
 
@@ -37,6 +46,7 @@ struct EditArgs {
   std::string store;
   int64_t id = 0;
   PolygonAddOptions options;
+  std::string mode;  // update: parsed into options.mode by the handler; empty keeps the old one
   double level = 0;
 };
 
@@ -57,6 +67,7 @@ int RunRemove(const EditArgs& args) {
 }
 
 int RunUpdate(EditArgs args, bool level_given) {
+  if (Status s = ParseModeOption(args.mode, &args.options); !s.ok()) return ReportError(s);
   auto store = Store::Open(args.store);
   if (!store.ok()) return ReportError(store.status());
   if (level_given) args.options.level = args.level;
@@ -79,8 +90,7 @@ void RegisterPolygonCommands(CLI::App& app, int* exit_code) {
   add->add_option("file", args->options.file, "Vector file (GeoJSON, GeoPackage, shapefile, ...)")
       ->required();
   add->add_option("--surface", args->options.surface, "Surface name")->required();
-  add->add_option("--mode", args->options.mode, "clip, erase, fill, replace or breakline")
-      ->required();
+  add->add_option("--mode", args->mode, "clip, erase, fill, replace or breakline")->required();
   add->add_option("--layer", args->options.layer, "Layer name (default: the only layer)");
   add->add_option("--where", args->options.where, "OGR attribute filter, e.g. \"code = 'A-b'\"");
   add->add_option("--tag-field", args->options.tag_field, "Field whose value tags the triangles");
@@ -104,7 +114,7 @@ void RegisterPolygonCommands(CLI::App& app, int* exit_code) {
   update->add_option("store", update_args->store, "Store file")->required();
   update->add_option("id", update_args->id, "Feature id")->required();
   update->add_option("file", update_args->options.file, "Vector file")->required();
-  update->add_option("--mode", update_args->options.mode, "New mode (default: the old one)");
+  update->add_option("--mode", update_args->mode, "New mode (default: the old one)");
   update->add_option("--layer", update_args->options.layer, "Layer name");
   update->add_option("--where", update_args->options.where, "OGR attribute filter");
   update->add_option("--tag-field", update_args->options.tag_field, "Field giving the tag");

@@ -1,4 +1,5 @@
-// Kernel: `tin build` (a terrain surface from a stored DEM, by greedy insertion or edge collapse).
+// Kernel: `tin build` (a terrain surface from a stored DEM by one of the builders of
+// core/tin/terrain_builder.h). --method's text is parsed here into a TerrainMethod, once.
 #include <algorithm>
 #include <iostream>
 #include <string>
@@ -16,28 +17,32 @@ namespace {
 struct BuildArgs {
   std::string store;
   SurfaceBuildOptions options;
+  std::string method = "greedy";  // parsed into options.method by the handler
   std::string strategy = "quadric";
   // Method-specific options the user gave, with the methods they apply to: one given to a
   // method that would ignore it is an error, not a silent no-op.
-  std::vector<std::pair<CLI::Option*, std::vector<std::string>>> method_options;
+  std::vector<std::pair<CLI::Option*, std::vector<TerrainMethod>>> method_options;
 };
 
-Status CheckMethodOptions(const BuildArgs& args) {
+Status CheckMethodOptions(const BuildArgs& args, TerrainMethod method) {
   for (const auto& [option, methods] : args.method_options) {
-    if (option->count() == 0 ||
-        std::find(methods.begin(), methods.end(), args.options.method) != methods.end())
+    if (option->count() == 0 || std::find(methods.begin(), methods.end(), method) != methods.end())
       continue;
     std::string list;
-    for (const std::string& m : methods) list += (list.empty() ? "" : " or ") + m;
+    for (TerrainMethod m : methods)
+      list += (list.empty() ? "" : " or ") + std::string(TerrainMethodName(m));
     return Status::InvalidArgument(option->get_name() + " applies only to --method " + list +
-                                   ", not " + args.options.method);
+                                   ", not " + TerrainMethodName(method));
   }
   return Status::Ok();
 }
 
 int RunBuild(const BuildArgs& args) {
-  if (Status s = CheckMethodOptions(args); !s.ok()) return ReportError(s);
+  auto method = ParseTerrainMethod(args.method);
+  if (!method.ok()) return ReportError(method.status());
+  if (Status s = CheckMethodOptions(args, *method); !s.ok()) return ReportError(s);
   SurfaceBuildOptions options = args.options;
+  options.method = *method;
   if (!ParseCollapseStrategy(args.strategy, &options.collapse.strategy)) {
     return ReportError(Status::InvalidArgument("unknown collapse strategy '" + args.strategy +
                                                "' (known: quadric, paper)"));
@@ -52,7 +57,7 @@ int RunBuild(const BuildArgs& args) {
             << Num(report->quality.rms_error, 4) << " m; built in " << Num(report->build_seconds, 3)
             << " s, written in " << Num(report->write_seconds, 3) << " s (transaction "
             << report->tx << ")\n";
-  if (options.method == "collapse" && !report->collapse.budget_met) {
+  if (options.method == TerrainMethod::kCollapse && !report->collapse.budget_met) {
     std::cout << "note: no allowed collapse was left at " << report->collapse.faces_out
               << " faces, above the budget of " << options.collapse.faces
               << " (the outline's corners and plan-view validity come first)\n";
@@ -69,7 +74,7 @@ void RegisterTinCommands(CLI::App& app, int* exit_code) {
   CLI::App* build = tin->add_subcommand("build", "Build a terrain surface from a DEM");
   build->add_option("store", args->store, "Store file")->required();
   build->add_option("--surface", args->options.surface, "Name of the new surface")->required();
-  build->add_option("--method", args->options.method,
+  build->add_option("--method", args->method,
                     "Builder: greedy or rtin (to a tolerance), vip (to a significance "
                     "threshold) or collapse (to a face budget)");
   CLI::Option* threshold =
@@ -88,11 +93,11 @@ void RegisterTinCommands(CLI::App& app, int* exit_code) {
       build->add_option("--strategy", args->strategy,
                         "collapse: quadric (Garland-Heckbert, default) or paper (short, flat, low "
                         "degree first; vertices stay DEM samples)");
-  args->method_options = {{threshold, {"vip"}},
-                          {tolerance, {"greedy", "rtin"}},
-                          {max_points, {"greedy", "vip"}},
-                          {faces, {"collapse"}},
-                          {strategy, {"collapse"}}};
+  args->method_options = {{threshold, {TerrainMethod::kVip}},
+                          {tolerance, {TerrainMethod::kGreedy, TerrainMethod::kRtin}},
+                          {max_points, {TerrainMethod::kGreedy, TerrainMethod::kVip}},
+                          {faces, {TerrainMethod::kCollapse}},
+                          {strategy, {TerrainMethod::kCollapse}}};
   build->callback([=] { *exit_code = RunBuild(*args); });
 }
 

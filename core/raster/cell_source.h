@@ -5,8 +5,10 @@
 // Callers ask for a span of one row and get a pointer to as much of it as lies contiguous in
 // memory (to the edge of a block), then ask again for the rest. A streamed source cannot fail
 // in the middle of a scan without making every caller error-aware in its inner loop, so it is
-// sticky instead (as LevelDB's iterators): a block that cannot be read reads as nodata and
-// status() reports the first error; callers check it when they finish.
+// sticky instead (as LevelDB's iterators): a block that cannot be read reads as NaN and status()
+// reports the first error. Callers check status() when they finish and, when it is not OK,
+// return it and drop what they computed: a failed read is an error (Corruption, IOError), never
+// "no data here".
 // Thread-safety: a source is used by one thread at a time.
 #pragma once
 

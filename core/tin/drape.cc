@@ -1,13 +1,14 @@
 #include "core/tin/drape.h"
 
 #include <cmath>
+#include <string>
 
 namespace tinbase {
 
 namespace {
 
 struct Drape {
-  const ElevationFn& elevation;
+  const DrapeElevationFn& elevation;
   const DrapeOptions& options;
   std::vector<TinVertex> out;
 
@@ -17,7 +18,9 @@ struct Drape {
     const double length = std::hypot(b.x - a.x, b.y - a.y);
     if (length <= 2 * options.min_spacing || depth > 30) return Status::Ok();
     TinVertex mid{(a.x + b.x) / 2, (a.y + b.y) / 2, 0, VertexKind::kRing};
-    mid.z = elevation(mid.x, mid.y);
+    auto z = elevation(mid.x, mid.y);
+    if (!z.ok()) return z.status().WithContext("vertex " + std::to_string(vertex));
+    mid.z = *z;
     if (!std::isfinite(mid.z))
       return Status::InvalidArgument("vertex " + std::to_string(vertex) + ": no elevation at " +
                                      FormatPoint({mid.x, mid.y}) + " on the way to the next vertex");
@@ -31,14 +34,16 @@ struct Drape {
 }  // namespace
 
 Result<std::vector<TinVertex>> DrapePolyline(const std::vector<Point2>& points,
-                                             const ElevationFn& elevation,
+                                             const DrapeElevationFn& elevation,
                                              const DrapeOptions& options) {
   if (!(options.tolerance > 0) || !(options.min_spacing > 0))
     return Status::InvalidArgument("drape tolerance and spacing must be positive");
   if (points.size() < 2) return Status::InvalidArgument("a polyline needs at least 2 vertices");
   std::vector<TinVertex> lifted;
   for (size_t i = 0; i < points.size(); ++i) {
-    const double z = elevation(points[i].x, points[i].y);
+    auto read = elevation(points[i].x, points[i].y);
+    if (!read.ok()) return read.status().WithContext("vertex " + std::to_string(i));
+    const double z = *read;
     if (!std::isfinite(z))
       return Status::InvalidArgument("vertex " + std::to_string(i) + ": no elevation at " +
                                      FormatPoint(points[i]) + " (outside the DEM or on nodata)");

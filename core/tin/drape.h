@@ -5,6 +5,7 @@
 // DEM has no more detail to follow). Thread-safety: pure function.
 #pragma once
 
+#include <functional>
 #include <vector>
 
 #include "core/base/status.h"
@@ -14,6 +15,11 @@
 
 namespace tinbase {
 
+// The elevation the polyline is laid on, at a plan position. NaN means "no data here" (outside the
+// surface or on nodata); an error means the elevation could not be read (a DEM block that fails
+// to load), which is a different thing and travels back as that error.
+using DrapeElevationFn = std::function<Result<double>(double x, double y)>;
+
 struct DrapeOptions {
   double tolerance = 1.0;    // metres, > 0
   double min_spacing = 1.0;  // map units, > 0
@@ -21,9 +27,10 @@ struct DrapeOptions {
 };
 
 // The draped, densified polyline (kind kRing). InvalidArgument "vertex v: no elevation at (x, y)"
-// where `elevation` gives NaN (outside the DEM or on nodata) at an input vertex or an inserted one.
+// where `elevation` gives NaN (outside the DEM or on nodata) at an input vertex or an inserted one;
+// an error of `elevation` is returned with its code, as "vertex v: <its message>".
 Result<std::vector<TinVertex>> DrapePolyline(const std::vector<Point2>& points,
-                                             const ElevationFn& elevation,
+                                             const DrapeElevationFn& elevation,
                                              const DrapeOptions& options);
 
 }  // namespace tinbase

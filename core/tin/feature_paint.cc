@@ -74,28 +74,6 @@ class PointBuckets {
 
 }  // namespace
 
-const char* PaintModeName(PaintMode mode) {
-  switch (mode) {
-    case PaintMode::kClip:
-      return "clip";
-    case PaintMode::kErase:
-      return "erase";
-    case PaintMode::kFill:
-      return "fill";
-    case PaintMode::kReplace:
-      return "replace";
-  }
-  return "fill";
-}
-
-Result<PaintMode> ParsePaintMode(const std::string& name) {
-  for (PaintMode mode :
-       {PaintMode::kClip, PaintMode::kErase, PaintMode::kFill, PaintMode::kReplace})
-    if (name == PaintModeName(mode)) return mode;
-  return Status::InvalidArgument("unknown paint mode '" + name +
-                                 "' (expected clip, erase, fill or replace)");
-}
-
 Paint ComputePaint(const Tin& tin, const std::vector<PaintedFeature>& features) {
   const size_t n = tin.triangles.size();
   Paint paint;
@@ -112,10 +90,10 @@ Paint ComputePaint(const Tin& tin, const std::vector<PaintedFeature>& features) 
   for (const PaintedFeature& feature : features) {
     assert(feature.tag == kNoTag ||
            (feature.tag >= 0 && static_cast<size_t>(feature.tag) < tin.tags.size()));
-    if (feature.mode == PaintMode::kClip && in_clip.empty()) in_clip.assign(n, 0);
+    if (feature.mode == FeatureMode::kClip && in_clip.empty()) in_clip.assign(n, 0);
     if (!feature.inside || feature.inside->empty()) continue;
     const PolygonLocator& locator = *feature.inside;
-    if (feature.mode == PaintMode::kReplace) {
+    if (feature.mode == FeatureMode::kReplace) {
       // A vertex on the ring is part of the flat replaced area, so boundary counts.
       for (uint32_t v = 0; v < tin.vertices.size(); ++v) {
         const TinVertex& p = tin.vertices[v];
@@ -124,10 +102,10 @@ Paint ComputePaint(const Tin& tin, const std::vector<PaintedFeature>& features) 
         level[v] = feature.level;
       }
     }
-    if (feature.mode != PaintMode::kClip && feature.mode != PaintMode::kErase) continue;
+    if (feature.mode != FeatureMode::kClip && feature.mode != FeatureMode::kErase) continue;
     buckets.ForEachNear(locator.min(), locator.max(), [&](uint32_t t) {
       if (locator.Locate(centroids[t]) == PointInPolygon::kOutside) return;
-      if (feature.mode == PaintMode::kClip)
+      if (feature.mode == FeatureMode::kClip)
         in_clip[t] = 1;
       else
         paint.visible[t] = 0;
@@ -139,7 +117,7 @@ Paint ComputePaint(const Tin& tin, const std::vector<PaintedFeature>& features) 
   std::vector<uint8_t> decided(n, 0);
   for (auto it = features.rbegin(); it != features.rend(); ++it) {
     const PaintedFeature& feature = *it;
-    if (feature.mode != PaintMode::kFill && feature.mode != PaintMode::kReplace) continue;
+    if (feature.mode != FeatureMode::kFill && feature.mode != FeatureMode::kReplace) continue;
     if (!feature.inside || feature.inside->empty()) continue;
     const PolygonLocator& locator = *feature.inside;
     buckets.ForEachNear(locator.min(), locator.max(), [&](uint32_t t) {

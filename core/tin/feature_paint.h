@@ -1,5 +1,6 @@
 // Feature painting: every triangle's visibility and tag, recomputed from scratch from the
-// surface's polygon features (DESIGN.md, invariant 6 and the modes of paper 000).
+// surface's polygon features (docs/design.md, "Invariants", invariant 6; the modes come from
+// paper 000 of docs/design.md, "Where the ideas come from", and are core/tin/feature_mode.h).
 //
 //   clip     triangles outside the union of all clip polygons are invisible (no clip feature:
 //            nothing is hidden by clipping);
@@ -7,7 +8,8 @@
 //   fill     triangles inside get the feature's tag; features are applied in order, so a later
 //            one overrides an earlier one where they overlap;
 //   replace  as fill, and the vertices inside or on its rings take z = level (reported apart,
-//            since changing z is the update engine's decision, not a paint).
+//            since changing z is the update engine's decision, not a paint);
+//   breakline  paints nothing (its segments are constrained edges, nothing more).
 //
 // "Inside" for a triangle is decided by its centroid, with an exact even-odd test against the
 // polygons with their holes (PolygonLocator), so a triangle is never on both sides of a ring.
@@ -23,22 +25,16 @@
 #include "core/base/status.h"
 #include "core/geometry/polygon.h"
 #include "core/geometry/polygon_locator.h"
+#include "core/tin/feature_mode.h"
 #include "core/tin/tin.h"
 
 namespace tinbase {
-
-enum class PaintMode { kClip, kErase, kFill, kReplace };
-
-// Store spelling ("clip", "erase", "fill", "replace").
-const char* PaintModeName(PaintMode mode);
-// InvalidArgument naming `name` when it is not a painting mode (a "breakline" paints nothing).
-Result<PaintMode> ParsePaintMode(const std::string& name);
 
 struct PaintedFeature {
   // The union of the feature's polygons (valid, MakeValidPolygon, in the surface's CRS), shared
   // because the editor keeps it between transactions; null when none are near the triangles.
   std::shared_ptr<const PolygonLocator> inside;
-  PaintMode mode = PaintMode::kFill;
+  FeatureMode mode = FeatureMode::kFill;  // a breakline paints nothing
   int32_t tag = kNoTag;  // fill/replace: index into Tin::tags; kNoTag clears the tag
   double level = 0;      // replace: the z its vertices take
 };

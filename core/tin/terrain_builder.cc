@@ -1,6 +1,9 @@
 #include "core/tin/terrain_builder.h"
 
+#include <string>
+
 #include "core/tin/greedy_builder.h"
+#include "core/tin/grid_triangulation.h"
 #include "core/tin/rtin_builder.h"
 #include "core/tin/vip_builder.h"
 
@@ -25,21 +28,22 @@ const char* TerrainMethodName(TerrainMethod method) {
       return "vip";
     case TerrainMethod::kRtin:
       return "rtin";
+    case TerrainMethod::kCollapse:
+      return "collapse";
   }
-  return "greedy";
+  return "?";  // not reached: the switch covers every method
 }
 
-bool ParseTerrainMethod(const std::string& name, TerrainMethod* method) {
-  for (TerrainMethod m : {TerrainMethod::kGreedy, TerrainMethod::kVip, TerrainMethod::kRtin}) {
-    if (name == TerrainMethodName(m)) {
-      *method = m;
-      return true;
-    }
-  }
-  return false;
+Result<TerrainMethod> ParseTerrainMethod(std::string_view name) {
+  for (TerrainMethod m : kTerrainMethods)
+    if (name == TerrainMethodName(m)) return m;
+  return Status::InvalidArgument("unknown TIN method '" + std::string(name) +
+                                 "' (expected greedy, vip, rtin or collapse)");
 }
 
-bool IsDelaunayMethod(TerrainMethod method) { return method != TerrainMethod::kRtin; }
+bool IsDelaunayMethod(TerrainMethod method) {
+  return method == TerrainMethod::kGreedy || method == TerrainMethod::kVip;
+}
 
 Result<Tin> BuildTerrainTin(const Grid& dem, const TerrainBuildOptions& options,
                             TerrainBuildReport* report) {
@@ -78,6 +82,18 @@ Result<Tin> BuildTerrainTin(const Grid& dem, const TerrainBuildOptions& options,
       TB_ASSIGN_OR_RETURN(Tin tin, BuildRtinTin(dem, {.tolerance = options.tolerance}, &rtin));
       Fill(rtin, tin, &out);
       out.within_tolerance = true;
+      return tin;
+    }
+    case TerrainMethod::kCollapse: {
+      const Tin full = GridTriangulation(dem);
+      if (full.triangles.empty())
+        return Status::InvalidArgument("the DEM has no 2 x 2 cells of data to triangulate");
+      TB_ASSIGN_OR_RETURN(Tin tin,
+                          CollapseToFaceBudget(full, options.collapse, &out.collapse, &dem));
+      out.max_error = out.collapse.max_error;
+      out.rms_error = out.collapse.rms_error;
+      out.points = out.collapse.vertices_out;
+      out.triangles = static_cast<int64_t>(tin.triangles.size());
       return tin;
     }
   }

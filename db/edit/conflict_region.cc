@@ -149,7 +149,7 @@ Status RegionFinder::SeedRemovedReplaceInsides() {
     if (!f.ok()) return f.status();
     region_.removed_features.push_back(std::move(*f));
     const EditorFeature& removed = region_.removed_features.back();
-    if (removed.mode != "replace") continue;
+    if (removed.mode != FeatureMode::kReplace) continue;
     polygons.insert(polygons.end(), removed.polygons.begin(), removed.polygons.end());
     box.Add(BoxOf(removed));
   }
@@ -366,7 +366,7 @@ Result<std::vector<SnappedLine>> RegionFinder::SetAsidePresentSegments(
     std::vector<SnappedLine> lines) {
   bool has_replace = false;
   for (const EditorFeature& f : edit_.features)
-    has_replace |= f.mode == "replace" && !f.polygons.empty();
+    has_replace |= f.mode == FeatureMode::kReplace && !f.polygons.empty();
   if (has_replace || !edit_.remove.empty()) return lines;
   std::vector<SnappedLine> chains;
   for (SnappedLine& s : lines) {

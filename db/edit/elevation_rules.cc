@@ -12,7 +12,7 @@ ElevationRules::ElevationRules(DemStore& dems, const DemInfo& dem,
     : dems_(dems), dem_(dem), restore_(std::move(restore)) {
   std::vector<Polygon> replace_polygons;
   for (const EditorFeature& f : features) {
-    if (f.mode != "replace") continue;
+    if (f.mode != FeatureMode::kReplace) continue;
     locators_.push_back(InsideOf(f));
     levels_.push_back(f.level.value_or(0));
     replace_polygons.insert(replace_polygons.end(), f.polygons.begin(), f.polygons.end());

@@ -32,13 +32,13 @@ NearRings NoteFeatures(const BlockGrid& g, const BlockWindow& window, const Loca
   window_box.Add(Point2{high.x + reach, high.y + reach});
   const auto note = [&](const EditorFeature& f, bool is_changed) {
     if (!is_changed && !BoxOf(f).Meets(window_box)) return;  // no ring of it near the window
-    if (IsBreakline(f.mode) || !ParsePaintMode(f.mode).ok()) return;
+    if (f.mode == FeatureMode::kBreakline) return;
     near.near_any.AddBlocks(RingBlocksOf(f, g));
     if (!is_changed) return;
     near.near_changed.AddBlocks(RingBlocksOf(f, g));
     near.changed.insert(near.changed.end(), f.polygons.begin(), f.polygons.end());
-    near.anywhere |= f.mode == "clip";
-    near.per_triangle |= f.mode == "replace";
+    near.anywhere |= f.mode == FeatureMode::kClip;
+    near.per_triangle |= f.mode == FeatureMode::kReplace;
   };
   for (const EditorFeature& f : edit.features) note(f, added_ids.count(f.id) > 0);
   for (const EditorFeature& f : removed_features) note(f, true);

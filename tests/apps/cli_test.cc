@@ -263,7 +263,7 @@ TEST_F(CliTest, PolygonAddRemoveUpdateAndFeatureExport) {
   ExpectRejected(
       store_,
       "polygon add " + Quote(store_) + " " + Quote(square) + " --surface terrain --mode paint",
-      "unknown paint mode 'paint'");
+      "unknown feature mode 'paint' (expected clip, erase, fill, replace or breakline)");
 }
 
 TEST_F(CliTest, BadInputIsRejectedAndChangesNothing) {

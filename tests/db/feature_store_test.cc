@@ -38,7 +38,7 @@ TEST(FeatureStoreTest, FeatureSurfaceIsTheInsideWithoutTheHole) {
   PolygonAddOptions o;
   o.surface = "terrain";
   o.file = testing::WritePolygons(dir, "p.geojson", {{shell, hole}});
-  o.mode = "fill";
+  o.mode = FeatureMode::kFill;
   o.tag = "granite";
   auto added = AddPolygons(**store, o);
   ASSERT_TRUE(added.ok()) << added.status().ToString();

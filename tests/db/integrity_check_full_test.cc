@@ -88,7 +88,7 @@ TEST_F(FullCheckTest, PolygonsAddedKeepPaintAndTolerance) {
   PolygonAddOptions o;
   o.surface = "terrain";
   o.file = DataPath("geology/hamersley/geology.geojson");
-  o.mode = "fill";
+  o.mode = FeatureMode::kFill;
   o.tag_field = "unitname";
   auto added = AddPolygons(*store_, o);
   ASSERT_TRUE(added.ok()) << added.status().ToString();
@@ -121,7 +121,7 @@ TEST_F(FullCheckTest, RingAHairOffAColumnOfCellCentresKeepsTheTolerance) {
   PolygonAddOptions o;
   o.surface = "terrain";
   o.file = file;
-  o.mode = "fill";
+  o.mode = FeatureMode::kFill;
   o.tag_field = "unit";
   auto added = AddPolygons(*store_, o);
   ASSERT_TRUE(added.ok()) << added.status().ToString();

@@ -40,7 +40,7 @@ class MeshCacheTest : public ::testing::Test {
     add.file = WritePolygons(dir_, "p.geojson",
                              {{Ngon(kCx, kCy, 20 * kCell, 60)},
                               {Ngon(kCx + 15 * kCell, kCy, 12 * kCell, 40, 0.4)}});
-    add.mode = "fill";
+    add.mode = FeatureMode::kFill;
     add.tag_field = "unit";
     auto added = AddPolygons(*store_, add);
     ASSERT_TRUE(added.ok()) << added.status().ToString();

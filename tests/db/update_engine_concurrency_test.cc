@@ -59,7 +59,7 @@ class UpdateEngineConcurrencyTest : public ::testing::Test {
     PolygonAddOptions o;
     o.surface = "terrain";
     o.file = file;
-    o.mode = "fill";
+    o.mode = FeatureMode::kFill;
     o.tag_field = "unit";
     return o;
   }

@@ -98,16 +98,16 @@ std::vector<PointList> RandomPolygon(const std::vector<PointList>& earlier) {
   return rings;
 }
 
-std::string RandomMode() {
+FeatureMode RandomMode() {
   switch (*rc::gen::inRange(0, 8)) {
     case 0:
-      return "erase";
+      return FeatureMode::kErase;
     case 1:
-      return "clip";
+      return FeatureMode::kClip;
     case 2:
-      return "replace";
+      return FeatureMode::kReplace;
     default:
-      return "fill";
+      return FeatureMode::kFill;
   }
 }
 
@@ -168,10 +168,10 @@ RC_GTEST_PROP(UpdateEngineProperty, RandomEditSequencesKeepEveryInvariant, ()) {
       o.surface = "terrain";
       o.file = file;
       o.mode = RandomMode();
-      if (o.mode == "replace") o.level = *rc::gen::inRange(300, 700);
-      what = "step " + std::to_string(step) + ": add " + o.mode;
+      if (o.mode == FeatureMode::kReplace) o.level = *rc::gen::inRange(300, 700);
+      what = "step " + std::to_string(step) + ": add " + FeatureModeName(*o.mode);
       report = AddPolygons(store, o);
-      if (report.ok()) alive.push_back({report->first_feature_id, o.mode});
+      if (report.ok()) alive.push_back({report->first_feature_id, FeatureModeName(*o.mode)});
     } else if (op == 3) {  // update
       const size_t k = *rc::gen::inRange<size_t>(0, alive.size());
       PolygonAddOptions o;
@@ -215,7 +215,7 @@ RC_GTEST_PROP(UpdateEngineProperty, LoadsFeatureByFeatureKeepOnlyCurrentRows, ()
   o.surface = "terrain";
   o.file = testing::WritePolygons(dir, "each.geojson", polygons);
   o.mode = RandomMode();
-  if (o.mode == "replace") o.level = *rc::gen::inRange(300, 700);
+  if (o.mode == FeatureMode::kReplace) o.level = *rc::gen::inRange(300, 700);
   o.each = true;
   const bool inject = *rc::gen::inRange(0, 2) == 0;
   const int fail_edit = *rc::gen::inRange(1, count + 1);
@@ -229,7 +229,8 @@ RC_GTEST_PROP(UpdateEngineProperty, LoadsFeatureByFeatureKeepOnlyCurrentRows, ()
                                      },
                                      /*verify_mesh=*/true});
   auto report = AddPolygons(store, o);
-  const std::string what = "--each " + o.mode + " of " + std::to_string(count);
+  const std::string what =
+      std::string("--each ") + FeatureModeName(*o.mode) + " of " + std::to_string(count);
   if (!report.ok()) {
     // Every feature failed (validation); nothing was written.
     RC_ASSERT(report.status().code() == StatusCode::kInvalidArgument);

@@ -123,7 +123,9 @@ class UpdateEngineTest : public ::testing::Test {
     PolygonAddOptions o;
     o.surface = "terrain";
     o.file = file;
-    o.mode = mode;
+    auto parsed = ParseFeatureMode(mode);
+    if (!parsed.ok()) return parsed.status();
+    o.mode = *parsed;
     o.tag_field = mode == "fill" || mode == "replace" ? "unit" : "";
     o.level = level;
     return AddPolygons(*store_, o);
@@ -185,7 +187,7 @@ class UpdateEngineTest : public ::testing::Test {
                                     const std::vector<std::vector<PointList>>& rings) {
     PolygonAddOptions o;
     o.surface = "terrain";
-    o.mode = "fill";
+    o.mode = FeatureMode::kFill;
     o.tag_field = "unit";
     o.each = true;
     o.file = WritePolygons(dir_, name, rings);
@@ -367,7 +369,7 @@ TEST_F(UpdateEngineTest, LargeFillRepaintsWholeBlocksOverOtherFeatures) {
     PolygonAddOptions o;
     o.surface = "terrain";
     o.file = WritePolygons(dir_, name, {{ring}});
-    o.mode = mode;
+    o.mode = *ParseFeatureMode(mode);
     o.tag = tag;
     const auto before = Rows();
     auto report = AddPolygons(*store_, o);
@@ -462,7 +464,7 @@ TEST(UpdateEngineNodataTest, PolygonsNearNodataKeepEveryInvariant) {
   for (int k = 0; k < 3; ++k) {
     PolygonAddOptions add;
     add.surface = "terrain";
-    add.mode = k == 1 ? "erase" : "fill";
+    add.mode = k == 1 ? FeatureMode::kErase : FeatureMode::kFill;
     add.tag = "unit" + std::to_string(k);
     add.file = WritePolygons(
         dir, "p" + std::to_string(k) + ".geojson",
@@ -504,7 +506,7 @@ TEST(UpdateEngineNodataTest, LargeFillAroundANodataHole) {
   ASSERT_GT(hidden(), 0);
   PolygonAddOptions big;
   big.surface = "terrain";
-  big.mode = "fill";
+  big.mode = FeatureMode::kFill;
   big.tag = "big";
   big.file = WritePolygons(dir, "big.geojson", {{Ngon(500600, 5199400, 500, 48)}}, 32632);
   auto added = AddPolygons(**store, big);
@@ -683,7 +685,7 @@ TEST_F(UpdateEngineTest, RepairTurnsABowTieIntoTwoPolygons) {
   const PointList bow_tie = BowTie(5 * kCell);
   PolygonAddOptions o;
   o.surface = "terrain";
-  o.mode = "fill";
+  o.mode = FeatureMode::kFill;
   o.tag = "bow";
   o.file = WritePolygons(dir_, "bow.geojson", {{bow_tie}});
   auto rejected = AddPolygons(*store_, o);
@@ -702,7 +704,7 @@ TEST_F(UpdateEngineTest, RepairTurnsABowTieIntoTwoPolygons) {
 TEST_F(UpdateEngineTest, EachCommitsFeatureByFeature) {
   PolygonAddOptions o;
   o.surface = "terrain";
-  o.mode = "fill";
+  o.mode = FeatureMode::kFill;
   o.each = true;
   o.file = WritePolygons(dir_, "two.geojson",
                          {{Ngon(kCx, kCy, 5 * kCell, 12)}, {Ngon(505374, kCy, 10 * kCell, 12)}});
@@ -720,7 +722,7 @@ TEST_F(UpdateEngineTest, EachCommitsFeatureByFeature) {
 TEST_F(UpdateEngineTest, EachForgetsTheFeatureOfAFailedTransaction) {
   PolygonAddOptions o;
   o.surface = "terrain";
-  o.mode = "fill";
+  o.mode = FeatureMode::kFill;
   o.tag_field = "unit";
   o.each = true;
   std::vector<std::vector<PointList>> rings;
@@ -855,7 +857,7 @@ TEST_F(UpdateEngineTest, EachReportsInvalidFeaturesAndAddsTheOthers) {
   const PointList bow_tie = BowTie(3 * kCell);
   PolygonAddOptions o;
   o.surface = "terrain";
-  o.mode = "fill";
+  o.mode = FeatureMode::kFill;
   o.tag = "unit";
   o.file = WritePolygons(dir_, "three.geojson",
                          {{Ngon(kCx - 12 * kCell, kCy, 4 * kCell, 12)},
@@ -934,7 +936,7 @@ TEST_F(UpdateEngineTest, ManyFeaturesOverMostOfTheSurfaceReplaceItWhole) {
   PolygonAddOptions o;
   o.surface = kMapSurface;
   o.file = file;
-  o.mode = "fill";
+  o.mode = FeatureMode::kFill;
   o.tag_field = "unit";
   auto report = AddPolygons(*store_, o);
   ASSERT_TRUE(report.ok()) << report.status().ToString();
@@ -984,7 +986,7 @@ TEST_F(UpdateEngineTest, FailureAtEveryWriteStepOfAWholeSurfaceEditRollsBack) {
   PolygonAddOptions o;
   o.surface = kMapSurface;
   o.file = file;
-  o.mode = "fill";
+  o.mode = FeatureMode::kFill;
   o.tag_field = "unit";
   EXPECT_EQ(FailEachWriteStepUntilItSucceeds(o).removed, triangles_before)
       << "not the whole-surface path";
@@ -997,7 +999,7 @@ TEST_F(UpdateEngineTest, FailureAtEveryWriteStepRollsBack) {
   PolygonAddOptions o;
   o.surface = "terrain";
   o.file = WritePolygons(dir_, "b.geojson", {{Ngon(kCx + 5 * kCell, kCy, 7 * kCell, 19, 0.5)}});
-  o.mode = "erase";
+  o.mode = FeatureMode::kErase;
   FailEachWriteStepUntilItSucceeds(o);
 }
 

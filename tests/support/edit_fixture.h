@@ -83,7 +83,7 @@ class EditFixture : public ::testing::Test {
     EditorFeature f;
     f.id = id;
     f.label = "feature " + std::to_string(id);
-    f.mode = "fill";
+    f.mode = FeatureMode::kFill;
     f.tag = tag;
     Polygon polygon;
     for (size_t k = 0; k + 1 < ring.size(); ++k)

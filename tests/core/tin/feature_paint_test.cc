@@ -25,7 +25,7 @@ Ring Box(double x0, double y0, double x1, double y1) {
   return {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}};
 }
 
-PaintedFeature Feature(PaintMode mode, std::vector<Polygon> polygons, int32_t tag = kNoTag,
+PaintedFeature Feature(FeatureMode mode, std::vector<Polygon> polygons, int32_t tag = kNoTag,
                        double level = 0) {
   PaintedFeature f;
   f.mode = mode;
@@ -51,12 +51,15 @@ bool InBox(const Point2& p, double x0, double y0, double x1, double y1) {
 
 size_t Count(const std::vector<uint8_t>& v) { return std::count(v.begin(), v.end(), 1); }
 
-TEST(ParsePaintMode, RoundTripsTheStoreSpelling) {
-  for (PaintMode m : {PaintMode::kClip, PaintMode::kErase, PaintMode::kFill, PaintMode::kReplace})
-    EXPECT_EQ(*ParsePaintMode(PaintModeName(m)), m);
-  auto bad = ParsePaintMode("breakline");
-  ASSERT_FALSE(bad.ok());
-  EXPECT_NE(bad.status().message().find("'breakline'"), std::string::npos);
+// A breakline is a feature mode but paints nothing (its parsing: feature_mode_test.cc).
+TEST(FeaturePaint, BreaklinePaintsNothing) {
+  Tin tin = MakeGridTin(10, 10, 1.0);
+  tin.tags = {"unit"};
+  const Paint paint =
+      ComputePaint(tin, {Feature(FeatureMode::kBreakline, {{Box(0, 0, 10, 10), {}}}, 0, 5)});
+  EXPECT_EQ(Count(paint.visible), tin.triangles.size());
+  for (int32_t tag : paint.tag) EXPECT_EQ(tag, kNoTag);
+  EXPECT_TRUE(paint.levels.empty());
 }
 
 TEST(FeaturePaint, NoFeaturesLeaveEverythingVisibleAndUntagged) {
@@ -69,11 +72,11 @@ TEST(FeaturePaint, NoFeaturesLeaveEverythingVisibleAndUntagged) {
 
 TEST(FeaturePaint, ClipKeepsTheUnionOfClipPolygons) {
   const Tin tin = MakeGridTin(40, 40, 1.0);
-  const Paint one = ComputePaint(tin, {Feature(PaintMode::kClip, {{Box(10, 10, 30, 30), {}}})});
+  const Paint one = ComputePaint(tin, {Feature(FeatureMode::kClip, {{Box(10, 10, 30, 30), {}}})});
   EXPECT_EQ(Count(one.visible), 20u * 20u * 2u);
   // Two clip features overlapping: the union, not the intersection.
-  const Paint two = ComputePaint(tin, {Feature(PaintMode::kClip, {{Box(0, 0, 10, 10), {}}}),
-                                       Feature(PaintMode::kClip, {{Box(5, 5, 20, 20), {}}})});
+  const Paint two = ComputePaint(tin, {Feature(FeatureMode::kClip, {{Box(0, 0, 10, 10), {}}}),
+                                       Feature(FeatureMode::kClip, {{Box(5, 5, 20, 20), {}}})});
   for (size_t t = 0; t < tin.triangles.size(); ++t) {
     const Point2 c = CentroidOf(tin, t);
     EXPECT_EQ(two.visible[t] != 0, InBox(c, 0, 0, 10, 10) || InBox(c, 5, 5, 20, 20)) << t;
@@ -84,7 +87,7 @@ TEST(FeaturePaint, ClipKeepsTheUnionOfClipPolygons) {
 TEST(FeaturePaint, EraseHidesTheInsideButNotTheHole) {
   const Tin tin = MakeGridTin(40, 40, 1.0);
   const Polygon holed{Box(5, 5, 35, 35), {Box(15, 15, 25, 25)}};
-  const Paint paint = ComputePaint(tin, {Feature(PaintMode::kErase, {holed})});
+  const Paint paint = ComputePaint(tin, {Feature(FeatureMode::kErase, {holed})});
   EXPECT_EQ(tin.triangles.size() - Count(paint.visible), (30u * 30u - 10u * 10u) * 2u);
   for (size_t t = 0; t < tin.triangles.size(); ++t) {
     const Point2 c = CentroidOf(tin, t);
@@ -92,8 +95,8 @@ TEST(FeaturePaint, EraseHidesTheInsideButNotTheHole) {
     EXPECT_EQ(paint.visible[t] == 0, erased) << t;
   }
   // Clip and erase together: only what both leave.
-  const Paint both = ComputePaint(tin, {Feature(PaintMode::kErase, {holed}),
-                                        Feature(PaintMode::kClip, {{Box(0, 0, 20, 40), {}}})});
+  const Paint both = ComputePaint(tin, {Feature(FeatureMode::kErase, {holed}),
+                                        Feature(FeatureMode::kClip, {{Box(0, 0, 20, 40), {}}})});
   for (size_t t = 0; t < tin.triangles.size(); ++t) {
     const Point2 c = CentroidOf(tin, t);
     const bool shown =
@@ -106,9 +109,9 @@ TEST(FeaturePaint, LaterFillsWinWhereTheyOverlap) {
   Tin tin = MakeGridTin(40, 40, 1.0);
   tin.tags = {"sand", "clay", "rock"};
   const std::vector<PaintedFeature> features = {
-      Feature(PaintMode::kFill, {{Box(0, 0, 20, 40), {}}}, 0),
-      Feature(PaintMode::kFill, {{Box(10, 0, 30, 40), {Box(12, 12, 14, 14)}}}, 1),
-      Feature(PaintMode::kFill, {{Box(25, 25, 40, 40), {}}, {Box(0, 35, 5, 40), {}}}, 2)};
+      Feature(FeatureMode::kFill, {{Box(0, 0, 20, 40), {}}}, 0),
+      Feature(FeatureMode::kFill, {{Box(10, 0, 30, 40), {Box(12, 12, 14, 14)}}}, 1),
+      Feature(FeatureMode::kFill, {{Box(25, 25, 40, 40), {}}, {Box(0, 35, 5, 40), {}}}, 2)};
   const Paint paint = ComputePaint(tin, features);
   for (size_t t = 0; t < tin.triangles.size(); ++t) {
     const Point2 c = CentroidOf(tin, t);
@@ -127,8 +130,8 @@ TEST(FeaturePaint, ReplaceTagsAndLevelsVerticesInsideAndOnTheRing) {
   Tin tin = MakeGridTin(30, 30, 2.0, 100, 200, [](double x, double y) { return x + y; });
   tin.tags = {"lake", "quarry"};
   const std::vector<PaintedFeature> features = {
-      Feature(PaintMode::kReplace, {{Box(110, 210, 130, 230), {}}}, 0, 55.5),
-      Feature(PaintMode::kReplace, {{Box(126, 226, 140, 240), {}}}, 1, 77.25)};
+      Feature(FeatureMode::kReplace, {{Box(110, 210, 130, 230), {}}}, 0, 55.5),
+      Feature(FeatureMode::kReplace, {{Box(126, 226, 140, 240), {}}}, 1, 77.25)};
   const Paint paint = ComputePaint(tin, features);
   size_t second = 0;
   for (const VertexLevel& level : paint.levels) {
@@ -225,8 +228,8 @@ TEST(FeaturePaint, LargeRingsOverManyTrianglesAgreeWithGeos) {
   }());
   ASSERT_TRUE(valid.ok()) << valid.status().ToString();
   const std::vector<std::vector<Polygon>> polygons = {{*valid}, {{Star(60, 160, 40, 500, 11), {}}}};
-  const std::vector<PaintedFeature> features = {Feature(PaintMode::kFill, polygons[0], 0),
-                                                Feature(PaintMode::kFill, polygons[1], 1)};
+  const std::vector<PaintedFeature> features = {Feature(FeatureMode::kFill, polygons[0], 0),
+                                                Feature(FeatureMode::kFill, polygons[1], 1)};
   const Paint paint = ComputePaint(tin, features);
   ExpectMatchesOgr(tin, features, polygons, paint, 7);
 }
@@ -250,7 +253,7 @@ TEST(FeaturePaint, HamersleyGeologyFillAgreesWithGeos) {
   for (const PolygonFeature& f : *geology) {
     tin.tags.push_back(f.attributes["unitname"].get<std::string>());
     features.push_back(
-        Feature(PaintMode::kFill, f.polygons, static_cast<int32_t>(tin.tags.size() - 1)));
+        Feature(FeatureMode::kFill, f.polygons, static_cast<int32_t>(tin.tags.size() - 1)));
     polygons.push_back(f.polygons);
   }
   const Paint paint = ComputePaint(tin, features);

@@ -1,11 +1,15 @@
-// The terrain builder dispatches to greedy, VIP and RTIN, and says which results are Delaunay.
+// The terrain builder dispatches to greedy, VIP, RTIN and edge collapse, says which results are
+// Delaunay, and parses exactly the canonical method names.
 #include "core/tin/terrain_builder.h"
 
 #include <gtest/gtest.h>
 
+#include <set>
 #include <string>
 
+#include "core/tin/edge_collapse.h"
 #include "core/tin/greedy_builder.h"
+#include "core/tin/grid_triangulation.h"
 #include "core/tin/rtin_builder.h"
 #include "core/tin/vip_builder.h"
 #include "tests/support/lattice_tin_checks.h"
@@ -39,14 +43,24 @@ int64_t NonDelaunayEdges(const Tin& tin) {
 }
 
 TEST(TerrainBuilderTest, MethodNamesRoundTrip) {
-  for (TerrainMethod m : {TerrainMethod::kGreedy, TerrainMethod::kVip, TerrainMethod::kRtin}) {
-    TerrainMethod parsed = TerrainMethod::kGreedy;
-    ASSERT_TRUE(ParseTerrainMethod(TerrainMethodName(m), &parsed));
-    EXPECT_EQ(parsed, m);
+  std::set<std::string> names;
+  for (TerrainMethod m : kTerrainMethods) {
+    names.insert(TerrainMethodName(m));
+    auto parsed = ParseTerrainMethod(TerrainMethodName(m));
+    ASSERT_TRUE(parsed.ok()) << parsed.status().ToString();
+    EXPECT_EQ(*parsed, m);
   }
-  TerrainMethod unchanged = TerrainMethod::kVip;
-  EXPECT_FALSE(ParseTerrainMethod("martini", &unchanged));
-  EXPECT_EQ(unchanged, TerrainMethod::kVip);
+  EXPECT_EQ(names, (std::set<std::string>{"greedy", "vip", "rtin", "collapse"}));
+}
+
+TEST(TerrainBuilderTest, UnknownMethodNamesTheValueAndTheChoices) {
+  for (const std::string bad : {"martini", "", "Greedy", "greedy ", "edge-collapse"}) {
+    auto parsed = ParseTerrainMethod(bad);
+    ASSERT_FALSE(parsed.ok()) << "'" << bad << "'";
+    EXPECT_EQ(parsed.status().code(), StatusCode::kInvalidArgument);
+    EXPECT_EQ(parsed.status().message(),
+              "unknown TIN method '" + bad + "' (expected greedy, vip, rtin or collapse)");
+  }
 }
 
 TEST(TerrainBuilderTest, DispatchesAndSaysWhetherDelaunay) {
@@ -95,6 +109,21 @@ TEST(TerrainBuilderTest, DispatchesAndSaysWhetherDelaunay) {
   EXPECT_GT(NonDelaunayEdges(*stretched), 0) << "an RTIN is not Delaunay: store it as free";
   EXPECT_LE(testing::FitToDem(*rtin, dem).max_error, tolerance + 1e-6);
   testing::ExpectTilesGridWithoutTJunctions(*rtin, dem);
+
+  const CollapseOptions budget{.faces = 2000};
+  auto collapse =
+      BuildTerrainTin(dem, {.method = TerrainMethod::kCollapse, .collapse = budget}, &report);
+  ASSERT_TRUE(collapse.ok()) << collapse.status().ToString();
+  CollapseReport direct_report;
+  auto direct_collapse = CollapseToFaceBudget(GridTriangulation(dem), budget, &direct_report, &dem);
+  ASSERT_TRUE(direct_collapse.ok());
+  EXPECT_EQ(collapse->triangles.size(), direct_collapse->triangles.size());
+  EXPECT_EQ(report.method, TerrainMethod::kCollapse);
+  EXPECT_FALSE(report.delaunay);
+  EXPECT_FALSE(report.within_tolerance);
+  EXPECT_TRUE(report.collapse.budget_met);
+  EXPECT_EQ(report.triangles, static_cast<int64_t>(collapse->triangles.size()));
+  EXPECT_DOUBLE_EQ(report.max_error, direct_report.max_error);
 }
 
 TEST(TerrainBuilderTest, GreedyStoppedByItsBudgetIsNotWithinTolerance) {

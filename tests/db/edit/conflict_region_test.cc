@@ -49,7 +49,7 @@ class ConflictRegionTest : public testing::EditFixture {
     PolygonAddOptions o;
     o.surface = "terrain";
     o.file = testing::WritePolygons(dir_, "stored.geojson", {{ring}});
-    o.mode = "fill";
+    o.mode = FeatureMode::kFill;
     o.tag = "t";
     auto report = AddPolygons(*store_, o);
     EXPECT_TRUE(report.ok()) << report.status().ToString();

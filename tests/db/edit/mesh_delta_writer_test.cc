@@ -31,7 +31,7 @@ class MeshDeltaWriterTest : public testing::EditFixture {
     o.surface = "terrain";
     o.file =
         testing::WritePolygons(dir_, "fill.geojson", {{Ngon(kEditCx, kEditCy, 5 * kEditCell, 13)}});
-    o.mode = "fill";
+    o.mode = FeatureMode::kFill;
     o.tag = "t";
     auto report = AddPolygons(*store_, o);
     ASSERT_TRUE(report.ok()) << report.status().ToString();
