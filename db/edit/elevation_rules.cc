@@ -46,8 +46,10 @@ bool ElevationRules::Replaced(const Point2& p) const {
 }
 
 double ElevationRules::DemZ(double x, double y) const {
-  auto z = dems_.Sample(dem_, x, y);
-  return z.ok() ? *z : std::numeric_limits<double>::quiet_NaN();
+  Result<double> z = dems_.Elevation(dem_, x, y);
+  if (z.ok()) return *z;
+  if (first_error_.ok()) first_error_ = z.status();
+  return std::numeric_limits<double>::quiet_NaN();
 }
 
 }  // namespace tinbase

@@ -29,8 +29,12 @@ class ElevationRules {
   // replace feature had flattened it (when the DEM has data there), else as stored.
   double TargetZ(const TinVertex& v) const;
   // z of a point the edit creates (ring points, crossings): the replace level or the DEM (NaN
-  // where the DEM has no data or cannot be read).
+  // where the DEM has no data; a failed read also gives NaN and is kept for status()).
   double NewZ(double x, double y) const;
+  // The first DEM read that failed (Corruption or IOError naming the block), else OK. The
+  // callers of TargetZ and NewZ run inside CGAL callbacks that cannot return an error, so a read
+  // failure is recorded here and checked after each stage: it is never mistaken for no data.
+  const Status& status() const { return first_error_; }
   // Whether `p` lies inside a replace feature: the tolerance does not apply there.
   bool Replaced(const Point2& p) const;
   // Whether some replace feature has a polygon.
@@ -46,6 +50,7 @@ class ElevationRules {
   std::unique_ptr<PolygonLocator> replaced_;  // the union of the replace features' polygons
   bool has_replace_polygons_ = false;
   std::shared_ptr<const PolygonLocator> restore_;
+  mutable Status first_error_;
 };
 
 }  // namespace tinbase

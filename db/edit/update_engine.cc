@@ -70,10 +70,12 @@ Result<EditResult> UpdateEngine::Apply(const LocalEdit& edit) {
   const ElevationRules rules(dems_, dem_, edit.features, region.restore);
   TB_ASSIGN_OR_RETURN(LocalPatch patch,
                       RetriangulateUntilSettled(ctx, rules, plan.paint_box, edit.remove, &region));
+  TB_RETURN_IF_ERROR(rules.status());
   // 4. Everything the edit changes, as one value; the last read of the edit.
   if (!page_cache_ || !page_cache_->raised())
     page_cache_ = std::make_unique<ScopedPageCache>(store_.db(), RowsWritten(region, patch, plan));
   TB_ASSIGN_OR_RETURN(const MeshDelta delta, BuildMeshDelta(ctx, rules, edit, region, patch, plan));
+  TB_RETURN_IF_ERROR(rules.status());
   // 5. The one writer, then the cache from the same delta.
   TB_ASSIGN_OR_RETURN(const int64_t repainted, WriteMeshDelta(store_.db(), delta, TEST_FaultStep));
   mesh->Apply(delta);
