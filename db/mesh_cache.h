@@ -1,6 +1,7 @@
 // MeshCache: the stored mesh rows of one surface that local edits and point location read
 // (triangles with their links and paint, vertices, constraint owners), loaded on demand by id and
-// kept in memory.
+// kept in memory. It reads the rows through MeshTables (db/mesh/mesh_tables.h) and holds them as
+// TriangleRow and VertexRow (db/mesh/mesh_rows.h).
 //
 // Within one edit every read happens before the first write, so the rows stay current. A load
 // feature by feature (`polygon add --each`) keeps one cache across its transactions: the engine
@@ -28,18 +29,16 @@
 #include "core/geometry/predicates.h"
 #include "core/tin/tin.h"
 #include "db/feature_store.h"
+#include "db/mesh/mesh_rows.h"
+#include "db/mesh/mesh_tables.h"
 #include "db/store.h"
 #include "db/surface_store.h"
 
 namespace tinbase {
 
-struct MeshTriangle {
-  std::array<int64_t, 3> v{};
-  std::array<std::optional<int64_t>, 3> n;
-  bool visible = true;
-  std::optional<int64_t> tag;  // tags.id
-  int64_t block = 0;           // of its centroid (core/tin/block_grid.h)
-};
+// The engine's name for a triangle row, kept while db/update_engine.cc moves to TriangleRow
+// (issue 23); to be removed once nothing uses it.
+using MeshTriangle = TriangleRow;
 
 class MeshCache {
  public:
@@ -53,7 +52,8 @@ class MeshCache {
   // each page (core/base/paged_id_map.h).
   static constexpr size_t kMaxKeptBytes = size_t{256} << 20;
 
-  MeshCache(Store& store, const SurfaceInfo& surface) : store_(store), surface_(surface) {}
+  MeshCache(Store& store, const SurfaceInfo& surface)
+      : store_(store), surface_(surface), tables_(store.db(), surface) {}
   MeshCache(const MeshCache&) = delete;
   MeshCache& operator=(const MeshCache&) = delete;
 
@@ -154,7 +154,6 @@ class MeshCache {
     }
   };
 
-  const MeshTriangle* Remember(int64_t id, const Statement& row);
   // Every constraint row of the surface into owners_ (complete).
   Status LoadOwners();
   // Whether every constraint row whose smaller vertex is `va` is in owners_.
@@ -171,6 +170,7 @@ class MeshCache {
 
   Store& store_;
   const SurfaceInfo& surface_;
+  MeshTables tables_;  // every row read goes through it
   PagedIdMap<MeshTriangle> triangles_;
   // Blocks whose every triangle is in triangles_: their ids, ascending.
   std::unordered_map<int64_t, std::vector<int64_t>> block_members_;
