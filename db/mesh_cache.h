@@ -99,10 +99,10 @@ class MeshCache {
   // range).
   Status ReadBlocks(const std::vector<int64_t>& packed);
   // Reads the vertices of triangles `ids` (cached) that are not cached yet, in ranges of ids:
-  // the builders give neighbouring vertices neighbouring ids (db/surface_store.cc), so the ids
-  // of a patch fall in runs. The constraint rows starting at a vertex of a range are read with
-  // them, so Owners() answers the edges from those vertices (nearly all unconstrained) without
-  // a lookup each.
+  // the surface writers give neighbouring vertices neighbouring ids (MeshTables::InsertVertices),
+  // so the ids of a patch fall in runs. The constraint rows starting at a vertex of a range are
+  // read with them, so Owners() answers the edges from those vertices (nearly all unconstrained)
+  // without a lookup each.
   Status ReadVerticesOf(const std::vector<int64_t>& ids);
   // Rows between two wanted ids less than kGap apart are read with them (a lookup by id costs
   // several times the next row of a range).
