@@ -8,6 +8,7 @@
 #include "core/tin/cell_cover.h"
 #include "core/tin/ring_blocks.h"
 #include "core/vector/feature_wkb.h"
+#include "db/mesh/mesh_tables.h"
 
 namespace tinbase {
 
@@ -156,10 +157,7 @@ Status WriteFeature(Store& store, const SurfaceInfo& surface, int64_t tx, Editor
 }
 
 Status DeleteFeature(Store& store, int64_t id) {
-  TB_ASSIGN_OR_RETURN(Statement * constraints,
-                      store.db().Cached("DELETE FROM constraints WHERE feature = ?"));
-  constraints->Bind(1, id);
-  TB_RETURN_IF_ERROR(constraints->Run());
+  TB_RETURN_IF_ERROR(MeshTables::DeleteConstraintsOfFeature(store.db(), id));
   TB_ASSIGN_OR_RETURN(Statement * feature, store.db().Cached("DELETE FROM features WHERE id = ?"));
   feature->Bind(1, id);
   return feature->Run();
@@ -220,66 +218,65 @@ Result<LoadedSurface> LoadFeatureSurface(Store& store, int64_t feature) {
                                    " is a breakline: it has no inside to export");
   const PolygonLocator& inside = *InsideOf(f);
   const Box box = BoxOf(f);
-  TB_ASSIGN_OR_RETURN(Statement * triangles,
-                      store.db().Cached("SELECT t.id, t.v0, t.v1, t.v2, g.value FROM triangles t "
-                                        "LEFT JOIN tags g ON g.id = t.tag WHERE t.surface = ? "
-                                        "AND t.block BETWEEN ? AND ?"));
-  TB_ASSIGN_OR_RETURN(Statement * vertex,
-                      store.db().Cached("SELECT x, y, z, kind FROM vertices WHERE id = ?"));
+  MeshTables tables(store.db(), surface);
   LoadedSurface out;
   std::unordered_map<int64_t, uint32_t> index;
-  std::map<std::string, int32_t> tags;
   const auto vertex_index = [&](int64_t id) -> Result<uint32_t> {
     if (auto it = index.find(id); it != index.end()) return it->second;
-    vertex->Bind(1, id);
-    TB_ASSIGN_OR_RETURN(bool row, vertex->Step());
-    if (!row) {
-      vertex->Reset();
+    Result<VertexRow> v = tables.Vertex(id);
+    if (v.status().code() == StatusCode::kNotFound)
       return Status::Corruption("vertex " + std::to_string(id) + " is used but missing");
-    }
-    TinVertex v{vertex->ColumnDouble(0), vertex->ColumnDouble(1), vertex->ColumnDouble(2)};
-    ParseVertexKind(vertex->ColumnText(3), &v.kind);
-    vertex->Reset();
+    TB_RETURN_IF_ERROR(v.status());
     index.emplace(id, static_cast<uint32_t>(out.tin.vertices.size()));
-    out.tin.vertices.push_back(v);
+    out.tin.vertices.push_back(*v);
     out.vertex_ids.push_back(id);
     return index.at(id);
+  };
+  // Tag id -> index into out.tin.tags; kNoTag for an id the tags table lacks (as no tag).
+  std::unordered_map<int64_t, int32_t> tags;
+  const auto tag_index = [&](int64_t id) -> Result<int32_t> {
+    if (auto it = tags.find(id); it != tags.end()) return it->second;
+    Result<std::string> value = tables.TagValue(id);
+    int32_t at = kNoTag;
+    if (value.ok()) {
+      at = static_cast<int32_t>(out.tin.tags.size());
+      out.tin.tags.push_back(*value);
+    } else if (value.status().code() != StatusCode::kNotFound) {
+      return value.status();
+    }
+    tags.emplace(id, at);
+    return at;
   };
   const BlockGrid& g = surface.blocks;
   const int64_t bx0 = g.ColumnOf(box.min_x), bx1 = g.ColumnOf(box.max_x);
   for (int64_t by = g.RowOf(box.min_y); by <= g.RowOf(box.max_y); ++by) {
-    triangles->Bind(1, surface.id)
-        .Bind(2, BlockGrid::Pack(bx0, by))
-        .Bind(3, BlockGrid::Pack(bx1, by));
-    std::vector<std::pair<int64_t, std::array<int64_t, 4>>> rows;  // id, v0..v2, tag?
-    std::vector<std::optional<std::string>> row_tags;
-    for (;;) {
-      TB_ASSIGN_OR_RETURN(bool row, triangles->Step());
-      if (!row) break;
-      rows.push_back(
-          {triangles->ColumnInt(0),
-           {triangles->ColumnInt(1), triangles->ColumnInt(2), triangles->ColumnInt(3), 0}});
-      row_tags.push_back(triangles->ColumnIsNull(4)
-                             ? std::nullopt
-                             : std::optional<std::string>(triangles->ColumnText(4)));
+    // The rows of a run of blocks first: the vertex lookups below use statements of their own.
+    std::vector<std::pair<int64_t, TriangleRow>> rows;
+    {
+      TB_ASSIGN_OR_RETURN(
+          TriangleCursor cursor,
+          tables.TrianglesInBlocks(BlockGrid::Pack(bx0, by), BlockGrid::Pack(bx1, by)));
+      int64_t id = 0;
+      for (TriangleRow row;;) {
+        TB_ASSIGN_OR_RETURN(bool more, cursor.Next(&id, &row));
+        if (!more) break;
+        rows.emplace_back(id, row);
+      }
     }
-    triangles->Reset();
-    for (size_t k = 0; k < rows.size(); ++k) {
+    for (const auto& [id, row] : rows) {
       TinTriangle t;
       for (int i = 0; i < 3; ++i) {
-        TB_ASSIGN_OR_RETURN(t.v[i], vertex_index(rows[k].second[i]));
+        TB_ASSIGN_OR_RETURN(t.v[i], vertex_index(row.v[i]));
       }
       const TinVertex &a = out.tin.vertices[t.v[0]], &b = out.tin.vertices[t.v[1]],
                       &c = out.tin.vertices[t.v[2]];
       if (inside.Locate({(a.x + b.x + c.x) / 3, (a.y + b.y + c.y) / 3}) == PointInPolygon::kOutside)
         continue;
-      if (row_tags[k]) {
-        auto [it, added] = tags.emplace(*row_tags[k], static_cast<int32_t>(out.tin.tags.size()));
-        if (added) out.tin.tags.push_back(*row_tags[k]);
-        t.tag = it->second;
+      if (row.tag) {
+        TB_ASSIGN_OR_RETURN(t.tag, tag_index(*row.tag));
       }
       out.tin.triangles.push_back(t);
-      out.triangle_ids.push_back(rows[k].first);
+      out.triangle_ids.push_back(id);
     }
   }
   // Vertices of triangles left outside were read too; keep only the used ones.

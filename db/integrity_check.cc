@@ -16,18 +16,17 @@
 #include "db/dem_cell_source.h"
 #include "db/dem_store.h"
 #include "db/feature_store.h"
+#include "db/mesh/mesh_rows.h"
+#include "db/mesh/mesh_tables.h"
 #include "db/surface_store.h"
 
 namespace tinbase {
 
 namespace {
 
-struct Row {
+// A triangle row with its id and what CheckTriangles found of it.
+struct Row : TriangleRow {
   int64_t id = 0;
-  std::array<int64_t, 3> v{};
-  std::array<std::optional<int64_t>, 3> n;
-  int64_t block = 0;
-  std::optional<int64_t> tag;
   bool valid = false;  // all three vertices exist
   int orientation = 0;
 };
@@ -67,59 +66,36 @@ class SurfaceChecker {
 
  private:
   Status Read() {
-    SqliteDb& db = store_.db();
-    TB_ASSIGN_OR_RETURN(
-        Statement * vertices,
-        db.Cached("SELECT id, x, y FROM vertices " + SurfaceRowsInIdOrder("vertices", "vertices")));
-    vertices->Bind(1, surface_.id);
-    for (;;) {
-      TB_ASSIGN_OR_RETURN(bool row, vertices->Step());
-      if (!row) break;
-      vertex_ids_.push_back(vertices->ColumnInt(0));
-      points_.Put(vertices->ColumnInt(0),
-                  Point2{vertices->ColumnDouble(1), vertices->ColumnDouble(2)});
-    }
-    vertices->Reset();
-
-    TB_ASSIGN_OR_RETURN(Statement * triangles,
-                        db.Cached("SELECT id, v0, v1, v2, n0, n1, n2, block, tag FROM triangles " +
-                                  SurfaceRowsInIdOrder("triangles", "triangles")));
-    triangles->Bind(1, surface_.id);
-    for (;;) {
-      TB_ASSIGN_OR_RETURN(bool row, triangles->Step());
-      if (!row) break;
-      Row r;
-      r.id = triangles->ColumnInt(0);
-      for (int i = 0; i < 3; ++i) {
-        r.v[i] = triangles->ColumnInt(1 + i);
-        if (!triangles->ColumnIsNull(4 + i)) r.n[i] = triangles->ColumnInt(4 + i);
+    MeshTables tables(store_.db(), surface_);
+    {
+      TB_ASSIGN_OR_RETURN(VertexCursor vertices, tables.Vertices());
+      int64_t id = 0;
+      for (VertexRow v;;) {
+        TB_ASSIGN_OR_RETURN(bool row, vertices.Next(&id, &v));
+        if (!row) break;
+        vertex_ids_.push_back(id);
+        points_.Put(id, Point2{v.x, v.y});
       }
-      r.block = triangles->ColumnInt(7);
-      if (!triangles->ColumnIsNull(8)) r.tag = triangles->ColumnInt(8);
-      index_.Put(r.id, static_cast<uint32_t>(rows_.size()));
-      rows_.push_back(r);
     }
-    triangles->Reset();
-
-    TB_ASSIGN_OR_RETURN(Statement * tags, db.Cached("SELECT id FROM tags"));
-    for (;;) {
-      TB_ASSIGN_OR_RETURN(bool row, tags->Step());
-      if (!row) break;
-      tag_ids_.insert(tags->ColumnInt(0));
+    {
+      TB_ASSIGN_OR_RETURN(TriangleCursor triangles, tables.Triangles());
+      for (Row r;;) {
+        TB_ASSIGN_OR_RETURN(bool row, triangles.Next(&r.id, &r));
+        if (!row) break;
+        index_.Put(r.id, static_cast<uint32_t>(rows_.size()));
+        rows_.push_back(r);
+      }
     }
-    tags->Reset();
-
-    TB_ASSIGN_OR_RETURN(Statement * constraints,
-                        db.Cached("SELECT va, vb FROM constraints WHERE surface = ? "
-                                  "ORDER BY va, vb"));
-    constraints->Bind(1, surface_.id);
-    for (;;) {
-      TB_ASSIGN_OR_RETURN(bool row, constraints->Step());
-      if (!row) break;
-      const int64_t a = constraints->ColumnInt(0), b = constraints->ColumnInt(1);
-      constraints_.emplace_back(std::min(a, b), std::max(a, b));
+    TB_ASSIGN_OR_RETURN(const auto tags, tables.TagValues());
+    for (const auto& [id, value] : tags) tag_ids_.insert(id);
+    {
+      TB_ASSIGN_OR_RETURN(ConstraintCursor constraints, tables.Constraints());
+      for (ConstraintRow c;;) {
+        TB_ASSIGN_OR_RETURN(bool row, constraints.Next(&c));
+        if (!row) break;
+        constraints_.emplace_back(std::min(c.va, c.vb), std::max(c.va, c.vb));
+      }
     }
-    constraints->Reset();
     std::sort(constraints_.begin(), constraints_.end());
     return Status::Ok();
   }

@@ -1,8 +1,9 @@
-// IntegrityCheck: verifies the invariants a store promises (DESIGN.md 1-5, 8 and that every tag
-// exists; with the `full` option also 6 and 7), as PRAGMA integrity_check does for SQLite. Each
-// broken invariant is a coded Problem naming the
-// surface and triangle, in a stable order (by surface, then triangle id), so the first one is
-// what `tinbase check` reports. Thread-safety: reads through one Store.
+// IntegrityCheck: verifies the invariants a store promises (docs/design.md, "Invariants": 1-5, 8
+// and that every tag exists; with the `full` option also 6 and 7), as PRAGMA integrity_check does
+// for SQLite. Each broken invariant is a coded Problem naming the surface and triangle, in a
+// stable order (by surface, then triangle id), so the first one is what `tinbase check` reports.
+// It reads the rows through MeshTables (db/mesh/mesh_tables.h). Thread-safety: reads through one
+// Store.
 #pragma once
 
 #include <cstdint>

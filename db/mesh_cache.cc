@@ -12,25 +12,6 @@ namespace {
 
 MeshCache::Edge Key(int64_t a, int64_t b) { return {std::min(a, b), std::max(a, b)}; }
 
-// The vertex of a row whose columns from `first` on are x, y, z, kind.
-TinVertex VertexFromRow(const Statement& row, int first) {
-  TinVertex v{row.ColumnDouble(first), row.ColumnDouble(first + 1), row.ColumnDouble(first + 2)};
-  if (!ParseVertexKind(row.ColumnText(first + 3), &v.kind)) v.kind = VertexKind::kUser;
-  return v;
-}
-
-// Column 0 of every row of the bound statement `stmt`, as integers; resets it.
-Result<std::vector<int64_t>> FirstColumn(Statement& stmt) {
-  std::vector<int64_t> values;
-  for (;;) {
-    TB_ASSIGN_OR_RETURN(bool row, stmt.Step());
-    if (!row) break;
-    values.push_back(stmt.ColumnInt(0));
-  }
-  stmt.Reset();
-  return values;
-}
-
 const std::vector<int64_t>& NoOwners() {
   static const std::vector<int64_t> none;
   return none;
@@ -89,7 +70,7 @@ void MeshCache::ForgetAllRows() {
 }
 
 void MeshCache::ForgetTriangle(int64_t id) {
-  const MeshTriangle* cached = triangles_.Find(id);
+  const TriangleRow* cached = triangles_.Find(id);
   if (cached == nullptr) return;  // then its block is not kept either
   if (auto members = block_members_.find(cached->block); members != block_members_.end()) {
     std::vector<int64_t>& ids = members->second;
@@ -99,7 +80,7 @@ void MeshCache::ForgetTriangle(int64_t id) {
   triangles_.Erase(id);
 }
 
-void MeshCache::PutTriangle(int64_t id, const MeshTriangle& t) {
+void MeshCache::PutTriangle(int64_t id, const TriangleRow& t) {
   if (!triangles_.Put(id, t)) return;  // a row rewritten in place keeps its block
   if (auto members = block_members_.find(t.block); members != block_members_.end()) {
     std::vector<int64_t>& ids = members->second;
@@ -108,7 +89,7 @@ void MeshCache::PutTriangle(int64_t id, const MeshTriangle& t) {
 }
 
 void MeshCache::Repaint(int64_t id, bool visible, const std::optional<int64_t>& tag) {
-  if (MeshTriangle* cached = triangles_.Find(id)) {
+  if (TriangleRow* cached = triangles_.Find(id)) {
     cached->visible = visible;
     cached->tag = tag;
   }
@@ -139,47 +120,29 @@ void MeshCache::ForgetAllOwners() {
   owner_ranges_.clear();
 }
 
-Result<const MeshTriangle*> MeshCache::Triangle(int64_t id) {
-  if (const MeshTriangle* cached = triangles_.Find(id)) return cached;
-  TB_ASSIGN_OR_RETURN(Statement * stmt,
-                      store_.db().Cached("SELECT v0, v1, v2, n0, n1, n2, visible, tag, block "
-                                         "FROM triangles WHERE id = ? AND surface = ?"));
-  stmt->Bind(1, id).Bind(2, surface_.id);
-  TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
-  if (!row) {
-    stmt->Reset();
+Result<const TriangleRow*> MeshCache::Triangle(int64_t id) {
+  if (const TriangleRow* cached = triangles_.Find(id)) return cached;
+  Result<TriangleRow> row = tables_.Triangle(id);
+  if (row.status().code() == StatusCode::kNotFound)
     return Status::Corruption("surface '" + surface_.name + "': triangle " + std::to_string(id) +
                               " is linked but missing");
-  }
-  const MeshTriangle* t = Remember(id, *stmt);
-  stmt->Reset();
-  return t;
+  TB_RETURN_IF_ERROR(row.status());
+  return &triangles_.Emplace(id, *row);
 }
 
 Result<bool> MeshCache::HasTriangle(int64_t id) {
   if (triangles_.Contains(id)) return true;
-  TB_ASSIGN_OR_RETURN(Statement * stmt,
-                      store_.db().Cached("SELECT 1 FROM triangles WHERE id = ? AND surface = ?"));
-  stmt->Bind(1, id).Bind(2, surface_.id);
-  TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
-  stmt->Reset();
-  return row;
+  return tables_.HasTriangle(id);
 }
 
 Result<const TinVertex*> MeshCache::Vertex(int64_t id) {
   if (const TinVertex* cached = vertices_.Find(id)) return cached;
-  TB_ASSIGN_OR_RETURN(Statement * stmt, store_.db().Cached("SELECT x, y, z, kind FROM vertices "
-                                                           "WHERE id = ? AND surface = ?"));
-  stmt->Bind(1, id).Bind(2, surface_.id);
-  TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
-  if (!row) {
-    stmt->Reset();
+  Result<VertexRow> row = tables_.Vertex(id);
+  if (row.status().code() == StatusCode::kNotFound)
     return Status::Corruption("surface '" + surface_.name + "': vertex " + std::to_string(id) +
                               " is used but missing");
-  }
-  const TinVertex v = VertexFromRow(*stmt, 0);
-  stmt->Reset();
-  return &vertices_.Emplace(id, v);
+  TB_RETURN_IF_ERROR(row.status());
+  return &vertices_.Emplace(id, *row);
 }
 
 Result<Point2> MeshCache::At(int64_t vertex) {
@@ -191,84 +154,60 @@ Result<const std::vector<int64_t>*> MeshCache::Owners(int64_t a, int64_t b) {
   const Edge e = Key(a, b);
   if (auto it = owners_.find(e); it != owners_.end()) return &it->second;
   if (owners_complete_ || KnowsOwnersOf(e.first)) return &NoOwners();
-  TB_ASSIGN_OR_RETURN(Statement * stmt,
-                      store_.db().Cached("SELECT coalesce(feature, 0) FROM constraints WHERE "
-                                         "surface = ? AND va = ? AND vb = ?"));
-  stmt->Bind(1, surface_.id).Bind(2, e.first).Bind(3, e.second);
-  TB_ASSIGN_OR_RETURN(std::vector<int64_t> owners, FirstColumn(*stmt));
+  TB_ASSIGN_OR_RETURN(std::vector<int64_t> owners, tables_.Owners(e.first, e.second));
   return &owners_.emplace(e, std::move(owners)).first->second;
 }
 
 Result<std::vector<MeshCache::Edge>> MeshCache::EdgesOf(int64_t feature) {
-  TB_ASSIGN_OR_RETURN(Statement * stmt,
-                      store_.db().Cached("SELECT va, vb FROM constraints WHERE surface = ? AND "
-                                         "feature = ?"));
-  stmt->Bind(1, surface_.id).Bind(2, feature);
+  TB_ASSIGN_OR_RETURN(const std::vector<ConstraintRow> rows, tables_.ConstraintsOfFeature(feature));
   std::vector<Edge> edges;
-  for (;;) {
-    TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
-    if (!row) break;
-    edges.push_back(Key(stmt->ColumnInt(0), stmt->ColumnInt(1)));
-  }
-  stmt->Reset();
+  edges.reserve(rows.size());
+  for (const ConstraintRow& c : rows) edges.push_back(Key(c.va, c.vb));
   return edges;
 }
 
 Result<std::vector<int64_t>> MeshCache::LoadSurface() {
-  SqliteDb& db = store_.db();
   std::vector<int64_t> ids;
-  TB_ASSIGN_OR_RETURN(Statement * triangles,
-                      db.Cached("SELECT t.v0, t.v1, t.v2, t.n0, t.n1, t.n2, t.visible, t.tag, "
-                                "t.block, t.id FROM triangles t " +
-                                SurfaceRowsInIdOrder("triangles", "t")));
-  triangles->Bind(1, surface_.id);
-  for (;;) {
-    TB_ASSIGN_OR_RETURN(bool row, triangles->Step());
-    if (!row) break;
-    const int64_t id = triangles->ColumnInt(9);
-    if (!triangles_.Contains(id)) Remember(id, *triangles);
-    ids.push_back(id);
+  {
+    TB_ASSIGN_OR_RETURN(TriangleCursor triangles, tables_.Triangles());
+    int64_t id = 0;
+    for (TriangleRow row;;) {
+      TB_ASSIGN_OR_RETURN(bool more, triangles.Next(&id, &row));
+      if (!more) break;
+      if (!triangles_.Contains(id)) triangles_.Emplace(id, row);
+      ids.push_back(id);
+    }
   }
-  triangles->Reset();
   // Every triangle is held now, so every block's members are known (ids ascending, as read).
   block_members_.clear();
   for (int64_t id : ids) block_members_[triangles_.Find(id)->block].push_back(id);
-  TB_ASSIGN_OR_RETURN(Statement * vertices,
-                      db.Cached("SELECT v.x, v.y, v.z, v.kind, v.id FROM vertices v " +
-                                SurfaceRowsInIdOrder("vertices", "v")));
-  vertices->Bind(1, surface_.id);
-  for (;;) {
-    TB_ASSIGN_OR_RETURN(bool row, vertices->Step());
-    if (!row) break;
-    vertices_.Emplace(vertices->ColumnInt(4), VertexFromRow(*vertices, 0));
+  {
+    TB_ASSIGN_OR_RETURN(VertexCursor vertices, tables_.Vertices());
+    int64_t id = 0;
+    for (VertexRow row;;) {
+      TB_ASSIGN_OR_RETURN(bool more, vertices.Next(&id, &row));
+      if (!more) break;
+      vertices_.Emplace(id, row);
+    }
   }
-  vertices->Reset();
   TB_RETURN_IF_ERROR(LoadOwners());
   whole_surface_ = true;
   return ids;
 }
 
 Status MeshCache::LoadOwners() {
-  TB_ASSIGN_OR_RETURN(Statement * constraints,
-                      store_.db().Cached("SELECT va, vb, coalesce(feature, 0) FROM constraints "
-                                         "WHERE surface = ?"));
-  constraints->Bind(1, surface_.id);
+  TB_ASSIGN_OR_RETURN(ConstraintCursor constraints, tables_.Constraints());
   owners_.clear();  // rebuilt whole: an entry read before holds the same owners
-  for (;;) {
-    TB_ASSIGN_OR_RETURN(bool row, constraints->Step());
-    if (!row) break;
-    owners_[Key(constraints->ColumnInt(0), constraints->ColumnInt(1))].push_back(
-        constraints->ColumnInt(2));
+  for (ConstraintRow c;;) {
+    TB_ASSIGN_OR_RETURN(bool more, constraints.Next(&c));
+    if (!more) break;
+    owners_[Key(c.va, c.vb)].push_back(c.feature.value_or(0));
   }
-  constraints->Reset();
   owners_complete_ = true;
   return Status::Ok();
 }
 
-Result<int64_t> MeshCache::StoredConstraintRows() {
-  return store_.db().QueryInt("SELECT count(*) FROM constraints WHERE surface = " +
-                              std::to_string(surface_.id));
-}
+Result<int64_t> MeshCache::StoredConstraintRows() { return tables_.CountConstraints(); }
 
 Status MeshCache::LoadOwnersIfFew() {
   TB_ASSIGN_OR_RETURN(const int64_t rows, StoredConstraintRows());
@@ -297,21 +236,16 @@ Status MeshCache::TrianglesInBlocks(int64_t by, int64_t bx0, int64_t bx1,
     }
     return Status::Ok();
   }
-  TB_ASSIGN_OR_RETURN(Statement * stmt,
-                      store_.db().Cached("SELECT v0, v1, v2, n0, n1, n2, visible, tag, block, id "
-                                         "FROM triangles WHERE surface = ? AND block BETWEEN ? "
-                                         "AND ? ORDER BY block, id"));
-  stmt->Bind(1, surface_.id).Bind(2, first).Bind(3, last);
+  TB_ASSIGN_OR_RETURN(TriangleCursor rows, tables_.TrianglesInBlocks(first, last));
   std::vector<std::vector<int64_t>> members(static_cast<size_t>(last - first + 1));
-  for (;;) {
-    TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
-    if (!row) break;
-    const int64_t id = stmt->ColumnInt(9);
-    if (!triangles_.Contains(id)) Remember(id, *stmt);
-    members[static_cast<size_t>(stmt->ColumnInt(8) - first)].push_back(id);
+  int64_t id = 0;
+  for (TriangleRow row;;) {
+    TB_ASSIGN_OR_RETURN(bool more, rows.Next(&id, &row));
+    if (!more) break;
+    if (!triangles_.Contains(id)) triangles_.Emplace(id, row);
+    members[static_cast<size_t>(row.block - first)].push_back(id);
     ids->push_back(id);
   }
-  stmt->Reset();
   for (int64_t b = first; b <= last; ++b)
     block_members_[b] = std::move(members[static_cast<size_t>(b - first)]);
   return Status::Ok();
@@ -335,30 +269,26 @@ Status MeshCache::ReadBlocks(const std::vector<int64_t>& packed) {
 Status MeshCache::ReadVerticesOf(const std::vector<int64_t>& ids) {
   std::vector<int64_t> wanted;
   for (int64_t t : ids) {
-    const MeshTriangle* tri = triangles_.Find(t);
+    const TriangleRow* tri = triangles_.Find(t);
     if (tri == nullptr) continue;
     for (int64_t v : tri->v)
       if (!vertices_.Contains(v)) wanted.push_back(v);
   }
   std::sort(wanted.begin(), wanted.end());
   wanted.erase(std::unique(wanted.begin(), wanted.end()), wanted.end());
-  // By rowid alone: with the surface in the WHERE clause SQLite may pick the surface index and
-  // scan every vertex of the surface. Rows of other surfaces in a range are skipped.
-  TB_ASSIGN_OR_RETURN(Statement * range,
-                      store_.db().Cached("SELECT x, y, z, kind, id, surface FROM vertices "
-                                         "WHERE id BETWEEN ? AND ?"));
   for (size_t first = 0; first < wanted.size();) {
     size_t last = first;
     while (last + 1 < wanted.size() && wanted[last + 1] - wanted[last] < kGap) ++last;
-    range->Bind(1, wanted[first]).Bind(2, wanted[last]);
-    for (;;) {
-      TB_ASSIGN_OR_RETURN(bool row, range->Step());
-      if (!row) break;
-      const int64_t id = range->ColumnInt(4);
-      if (range->ColumnInt(5) == surface_.id && !vertices_.Contains(id))
-        vertices_.Emplace(id, VertexFromRow(*range, 0));
+    {
+      TB_ASSIGN_OR_RETURN(VertexCursor range,
+                          tables_.VerticesInIdRange(wanted[first], wanted[last]));
+      int64_t id = 0;
+      for (VertexRow row;;) {
+        TB_ASSIGN_OR_RETURN(bool more, range.Next(&id, &row));
+        if (!more) break;
+        if (!vertices_.Contains(id)) vertices_.Emplace(id, row);
+      }
     }
-    range->Reset();
     if (!owners_complete_) TB_RETURN_IF_ERROR(ReadOwnersOf(wanted[first], wanted[last]));
     first = last + 1;
   }
@@ -373,17 +303,13 @@ bool MeshCache::KnowsOwnersOf(int64_t va) const {
 }
 
 Status MeshCache::ReadOwnersOf(int64_t first, int64_t last) {
-  TB_ASSIGN_OR_RETURN(Statement * stmt,
-                      store_.db().Cached("SELECT va, vb, coalesce(feature, 0) FROM constraints "
-                                         "WHERE surface = ? AND va BETWEEN ? AND ?"));
-  stmt->Bind(1, surface_.id).Bind(2, first).Bind(3, last);
+  TB_ASSIGN_OR_RETURN(ConstraintCursor rows, tables_.ConstraintsFrom(first, last));
   std::unordered_map<Edge, std::vector<int64_t>, EdgeHash> read;
-  for (;;) {
-    TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
-    if (!row) break;
-    read[Key(stmt->ColumnInt(0), stmt->ColumnInt(1))].push_back(stmt->ColumnInt(2));
+  for (ConstraintRow c;;) {
+    TB_ASSIGN_OR_RETURN(bool more, rows.Next(&c));
+    if (!more) break;
+    read[Key(c.va, c.vb)].push_back(c.feature.value_or(0));
   }
-  stmt->Reset();
   // An edge already held is as stored (kept through the edits' writes).
   for (auto& [e, owners] : read) owners_.try_emplace(e, std::move(owners));
   // Past the bound the ranges are dropped (the owners read stay): a cache kept through a long
@@ -401,7 +327,7 @@ Result<std::vector<int64_t>> MeshCache::Star(int64_t vertex, int64_t start, bool
   for (int direction : {1, 2}) {  // across edge (v, next) ccw, then (v, previous) cw
     int64_t t = start;
     for (size_t guard = 0; guard < 100000; ++guard) {
-      TB_ASSIGN_OR_RETURN(const MeshTriangle* tri, Triangle(t));
+      TB_ASSIGN_OR_RETURN(const TriangleRow* tri, Triangle(t));
       int i = 0;
       while (i < 3 && tri->v[i] != vertex) ++i;
       if (i == 3)
@@ -427,14 +353,14 @@ Status MeshCache::VerifyAgainstStore() {
   MeshCache fresh(store_, surface_);
   const std::string where = "surface '" + surface_.name + "': cached ";
   Status status;
-  triangles_.ForEach([&](int64_t id, const MeshTriangle& t) {
+  triangles_.ForEach([&](int64_t id, const TriangleRow& t) {
     if (!status.ok()) return;
     auto stored = fresh.Triangle(id);
     if (!stored.ok()) {
       status = Status::Corruption(where + "triangle " + std::to_string(id) + " is not stored");
       return;
     }
-    const MeshTriangle& s = **stored;
+    const TriangleRow& s = **stored;
     if (s.v != t.v || s.n != t.n || s.visible != t.visible || s.tag != t.tag || s.block != t.block)
       status =
           Status::Corruption(where + "triangle " + std::to_string(id) + " differs from its row");
@@ -451,12 +377,8 @@ Status MeshCache::VerifyAgainstStore() {
       status = Status::Corruption(where + "vertex " + std::to_string(id) + " differs from its row");
   });
   TB_RETURN_IF_ERROR(status);
-  TB_ASSIGN_OR_RETURN(Statement * in_block,
-                      store_.db().Cached("SELECT id FROM triangles WHERE surface = ? AND block = ? "
-                                         "ORDER BY id"));
   for (const auto& [block, members] : block_members_) {
-    in_block->Bind(1, surface_.id).Bind(2, block);
-    TB_ASSIGN_OR_RETURN(const std::vector<int64_t> stored, FirstColumn(*in_block));
+    TB_ASSIGN_OR_RETURN(const std::vector<int64_t> stored, tables_.TriangleIdsInBlock(block));
     if (stored != members)
       return Status::Corruption(where + "members of block " + std::to_string(block) +
                                 " differ from the triangle rows");
@@ -473,16 +395,12 @@ Status MeshCache::VerifyAgainstStore() {
     owner_rows += owners.size();
   }
   // In a known range too, an edge it lacks is unconstrained.
-  TB_ASSIGN_OR_RETURN(Statement * in_range,
-                      store_.db().Cached("SELECT count(*) FROM constraints WHERE surface = ? AND "
-                                         "va BETWEEN ? AND ?"));
   for (const auto& [first, last] : owner_ranges_) {
-    in_range->Bind(1, surface_.id).Bind(2, first).Bind(3, last);
-    TB_ASSIGN_OR_RETURN(const std::vector<int64_t> count, FirstColumn(*in_range));
+    TB_ASSIGN_OR_RETURN(const int64_t count, tables_.CountConstraintsFrom(first, last));
     size_t known = 0;
     for (const auto& [e, owners] : owners_)
       if (e.first >= first && e.first <= last) known += owners.size();
-    if (count.empty() || static_cast<int64_t>(known) != count.front())
+    if (static_cast<int64_t>(known) != count)
       return Status::Corruption(where + "constraint rows from vertices " + std::to_string(first) +
                                 " to " + std::to_string(last) + " are not all known");
   }
@@ -493,18 +411,6 @@ Status MeshCache::VerifyAgainstStore() {
     return Status::Corruption(where + "the constraint rows known (" + std::to_string(owner_rows) +
                               ") are not all the surface's (" + std::to_string(stored_rows) + ")");
   return Status::Ok();
-}
-
-const MeshTriangle* MeshCache::Remember(int64_t id, const Statement& row) {
-  MeshTriangle t;
-  for (int i = 0; i < 3; ++i) {
-    t.v[i] = row.ColumnInt(i);
-    if (!row.ColumnIsNull(3 + i)) t.n[i] = row.ColumnInt(3 + i);
-  }
-  t.visible = row.ColumnInt(6) != 0;
-  if (!row.ColumnIsNull(7)) t.tag = row.ColumnInt(7);
-  t.block = row.ColumnInt(8);
-  return &triangles_.Emplace(id, t);
 }
 
 void MeshCache::Apply(const MeshDelta& delta) {

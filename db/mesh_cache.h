@@ -1,6 +1,7 @@
 // MeshCache: the stored mesh rows of one surface that local edits and point location read
 // (triangles with their links and paint, vertices, constraint owners), loaded on demand by id and
-// kept in memory.
+// kept in memory. It reads the rows through MeshTables (db/mesh/mesh_tables.h) and holds them as
+// TriangleRow and VertexRow (db/mesh/mesh_rows.h).
 //
 // Within one edit every read happens before the first write, so the rows stay current. A load
 // feature by feature (`polygon add --each`) keeps one cache across its transactions: the engine
@@ -28,20 +29,14 @@
 #include "core/geometry/predicates.h"
 #include "core/tin/tin.h"
 #include "db/feature_store.h"
+#include "db/mesh/mesh_rows.h"
+#include "db/mesh/mesh_tables.h"
 #include "db/store.h"
 #include "db/surface_store.h"
 
 namespace tinbase {
 
 struct MeshDelta;  // db/edit/mesh_delta.h
-
-struct MeshTriangle {
-  std::array<int64_t, 3> v{};
-  std::array<std::optional<int64_t>, 3> n;
-  bool visible = true;
-  std::optional<int64_t> tag;  // tags.id
-  int64_t block = 0;           // of its centroid (core/tin/block_grid.h)
-};
 
 class MeshCache {
  public:
@@ -55,7 +50,8 @@ class MeshCache {
   // each page (core/base/paged_id_map.h).
   static constexpr size_t kMaxKeptBytes = size_t{256} << 20;
 
-  MeshCache(Store& store, const SurfaceInfo& surface) : store_(store), surface_(surface) {}
+  MeshCache(Store& store, const SurfaceInfo& surface)
+      : store_(store), surface_(surface), tables_(store.db(), surface) {}
   MeshCache(const MeshCache&) = delete;
   MeshCache& operator=(const MeshCache&) = delete;
 
@@ -74,7 +70,7 @@ class MeshCache {
   void Clear();
 
   // Rows by id. Corruption naming the surface when the row is missing.
-  Result<const MeshTriangle*> Triangle(int64_t id);
+  Result<const TriangleRow*> Triangle(int64_t id);
   Result<const TinVertex*> Vertex(int64_t id);
   Result<Point2> At(int64_t vertex);
   // Whether triangle `id` exists (from memory when it is cached).
@@ -101,10 +97,10 @@ class MeshCache {
   // range).
   Status ReadBlocks(const std::vector<int64_t>& packed);
   // Reads the vertices of triangles `ids` (cached) that are not cached yet, in ranges of ids:
-  // the builders give neighbouring vertices neighbouring ids (db/surface_store.cc), so the ids
-  // of a patch fall in runs. The constraint rows starting at a vertex of a range are read with
-  // them, so Owners() answers the edges from those vertices (nearly all unconstrained) without
-  // a lookup each.
+  // the surface writers give neighbouring vertices neighbouring ids (MeshTables::InsertVertices),
+  // so the ids of a patch fall in runs. The constraint rows starting at a vertex of a range are
+  // read with them, so Owners() answers the edges from those vertices (nearly all unconstrained)
+  // without a lookup each.
   Status ReadVerticesOf(const std::vector<int64_t>& ids);
   // Rows between two wanted ids less than kGap apart are read with them (a lookup by id costs
   // several times the next row of a range).
@@ -130,7 +126,7 @@ class MeshCache {
   // A row the current edit writes, as written (write-through): the next edit of a load feature by
   // feature reads the rows the last one wrote more than any other, so they are kept, not
   // forgotten.
-  void PutTriangle(int64_t id, const MeshTriangle& t);
+  void PutTriangle(int64_t id, const TriangleRow& t);
   void PutVertex(int64_t id, const TinVertex& v) { vertices_.Put(id, v); }
   // Triangle `id`'s paint is now this (a no-op when it is not cached).
   void Repaint(int64_t id, bool visible, const std::optional<int64_t>& tag);
@@ -161,7 +157,6 @@ class MeshCache {
     }
   };
 
-  const MeshTriangle* Remember(int64_t id, const Statement& row);
   // Every constraint row of the surface into owners_ (complete).
   Status LoadOwners();
   // Whether every constraint row whose smaller vertex is `va` is in owners_.
@@ -178,7 +173,8 @@ class MeshCache {
 
   Store& store_;
   const SurfaceInfo& surface_;
-  PagedIdMap<MeshTriangle> triangles_;
+  MeshTables tables_;  // every row read goes through it
+  PagedIdMap<TriangleRow> triangles_;
   // Blocks whose every triangle is in triangles_: their ids, ascending.
   std::unordered_map<int64_t, std::vector<int64_t>> block_members_;
   PagedIdMap<TinVertex> vertices_;

@@ -9,6 +9,7 @@
 #include <unordered_map>
 
 #include "core/geometry/predicates.h"
+#include "db/mesh/mesh_tables.h"
 
 namespace tinbase {
 
@@ -23,70 +24,57 @@ struct WalkVertex {
   double z = 0;
 };
 
-struct WalkTriangle {
-  std::array<int64_t, 3> v{};
-  std::array<std::optional<int64_t>, 3> n;
-};
-
 // Reads the rows a walk touches, one by id, remembering vertices (consecutive triangles share
 // two of them).
 class WalkReader {
  public:
-  WalkReader(Store& store, const SurfaceInfo& surface) : db_(store.db()), surface_(surface) {}
+  WalkReader(Store& store, const SurfaceInfo& surface)
+      : tables_(store.db(), surface), surface_(surface) {}
 
-  Result<WalkTriangle> Triangle(int64_t id) {
-    TB_ASSIGN_OR_RETURN(
-        Statement * stmt,
-        db_.Cached("SELECT v0, v1, v2, n0, n1, n2 FROM triangles WHERE id = ? AND surface = ?"));
-    stmt->Bind(1, id).Bind(2, surface_.id);
-    TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
-    if (!row)
+  Result<TriangleRow> Triangle(int64_t id) {
+    Result<TriangleRow> row = tables_.Triangle(id);
+    if (row.status().code() == StatusCode::kNotFound)
       return Status::Corruption(Where() + ": the walk reached triangle " + std::to_string(id) +
                                 ", which does not exist; run tinbase check");
-    WalkTriangle t;
-    for (int i = 0; i < 3; ++i) {
-      t.v[i] = stmt->ColumnInt(i);
-      if (!stmt->ColumnIsNull(3 + i)) t.n[i] = stmt->ColumnInt(3 + i);
-    }
-    stmt->Reset();
-    return t;
-  }
-
-  Result<bool> Exists(int64_t triangle) {
-    TB_ASSIGN_OR_RETURN(Statement * stmt,
-                        db_.Cached("SELECT 1 FROM triangles WHERE id = ? AND surface = ?"));
-    stmt->Bind(1, triangle).Bind(2, surface_.id);
-    TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
-    stmt->Reset();
     return row;
   }
 
+  Result<bool> Exists(int64_t triangle) { return tables_.HasTriangle(triangle); }
+
   Result<WalkVertex> Vertex(int64_t id) {
     if (auto it = vertices_.find(id); it != vertices_.end()) return it->second;
-    TB_ASSIGN_OR_RETURN(Statement * stmt,
-                        db_.Cached("SELECT x, y, z FROM vertices WHERE id = ? AND surface = ?"));
-    stmt->Bind(1, id).Bind(2, surface_.id);
-    TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
-    if (!row)
+    Result<VertexRow> row = tables_.Vertex(id);
+    if (row.status().code() == StatusCode::kNotFound)
       return Status::Corruption(Where() + ": vertex " + std::to_string(id) +
                                 " does not exist; run tinbase check");
-    WalkVertex v{{stmt->ColumnDouble(0), stmt->ColumnDouble(1)}, stmt->ColumnDouble(2)};
-    stmt->Reset();
+    TB_RETURN_IF_ERROR(row.status());
+    const WalkVertex v{{row->x, row->y}, row->z};
     vertices_.emplace(id, v);
     return v;
   }
 
+  // The value of the triangle's tag; nullopt without tag, or when the tag is not a row of tags
+  // (CheckStore reports that: unknown-tag).
+  Result<std::optional<std::string>> TagOf(const TriangleRow& t) {
+    if (!t.tag) return std::optional<std::string>();
+    Result<std::string> value = tables_.TagValue(*t.tag);
+    if (value.status().code() == StatusCode::kNotFound) return std::optional<std::string>();
+    TB_RETURN_IF_ERROR(value.status());
+    return std::optional<std::string>(std::move(*value));
+  }
+
+  MeshTables& tables() { return tables_; }
   std::string Where() const { return "surface '" + surface_.name + "'"; }
 
  private:
-  SqliteDb& db_;
+  MeshTables tables_;
   const SurfaceInfo& surface_;
   std::unordered_map<int64_t, WalkVertex> vertices_;
 };
 
 // A triangle near (x, y): one in the point's block, else in the nearest non-empty ring of blocks
 // around it, else any.
-Result<int64_t> JumpStart(SurfaceStore& surfaces, const SurfaceInfo& surface, double x, double y) {
+Result<int64_t> JumpStart(MeshTables& tables, const SurfaceInfo& surface, double x, double y) {
   const BlockGrid& grid = surface.blocks;
   const int64_t bx = grid.ColumnOf(x), by = grid.RowOf(y);
   for (int64_t r = 0; r <= kJumpRings; ++r) {
@@ -95,12 +83,14 @@ Result<int64_t> JumpStart(SurfaceStore& surfaces, const SurfaceInfo& surface, do
         if (std::max(std::abs(dx), std::abs(dy)) != r) continue;  // ring r only
         const int64_t cx = bx + dx, cy = by + dy;
         if (cx < 0 || cy < 0 || cx >= BlockGrid::kStride || cy >= BlockGrid::kStride) continue;
-        TB_ASSIGN_OR_RETURN(auto id, surfaces.AnyTriangleInBlock(surface, BlockGrid::Pack(cx, cy)));
+        TB_ASSIGN_OR_RETURN(auto id, tables.AnyTriangleInBlock(BlockGrid::Pack(cx, cy)));
         if (id) return *id;
       }
     }
   }
-  return surfaces.AnyTriangle(surface);
+  TB_ASSIGN_OR_RETURN(std::optional<int64_t> any, tables.AnyTriangle());
+  if (!any) return Status::NotFound("surface '" + surface.name + "' has no triangles");
+  return *any;
 }
 
 // Barycentric interpolation of z over the triangle, relative to its first vertex so large map
@@ -136,11 +126,7 @@ std::string PointText(double x, double y) {
 class PointLocator::Walker {
  public:
   Walker(Store& store, const SurfaceInfo& surface, MeshCache* cache)
-      : store_(store),
-        surface_(surface),
-        surfaces_(store),
-        reader_(store, surface),
-        cache_(cache) {}
+      : store_(store), surface_(surface), reader_(store, surface), cache_(cache) {}
 
   Result<Location> Locate(double x, double y, bool paint) {
     TB_ASSIGN_OR_RETURN(auto snapshot, SnapshotUnlessInTransaction(store_));
@@ -148,9 +134,9 @@ class PointLocator::Walker {
     TB_ASSIGN_OR_RETURN(Location location, Walk(start, x, y));
     last_ = location.triangle;
     if (!paint) return location;
-    TB_ASSIGN_OR_RETURN(StoredTriangle found, surfaces_.Triangle(surface_, location.triangle));
+    TB_ASSIGN_OR_RETURN(const TriangleRow found, reader_.Triangle(location.triangle));
     location.visible = found.visible;
-    location.tag = found.tag;
+    TB_ASSIGN_OR_RETURN(location.tag, reader_.TagOf(found));
     return location;
   }
 
@@ -166,7 +152,7 @@ class PointLocator::Walker {
       }
       if (exists) return *last_;
     }
-    return JumpStart(surfaces_, surface_, x, y);
+    return JumpStart(reader_.tables(), surface_, x, y);
   }
 
   Result<Location> Walk(int64_t current, double x, double y) {
@@ -186,16 +172,15 @@ class PointLocator::Walker {
         if (limit_checked)
           return Status::Corruption(reader_.Where() + ": the walk to " + PointText(x, y) +
                                     " does not end; run tinbase check");
-        TB_ASSIGN_OR_RETURN(SurfaceCounts counts, surfaces_.Count(surface_));
+        TB_ASSIGN_OR_RETURN(const MeshCounts counts, reader_.tables().Count());
         step_limit = std::max(step_limit, 4 * counts.triangles + 16);
         limit_checked = true;
       }
-      WalkTriangle tri;
+      TriangleRow tri;
       std::array<WalkVertex, 3> corner;
       if (cache_) {
-        TB_ASSIGN_OR_RETURN(const MeshTriangle* t, cache_->Triangle(current));
-        tri.v = t->v;
-        tri.n = t->n;
+        TB_ASSIGN_OR_RETURN(const TriangleRow* t, cache_->Triangle(current));
+        tri = *t;
         for (int i = 0; i < 3; ++i) {
           TB_ASSIGN_OR_RETURN(const TinVertex* v, cache_->Vertex(tri.v[i]));
           corner[i] = {{v->x, v->y}, v->z};
@@ -244,7 +229,6 @@ class PointLocator::Walker {
 
   Store& store_;
   const SurfaceInfo& surface_;
-  SurfaceStore surfaces_;
   WalkReader reader_;
   MeshCache* cache_;  // when given, rows are read through it instead of reader_
   std::optional<int64_t> last_;

@@ -1,12 +1,13 @@
 // PointLocator: which stored triangle holds a point, and the surface's z there.
 //
-// Jump-and-walk over the stored neighbour links (DESIGN.md, "Point location"): jump to a triangle
-// whose centroid block is the point's (or the nearest non-empty block around it), then walk across
-// the edge the point lies beyond, choosing among candidate edges at random (Devillers' remembering
-// stochastic walk) so the walk terminates on non-Delaunay surfaces too. Reads O(walk length)
-// rows, never the whole surface, all in one read snapshot. PointLocator locates many points in a
-// row, each walk starting where the last one ended: points along a ring are then a few steps
-// apart instead of a jump and a walk each. Thread-safety: one per Store.
+// Jump-and-walk over the stored neighbour links (docs/design.md, "Point location"): jump to a
+// triangle whose centroid block is the point's (or the nearest non-empty block around it), then
+// walk across the edge the point lies beyond, choosing among candidate edges at random
+// (Devillers' remembering stochastic walk) so the walk terminates on non-Delaunay surfaces too.
+// Reads O(walk length) rows through MeshTables (db/mesh/mesh_tables.h), never the whole surface,
+// all in one read snapshot. PointLocator locates many points in a row, each walk starting where
+// the last one ended: points along a ring are then a few steps apart instead of a jump and a
+// walk each. Thread-safety: one per Store.
 #pragma once
 
 #include <cstdint>

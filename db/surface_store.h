@@ -1,8 +1,10 @@
-// SurfaceStore: reads and writes triangulated surfaces as the topological tables of
-// docs/format.md (vertices, triangles with neighbour links, tags, constraints).
+// SurfaceStore: the `surfaces` table, and whole surfaces read and written as the topological
+// tables of docs/format.md (vertices, triangles with neighbour links, tags, constraints), whose
+// rows it reads and writes through MeshTables (db/mesh/mesh_tables.h).
 //
 // Store ids are global row ids; a Tin's indices are positions. Writing assigns ids up front so
-// neighbour links are written in one pass. Thread-safety: one SurfaceStore per Store.
+// neighbour links are written in one pass. Borrows the Store. Thread-safety: one SurfaceStore
+// per Store.
 #pragma once
 
 #include <array>
@@ -17,6 +19,7 @@
 #include "core/tin/block_grid.h"
 #include "core/tin/tin.h"
 #include "core/tin/triangle_batch.h"
+#include "db/mesh/mesh_rows.h"
 #include "db/store.h"
 
 namespace tinbase {
@@ -44,22 +47,6 @@ struct SurfaceCounts {
   int64_t features = 0;
 };
 
-// One row of `triangles`, with the tag's value resolved.
-struct StoredTriangle {
-  int64_t id = 0;
-  std::array<int64_t, 3> v{};
-  std::array<std::optional<int64_t>, 3> n;  // n[i] opposite v[i]; nullopt on the boundary
-  bool visible = true;
-  std::optional<std::string> tag;
-  int64_t block = 0;
-};
-
-struct StoredVertex {
-  int64_t id = 0;
-  double x = 0, y = 0, z = 0;
-  VertexKind kind = VertexKind::kDem;
-};
-
 // A surface loaded whole: the Tin plus the store id of every vertex and triangle.
 struct LoadedSurface {
   Tin tin;
@@ -71,12 +58,6 @@ struct LoadedSurface {
 // uses this one formula, so the integrity check can recompute blocks bit for bit.
 int64_t CentroidBlock(const BlockGrid& grid, double ax, double ay, double bx, double by, double cx,
                       double cy);
-
-// The WHERE condition, with the surface as parameter ?1, that reads a surface's rows of `table`
-// (vertices or triangles) in id order. A surface's rows are written with consecutive ids, so
-// SQLite scans that rowid range instead of walking the (surface, ...) index and sorting a million
-// rows. `alias` is how the query names the table ("t" or the table's own name).
-std::string SurfaceRowsInIdOrder(const std::string& table, const std::string& alias);
 
 // A ReadSnapshot for a multi-query read, or null when the connection is already inside a
 // transaction (a WriteTransaction's own view is then the consistent one, and SQLite cannot nest
@@ -122,9 +103,12 @@ class SurfaceStore {
   Result<SurfaceInfo> FindById(int64_t id);
   Result<SurfaceCounts> Count(const SurfaceInfo& surface);
 
-  // NotFound naming the triangle and surface when `id` is not a triangle of `surface`.
-  Result<StoredTriangle> Triangle(const SurfaceInfo& surface, int64_t id);
-  Result<StoredVertex> Vertex(const SurfaceInfo& surface, int64_t id);
+  // The row of triangle (vertex) `id`; NotFound naming the row and surface when `id` is not a
+  // triangle (vertex) of `surface` (MeshTables::Triangle, MeshTables::Vertex).
+  Result<TriangleRow> Triangle(const SurfaceInfo& surface, int64_t id);
+  Result<VertexRow> Vertex(const SurfaceInfo& surface, int64_t id);
+  // The value of tag id `tag` (TriangleRow::tag); NotFound when the tags table has no such row.
+  Result<std::string> TagValue(const SurfaceInfo& surface, int64_t tag);
   // Some triangle whose block is `block`, if any (the "jump" of jump-and-walk).
   Result<std::optional<int64_t>> AnyTriangleInBlock(const SurfaceInfo& surface, int64_t block);
   // Some triangle of the surface; NotFound when it has none.

@@ -120,8 +120,8 @@ int RunDemo(const DemoArgs& args) {
       }) &&
       steps.Run("neighbours", [&]() -> Result<std::string> {
         SurfaceStore surfaces(*store);
-        TB_ASSIGN_OR_RETURN(StoredTriangle t, surfaces.Triangle(surface, located));
-        std::string out = "triangle " + std::to_string(t.id) + ":";
+        TB_ASSIGN_OR_RETURN(TriangleRow t, surfaces.Triangle(surface, located));
+        std::string out = "triangle " + std::to_string(located) + ":";
         for (const auto& n : t.n) out += " " + (n ? std::to_string(*n) : std::string("-"));
         return out;
       }) &&

@@ -65,16 +65,24 @@ int RunNeighbours(const NeighboursArgs& args) {
   if (!surface.ok()) return ReportError(surface.status());
   auto t = surfaces.Triangle(*surface, args.id);
   if (!t.ok()) return ReportError(t.status());
+  std::optional<std::string> tag;
+  if (t->tag) {
+    auto value = surfaces.TagValue(*surface, *t->tag);
+    if (!value.ok()) return ReportError(value.status());
+    tag = *value;
+  }
   if (args.json) {
-    nlohmann::json j = {{"surface", surface->name}, {"triangle", t->id},
-                        {"vertices", {t->v[0], t->v[1], t->v[2]}},
-                        {"neighbours", {OptionalJson(t->n[0]), OptionalJson(t->n[1]),
-                                        OptionalJson(t->n[2])}},
-                        {"visible", t->visible}, {"tag", OptionalJson(t->tag)},
-                        {"block", t->block}};
+    nlohmann::json j = {
+        {"surface", surface->name},
+        {"triangle", args.id},
+        {"vertices", {t->v[0], t->v[1], t->v[2]}},
+        {"neighbours", {OptionalJson(t->n[0]), OptionalJson(t->n[1]), OptionalJson(t->n[2])}},
+        {"visible", t->visible},
+        {"tag", OptionalJson(tag)},
+        {"block", t->block}};
     std::cout << j.dump() << "\n";
   } else {
-    std::cout << "triangle " << t->id << " (vertices " << t->v[0] << " " << t->v[1] << " "
+    std::cout << "triangle " << args.id << " (vertices " << t->v[0] << " " << t->v[1] << " "
               << t->v[2] << ")\n";
     for (int i = 0; i < 3; ++i)
       std::cout << "  opposite vertex " << t->v[i] << ": "

@@ -129,7 +129,7 @@ Status RegionFinder::SeedRemovals() {
 Result<bool> RegionFinder::StillConstrained(int64_t v, const std::vector<int64_t>& star) {
   bool still_constrained = false;
   for (int64_t t : star) {
-    TB_ASSIGN_OR_RETURN(const MeshTriangle* tri, mesh_.Triangle(t));
+    TB_ASSIGN_OR_RETURN(const TriangleRow* tri, mesh_.Triangle(t));
     for (int64_t w : tri->v) {
       if (w == v || region_.removed_edges.count(EdgeKey(v, w))) continue;
       TB_ASSIGN_OR_RETURN(const std::vector<int64_t>* owners, mesh_.Owners(v, w));
@@ -158,7 +158,7 @@ Status RegionFinder::SeedRemovedReplaceInsides() {
   region_.restore = restore;
   TB_ASSIGN_OR_RETURN(std::vector<int64_t> candidates, mesh_.TrianglesInBox(box));
   for (int64_t t : candidates) {
-    TB_ASSIGN_OR_RETURN(const MeshTriangle* tri, mesh_.Triangle(t));
+    TB_ASSIGN_OR_RETURN(const TriangleRow* tri, mesh_.Triangle(t));
     Point2 centroid{0, 0};
     for (int64_t v : tri->v) {
       TB_ASSIGN_OR_RETURN(Point2 p, mesh_.At(v));
@@ -278,7 +278,7 @@ Result<std::vector<SnappedLine>> RegionFinder::SnapPoints() {
       if (!same) {
         TB_ASSIGN_OR_RETURN(t, Locate({p.x, p.y}, what));
       }
-      TB_ASSIGN_OR_RETURN(const MeshTriangle* tri, mesh_.Triangle(t));
+      TB_ASSIGN_OR_RETURN(const TriangleRow* tri, mesh_.Triangle(t));
       bool snapped = false;
       int64_t vertex = 0;
       for (int64_t v : tri->v) {
@@ -323,13 +323,13 @@ Result<std::vector<SnappedLine>> RegionFinder::SnapPoints() {
 // The projection lies on the edge only up to round-off, which the walk along split constraints
 // (db/edit/mesh_delta_builder.cc) allows for.
 Result<bool> RegionFinder::SnapOntoConstraint(int64_t t, TinVertex& p) {
-  TB_ASSIGN_OR_RETURN(const MeshTriangle* holding, mesh_.Triangle(t));
+  TB_ASSIGN_OR_RETURN(const TriangleRow* holding, mesh_.Triangle(t));
   std::vector<int64_t> candidates{t};
   for (const std::optional<int64_t>& n : holding->n)
     if (n) candidates.push_back(*n);
   for (int64_t c : candidates) {
-    TB_ASSIGN_OR_RETURN(const MeshTriangle* tri, mesh_.Triangle(c));
-    const MeshTriangle here = *tri;
+    TB_ASSIGN_OR_RETURN(const TriangleRow* tri, mesh_.Triangle(c));
+    const TriangleRow here = *tri;
     for (int i = 0; i < 3; ++i) {
       if (!here.n[i]) continue;
       const int64_t a = here.v[(i + 1) % 3], b = here.v[(i + 2) % 3];
@@ -470,7 +470,7 @@ Status RegionFinder::WalkSegment(const Point2& p, const Point2& q, int64_t start
     const int64_t t = queue.back();
     queue.pop_back();
     region_.Add(t);
-    TB_ASSIGN_OR_RETURN(const MeshTriangle* tri, mesh_.Triangle(t));
+    TB_ASSIGN_OR_RETURN(const TriangleRow* tri, mesh_.Triangle(t));
     for (int64_t v : tri->v) {
       TB_ASSIGN_OR_RETURN(const TinVertex* w, mesh_.Vertex(v));
       if (len2 == 0) break;
@@ -499,8 +499,8 @@ Status RegionFinder::GrowByCircumcircles(const std::vector<Point2>& new_points) 
             [](const Point2& a, const Point2& b) { return a.x < b.x; });
   for (size_t k = 0; k < region_.triangles.size(); ++k) {
     const int64_t t = region_.triangles[k];
-    TB_ASSIGN_OR_RETURN(const MeshTriangle* tri, mesh_.Triangle(t));
-    const MeshTriangle here = *tri;
+    TB_ASSIGN_OR_RETURN(const TriangleRow* tri, mesh_.Triangle(t));
+    const TriangleRow here = *tri;
     for (int i = 0; i < 3; ++i) {
       if (!here.n[i] || region_.Has(*here.n[i])) continue;
       const int64_t a = here.v[(i + 1) % 3], b = here.v[(i + 2) % 3];
@@ -516,7 +516,7 @@ Status RegionFinder::GrowByCircumcircles(const std::vector<Point2>& new_points) 
 }
 
 Result<TriangleCorners> RegionFinder::Corners(int64_t t) {
-  TB_ASSIGN_OR_RETURN(const MeshTriangle* tri, mesh_.Triangle(t));
+  TB_ASSIGN_OR_RETURN(const TriangleRow* tri, mesh_.Triangle(t));
   TriangleCorners c;
   for (int i = 0; i < 3; ++i) {
     TB_ASSIGN_OR_RETURN(c[i], mesh_.At(tri->v[i]));
@@ -537,8 +537,8 @@ Status GrowAround(MeshCache& mesh, const std::vector<int64_t>& failed, ConflictR
     std::vector<int64_t> next;
     for (int64_t t : ring) {
       region->Add(t);
-      TB_ASSIGN_OR_RETURN(const MeshTriangle* tri, mesh.Triangle(t));
-      const MeshTriangle here = *tri;
+      TB_ASSIGN_OR_RETURN(const TriangleRow* tri, mesh.Triangle(t));
+      const TriangleRow here = *tri;
       for (const std::optional<int64_t>& n : here.n)
         if (n && !region->Has(*n)) next.push_back(*n);
     }

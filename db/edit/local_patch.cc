@@ -55,7 +55,7 @@ Status Round::CollectRegion(const Box& paint_box) {
   std::vector<std::pair<Point2, Point2>> outline_segments;
   Box box = paint_box;
   for (int64_t t : region_.triangles) {
-    TB_ASSIGN_OR_RETURN(const MeshTriangle* tri, ctx_.mesh.Triangle(t));
+    TB_ASSIGN_OR_RETURN(const TriangleRow* tri, ctx_.mesh.Triangle(t));
     TriangleCorners corners;
     for (int i = 0; i < 3; ++i) {
       const int64_t id = tri->v[i];
@@ -104,7 +104,7 @@ Status Round::BuildCdt(Cdt& cdt) {
     cdt.InsertConstraint(patch_.local.at(e.a), patch_.local.at(e.b));
   const std::set<int64_t> removing(remove_.begin(), remove_.end());
   for (int64_t t : region_.triangles) {
-    TB_ASSIGN_OR_RETURN(const MeshTriangle* tri, ctx_.mesh.Triangle(t));
+    TB_ASSIGN_OR_RETURN(const TriangleRow* tri, ctx_.mesh.Triangle(t));
     for (int i = 0; i < 3; ++i) {
       // An edge between two triangles of R is taken from the one with the smaller id.
       const std::optional<int64_t>& across = tri->n[(i + 2) % 3];
@@ -230,7 +230,7 @@ Result<std::vector<int64_t>> CheckOutline(MeshCache& mesh, const ConflictRegion&
     }
     TB_ASSIGN_OR_RETURN(const std::vector<int64_t>* owners, mesh.Owners(e.a, e.b));
     if (!owners->empty() && !region.removed_edges.count(EdgeKey(e.a, e.b))) continue;
-    TB_ASSIGN_OR_RETURN(const MeshTriangle* outer, mesh.Triangle(*e.outer));
+    TB_ASSIGN_OR_RETURN(const TriangleRow* outer, mesh.Triangle(*e.outer));
     int64_t far = outer->v[0];
     for (int64_t w : outer->v)
       if (w != e.a && w != e.b) far = w;

@@ -48,7 +48,7 @@ struct MeshDelta {
 
   // Step 3: new triangles, ids first_triangle, ... in order (block order).
   int64_t first_triangle = 0;
-  std::vector<MeshTriangle> new_triangles;
+  std::vector<TriangleRow> new_triangles;
 
   // Step 4: the conflict region's rows (in the order found; with whole_surface every triangle of
   // the surface below first_triangle) and the vertices left on no constraint (ascending).
@@ -57,7 +57,7 @@ struct MeshDelta {
 
   // Step 5: stored triangles across the region's outline, with their links to the new ones
   // (ascending id; the whole row, of which only the links differ).
-  std::vector<std::pair<int64_t, MeshTriangle>> relinked;
+  std::vector<std::pair<int64_t, TriangleRow>> relinked;
 
   // Step 6: the constraint rows of removed features go; kept constraints the patch split lose
   // their rows (their pieces are among added_constraints); the new rows (edge, feature; 0 for a

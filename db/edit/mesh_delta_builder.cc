@@ -222,7 +222,7 @@ Result<Painting> DeltaBuilder::Paint() const {
   }
   for (int64_t t : plan_.around) {
     if (region_.Has(t)) continue;
-    TB_ASSIGN_OR_RETURN(const MeshTriangle* stored, ctx_.mesh.Triangle(t));
+    TB_ASSIGN_OR_RETURN(const TriangleRow* stored, ctx_.mesh.Triangle(t));
     std::array<const TinVertex*, 3> corner;
     for (int i = 0; i < 3; ++i) {
       TB_ASSIGN_OR_RETURN(corner[i], ctx_.mesh.Vertex(stored->v[i]));
@@ -251,7 +251,7 @@ void DeltaBuilder::TriangleRows(const Painting& painting) {
   delta_.new_triangles.resize(written_.size());
   for (size_t k = 0; k < written_.size(); ++k) {
     const TinTriangle& tri = tin_.triangles[written_[k]];
-    MeshTriangle& row = delta_.new_triangles[k];
+    TriangleRow& row = delta_.new_triangles[k];
     for (int i = 0; i < 3; ++i) {
       row.v[i] = ids_[tri.v[i]];
       if (tri.n[i] != kNoNeighbour && patch_.inside[tri.n[i]]) {
@@ -279,19 +279,19 @@ Status DeltaBuilder::Relinks() {
     }
   }
   inner_by_edge.Seal();
-  std::map<int64_t, MeshTriangle> relinked;
+  std::map<int64_t, TriangleRow> relinked;
   for (const OutlineEdge& e : patch_.outline) {
     if (!e.outer) continue;
     const int64_t* inner = inner_by_edge.Find(MeshEdge{e.a, e.b});
     if (inner == nullptr)
       return Status::Corruption("outline edge (" + std::to_string(e.a) + ", " +
                                 std::to_string(e.b) + ") vanished from the patch");
-    auto [entry, fresh] = relinked.emplace(*e.outer, MeshTriangle{});
+    auto [entry, fresh] = relinked.emplace(*e.outer, TriangleRow{});
     if (fresh) {
-      TB_ASSIGN_OR_RETURN(const MeshTriangle* outer, ctx_.mesh.Triangle(*e.outer));
+      TB_ASSIGN_OR_RETURN(const TriangleRow* outer, ctx_.mesh.Triangle(*e.outer));
       entry->second = *outer;
     }
-    MeshTriangle& outer = entry->second;
+    TriangleRow& outer = entry->second;
     for (int j = 0; j < 3; ++j)
       if (outer.v[(j + 1) % 3] == e.b && outer.v[(j + 2) % 3] == e.a) outer.n[j] = *inner;
   }
@@ -391,7 +391,7 @@ Status DeltaBuilder::CheckNoConstraintRerouted(std::vector<MeshEdge> accounted) 
 Status DeltaBuilder::Repaints(const Painting& painting) {
   size_t k = written_.size();  // paint index of the first stored triangle around
   for (size_t j = 0; j < painting.kept_around.size(); ++j, ++k) {
-    TB_ASSIGN_OR_RETURN(const MeshTriangle* stored, ctx_.mesh.Triangle(painting.kept_around[j]));
+    TB_ASSIGN_OR_RETURN(const TriangleRow* stored, ctx_.mesh.Triangle(painting.kept_around[j]));
     const bool visible = painting.paint.visible[k] != 0;
     const std::optional<int64_t> tag = painting.TagOf(k);
     if (stored->visible != visible || stored->tag != tag)

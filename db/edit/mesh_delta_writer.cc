@@ -28,7 +28,7 @@ Result<std::optional<UncheckedForeignKeys>> UncheckedIf(SqliteDb& db, bool whole
 }
 
 // Binds (surface, v0, v1, v2, n0, n1, n2, visible, tag, block) of `t` from parameter p on.
-void BindTriangleRow(Statement& row, int p, int64_t surface, const MeshTriangle& t) {
+void BindTriangleRow(Statement& row, int p, int64_t surface, const TriangleRow& t) {
   row.Bind(p, surface);
   for (int i = 0; i < 3; ++i) {
     row.Bind(p + 1 + i, t.v[i]);

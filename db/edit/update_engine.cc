@@ -30,7 +30,7 @@ EditResult Summarize(const ConflictRegion& region, const LocalPatch& patch, cons
   EditResult result;
   result.removed = static_cast<int64_t>(delta.deleted_triangles.size());
   result.added = static_cast<int64_t>(delta.new_triangles.size());
-  for (const MeshTriangle& t : delta.new_triangles) result.visible_added += t.visible;
+  for (const TriangleRow& t : delta.new_triangles) result.visible_added += t.visible;
   result.repainted = repainted;
   result.refinement_points = patch.refinement_points;
   result.rounds = patch.rounds;

@@ -169,7 +169,13 @@ TEST_F(SurfaceStoreTest, RowAccessorsAgreeWithLoad) {
       corner[i] = loaded->tin.vertices[tri.v[i]];
     }
     EXPECT_EQ(row->visible, tri.visible);
-    EXPECT_EQ(row->tag.value_or(""), TagOf(loaded->tin, tri));
+    std::string tag;
+    if (row->tag) {
+      auto value = surfaces.TagValue(info, *row->tag);
+      ASSERT_TRUE(value.ok()) << value.status().ToString();
+      tag = *value;
+    }
+    EXPECT_EQ(tag, TagOf(loaded->tin, tri));
     EXPECT_EQ(row->block, CentroidBlock(info.blocks, corner[0].x, corner[0].y, corner[1].x,
                                         corner[1].y, corner[2].x, corner[2].y));
     auto jump = surfaces.AnyTriangleInBlock(info, row->block);

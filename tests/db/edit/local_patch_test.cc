@@ -71,7 +71,7 @@ TEST_F(LocalPatchTest, TilesTheRegionAndSettlesItsOutline) {
   for (int64_t t : region.triangles) {
     auto tri = mesh_->Triangle(t);
     ASSERT_TRUE(tri.ok());
-    const MeshTriangle row = **tri;
+    const TriangleRow row = **tri;
     region_area += Area(At(row.v[0]), At(row.v[1]), At(row.v[2]));
   }
   EXPECT_NEAR(patch_area, region_area, 1e-9 * region_area);
