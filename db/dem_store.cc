@@ -720,6 +720,27 @@ Result<DemInfo> DemStore::FindById(int64_t id) {
   return std::move(*info);
 }
 
+Result<std::vector<DemLevelStats>> DemStore::LevelStats(const DemInfo& dem) {
+  TB_ASSIGN_OR_RETURN(Statement * stmt,
+                      impl_->store.db().Cached("SELECT level, count(*), sum(length(data)) FROM "
+                                               "dem_blocks WHERE dem = ? GROUP BY level "
+                                               "ORDER BY level"));
+  stmt->Bind(1, dem.id);
+  std::vector<DemLevelStats> out(static_cast<size_t>(std::max(dem.levels, 1)));
+  for (;;) {
+    auto row = stmt->Step();
+    if (!row.ok() || !*row) {
+      stmt->Reset();
+      if (!row.ok()) return row.status();
+      break;
+    }
+    const int64_t level = stmt->ColumnInt(0);
+    if (level >= 0 && level < static_cast<int64_t>(out.size()))
+      out[static_cast<size_t>(level)] = {stmt->ColumnInt(1), stmt->ColumnInt(2)};
+  }
+  return out;
+}
+
 namespace {
 
 // The value of the cell holding (x, y); a point on the east or south edge of the grid takes the

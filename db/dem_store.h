@@ -111,6 +111,12 @@ struct DemImportReport {
   bool warped = false;                  // a source was reprojected onto the store's CRS
 };
 
+// What is stored of one level of a DEM.
+struct DemLevelStats {
+  int64_t blocks = 0;  // stored blocks (blocks without data are not stored)
+  int64_t bytes = 0;   // their compressed cells
+};
+
 class DemStore {
  public:
   explicit DemStore(Store& store);
@@ -133,6 +139,9 @@ class DemStore {
   // NotFound naming the DEM when there is none of that name.
   Result<DemInfo> Find(const std::string& name);
   Result<DemInfo> FindById(int64_t id);
+  // Stored blocks and bytes of every level 0 .. max(dem.levels, 1) - 1, counted from the block
+  // table (a level without blocks counts zero).
+  Result<std::vector<DemLevelStats>> LevelStats(const DemInfo& dem);
 
   // Elevation at (x, y) in the store's CRS, bilinear (GDAL's conventions, core/raster/bilinear.h)
   // or nearest. InvalidArgument naming the point when it lies outside the DEM; NaN-valued cells

@@ -1,6 +1,7 @@
 #include "db/migrations.h"
 
 #include "db/migrations_embedded.h"
+#include "db/sql/transaction.h"
 
 namespace tinbase {
 
@@ -16,22 +17,18 @@ const std::vector<Migration>& SqliteMigrations() {
 int LatestSchemaVersion() { return static_cast<int>(SqliteMigrations().size()); }
 
 Status MigrateSqlite(SqliteDb& db, int target_version) {
-  TB_ASSIGN_OR_RETURN(int64_t current, db.QueryInt("PRAGMA user_version"));
+  TB_ASSIGN_OR_RETURN(int64_t current, db.SchemaVersion());
   if (target_version < current || target_version > LatestSchemaVersion())
     return Status::InvalidArgument("cannot migrate schema from version " + std::to_string(current) +
                                    " to " + std::to_string(target_version));
   if (current == target_version) return Status::Ok();
-  TB_RETURN_IF_ERROR(db.Exec("BEGIN IMMEDIATE"));
-  Status status;
+  TB_ASSIGN_OR_RETURN(Transaction tx, Transaction::Begin(db));
   for (const Migration& m : SqliteMigrations()) {
     if (m.version <= current || m.version > target_version) continue;
-    status = db.Exec(m.sql).WithContext("migration " + m.name);
-    if (!status.ok()) break;
+    TB_RETURN_IF_ERROR(db.Exec(m.sql).WithContext("migration " + m.name));
   }
-  if (status.ok()) status = db.Exec("PRAGMA user_version = " + std::to_string(target_version));
-  if (status.ok()) return db.Exec("COMMIT");
-  (void)db.Exec("ROLLBACK");
-  return status;
+  TB_RETURN_IF_ERROR(db.SetSchemaVersion(target_version));
+  return tx.Commit();
 }
 
 }  // namespace tinbase

@@ -1,8 +1,10 @@
 // Migrations: the numbered, forward-only SQL files of migrations/sqlite/, compiled into tinbase.
 //
-// A store's schema version is SQLite's `PRAGMA user_version`; it always equals the number of the
-// last migration applied. The SQL text is embedded at build time (cmake/EmbedMigrations.cmake),
-// so the binary needs no files at run time. Thread-safety: the list is immutable.
+// A store's schema version (Connection::SchemaVersion, in SQLite `PRAGMA user_version`) always
+// equals the number of the last migration applied. The SQL is SQLite's; a second backend brings
+// its own numbered list with the same numbers. The SQL text is embedded at build time
+// (cmake/EmbedMigrations.cmake), so the binary needs no files at run time. Thread-safety: the list
+// is immutable.
 #pragma once
 
 #include <string>

@@ -11,21 +11,21 @@ namespace tinbase {
 namespace {
 
 // A DEM block's compressed cells span dozens of overflow pages; through the memory map they are
-// read without a pread() each, which made cold window reads 2x faster.
+// read without a system call each.
 std::atomic<int64_t> g_memory_map_bytes{Store::kDefaultMemoryMapBytes};
 
-Status ConfigureConnection(SqliteDb& db) {
-  TB_RETURN_IF_ERROR(db.Exec("PRAGMA foreign_keys = ON"));
-  TB_RETURN_IF_ERROR(db.Exec("PRAGMA mmap_size = " + std::to_string(g_memory_map_bytes.load())));
-  return db.Exec("PRAGMA synchronous = NORMAL");
+StoreSettings Settings(bool create, Store::Access access) {
+  StoreSettings settings;
+  settings.create = create;
+  settings.writer = access == Store::Access::kReadWrite;
+  settings.memory_map_bytes = g_memory_map_bytes.load();
+  return settings;
 }
 
 }  // namespace
 
-Store::Store(std::unique_ptr<SqliteDb> db, int version, Access access)
-    : db_(std::move(db)), schema_version_(version) {
-  if (access == Access::kReadWrite) checkpointer_ = std::make_unique<WalCheckpointer>(*db_);
-}
+Store::Store(std::unique_ptr<SqliteDb> db, int version)
+    : db_(std::move(db)), schema_version_(version) {}
 
 void Store::SetMemoryMapLimit(int64_t bytes) { g_memory_map_bytes = std::max<int64_t>(bytes, 0); }
 
@@ -35,12 +35,10 @@ Result<std::unique_ptr<Store>> Store::Create(const std::string& path, const std:
     TB_ASSIGN_OR_RETURN(crs, Crs::FromUserInput(crs_text));
   }
   TB_ASSIGN_OR_RETURN(auto db, SqliteDb::Open(path, SqliteDb::Mode::kCreate));
-  Status status = db->Exec("PRAGMA journal_mode = WAL");
-  if (status.ok()) status = ConfigureConnection(*db);
-  if (status.ok())
-    status = db->Exec("PRAGMA application_id = " + std::to_string(kTinbaseApplicationId));
+  Status status = db->ConfigureForStore(Settings(/*create=*/true, Access::kReadWrite));
+  if (status.ok()) status = db->SetApplicationId(kTinbaseApplicationId);
   if (status.ok()) status = MigrateSqlite(*db, LatestSchemaVersion());
-  std::unique_ptr<Store> store(new Store(std::move(db), LatestSchemaVersion(), Access::kReadWrite));
+  std::unique_ptr<Store> store(new Store(std::move(db), LatestSchemaVersion()));
   if (status.ok() && crs) {
     auto tx = store->BeginWrite();
     status = tx.ok() ? store->SetCrs(*crs) : tx.status();
@@ -54,14 +52,14 @@ Result<std::unique_ptr<Store>> Store::Open(const std::string& path, Access acces
   TB_ASSIGN_OR_RETURN(
       auto db, SqliteDb::Open(path, access == Access::kReadOnly ? SqliteDb::Mode::kReadOnly
                                                                 : SqliteDb::Mode::kReadWrite));
-  auto app_id = db->QueryInt("PRAGMA application_id");
+  auto app_id = db->ApplicationId();
   if (!app_id.ok())
     return Status::InvalidArgument(path + " is not a tinbase store (not an SQLite database)");
   if (*app_id != kTinbaseApplicationId)
     return Status::InvalidArgument(path + " is not a tinbase store (SQLite application_id " +
                                    std::to_string(*app_id) + ")");
-  TB_RETURN_IF_ERROR(ConfigureConnection(*db));
-  TB_ASSIGN_OR_RETURN(int64_t version, db->QueryInt("PRAGMA user_version"));
+  TB_RETURN_IF_ERROR(db->ConfigureForStore(Settings(/*create=*/false, access)));
+  TB_ASSIGN_OR_RETURN(int64_t version, db->SchemaVersion());
   if (version > LatestSchemaVersion())
     return Status::InvalidArgument(path + " was made by a newer tinbase (schema version " +
                                    std::to_string(version) + "; this tinbase knows up to " +
@@ -72,12 +70,12 @@ Result<std::unique_ptr<Store>> Store::Open(const std::string& path, Access acces
                                      " and needs migrating: open it read-write once");
     TB_RETURN_IF_ERROR(MigrateSqlite(*db, LatestSchemaVersion()).WithContext(path));
   }
-  return std::unique_ptr<Store>(new Store(std::move(db), LatestSchemaVersion(), access));
+  return std::unique_ptr<Store>(new Store(std::move(db), LatestSchemaVersion()));
 }
 
 Result<std::unique_ptr<WriteTransaction>> Store::BeginWrite() {
-  TB_RETURN_IF_ERROR(db_->Exec("BEGIN IMMEDIATE"));
-  return std::make_unique<WriteTransaction>(this);
+  TB_ASSIGN_OR_RETURN(Transaction tx, Transaction::Begin(*db_));
+  return std::make_unique<WriteTransaction>(this, std::move(tx));
 }
 
 Result<std::optional<std::string>> Store::GetMeta(const std::string& key) {
@@ -111,24 +109,9 @@ Status Store::SetCrs(const Crs& crs) {
   return SetMeta("units", crs.IsGeographic() ? "degree" : "metre");
 }
 
-WriteTransaction::~WriteTransaction() {
-  if (!done_) (void)store_->db().Exec("ROLLBACK");
-}
-
-Status WriteTransaction::Commit() {
-  Status s = store_->db().Exec("COMMIT");
-  if (!s.ok()) (void)store_->db().Exec("ROLLBACK");
-  done_ = true;
-  return s;
-}
-
 Result<std::unique_ptr<ReadSnapshot>> ReadSnapshot::Begin(Store& store) {
-  TB_RETURN_IF_ERROR(store.db().Exec("BEGIN DEFERRED"));
-  // A deferred transaction takes its snapshot at the first read; read now so it is pinned.
-  TB_RETURN_IF_ERROR(store.db().QueryInt("SELECT count(*) FROM meta").status());
-  return std::unique_ptr<ReadSnapshot>(new ReadSnapshot(&store));
+  TB_ASSIGN_OR_RETURN(Snapshot snapshot, Snapshot::Begin(store.db()));
+  return std::unique_ptr<ReadSnapshot>(new ReadSnapshot(std::move(snapshot)));
 }
-
-ReadSnapshot::~ReadSnapshot() { (void)store_->db().Exec("COMMIT"); }
 
 }  // namespace tinbase

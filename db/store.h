@@ -1,10 +1,10 @@
-// Store: one tinbase store (an SQLite file), the only way into its tables.
+// Store: one tinbase store (today an SQLite file), the only way into its tables.
 //
-// A Store owns one connection (and, when it may write, a WalCheckpointer that keeps log
-// checkpoints out of its commits). Create() makes a new store from the migrations; Open() checks
-// that the file is a tinbase store, refuses one made by a newer tinbase and migrates an older one
-// forward. Every write goes through a WriteTransaction (BEGIN IMMEDIATE: one writer at a time,
-// readers keep their WAL snapshot), which rolls back in its destructor unless committed.
+// A Store owns one connection to it, through the seam of db/sql/connection.h; nothing here knows
+// the backend. Create() makes a new store from the migrations; Open() checks that the target is a
+// tinbase store, refuses one made by a newer tinbase and migrates an older one forward. Every
+// write goes through a WriteTransaction (one writer at a time; readers keep their snapshot), which
+// rolls back in its destructor unless committed.
 // Thread-safety: one Store per thread; several processes may open the same file.
 #pragma once
 
@@ -14,12 +14,12 @@
 
 #include "core/base/status.h"
 #include "core/geometry/crs.h"
+#include "db/sql/transaction.h"
 #include "db/sqlite/sqlite_db.h"
-#include "db/sqlite/wal_checkpointer.h"
 
 namespace tinbase {
 
-// 'TINB': marks an SQLite file as a tinbase store (PRAGMA application_id).
+// 'TINB': marks a database as a tinbase store (Connection::ApplicationId).
 inline constexpr int32_t kTinbaseApplicationId = 0x54494E42;
 
 class WriteTransaction;
@@ -36,9 +36,9 @@ class Store {
                                              Access access = Access::kReadWrite);
 
   // How much of a store file each connection opened after this call reads through a memory map
-  // (SQLite's mmap_size; default kDefaultMemoryMapBytes, 0 = none). The map saves a system call
-  // per page of every DEM block read; its pages are file cache the kernel may drop at will, but
-  // they count as the process's resident memory. Process-wide; safe from any thread.
+  // (StoreSettings::memory_map_bytes; default kDefaultMemoryMapBytes, 0 = none). The map saves a
+  // system call per page of every DEM block read; its pages are file cache the kernel may drop at
+  // will, but they count as the process's resident memory. Process-wide; safe from any thread.
   static void SetMemoryMapLimit(int64_t bytes);
   static constexpr int64_t kDefaultMemoryMapBytes = int64_t{1} << 30;
 
@@ -58,40 +58,39 @@ class Store {
   SqliteDb& db() { return *db_; }
 
  private:
-  Store(std::unique_ptr<SqliteDb> db, int version, Access access);
+  Store(std::unique_ptr<SqliteDb> db, int version);
   std::unique_ptr<SqliteDb> db_;
-  // After db_: destroyed first, while the connection it hooks is still open.
-  std::unique_ptr<WalCheckpointer> checkpointer_;
   int schema_version_;
 };
 
+// The store's write transaction (a Transaction of db/sql/transaction.h): rolls back in its
+// destructor unless committed.
 class WriteTransaction {
  public:
-  explicit WriteTransaction(Store* store) : store_(store) {}
-  ~WriteTransaction();
+  WriteTransaction(Store* store, Transaction tx) : store_(store), tx_(std::move(tx)) {}
   WriteTransaction(const WriteTransaction&) = delete;
   WriteTransaction& operator=(const WriteTransaction&) = delete;
 
   // Makes every change since BeginWrite() durable; after a failure nothing of it is kept.
-  Status Commit();
+  // REQUIRES: called at most once.
+  Status Commit() { return tx_.Commit(); }
   Store& store() { return *store_; }
 
  private:
   Store* store_;
-  bool done_ = false;
+  Transaction tx_;
 };
 
-// A consistent read snapshot across several queries (a deferred SQLite read transaction).
+// A consistent read snapshot across several queries (a Snapshot of db/sql/transaction.h).
 class ReadSnapshot {
  public:
   static Result<std::unique_ptr<ReadSnapshot>> Begin(Store& store);
-  ~ReadSnapshot();
   ReadSnapshot(const ReadSnapshot&) = delete;
   ReadSnapshot& operator=(const ReadSnapshot&) = delete;
 
  private:
-  explicit ReadSnapshot(Store* store) : store_(store) {}
-  Store* store_;
+  explicit ReadSnapshot(Snapshot snapshot) : snapshot_(std::move(snapshot)) {}
+  Snapshot snapshot_;
 };
 
 }  // namespace tinbase

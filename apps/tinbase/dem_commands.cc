@@ -113,36 +113,13 @@ int RunSample(const SampleArgs& args) {
   return kExitOk;
 }
 
-// Stored blocks and compressed bytes per level, from the block table itself.
-struct LevelStats {
-  int64_t blocks = 0;
-  int64_t bytes = 0;
-};
-
-Result<std::vector<LevelStats>> StatsByLevel(Store& store, const DemInfo& dem) {
-  TB_ASSIGN_OR_RETURN(Statement * stmt,
-                      store.db().Cached("SELECT level, count(*), sum(length(data)) FROM "
-                                        "dem_blocks WHERE dem = ? GROUP BY level ORDER BY level"));
-  stmt->Bind(1, dem.id);
-  std::vector<LevelStats> out(static_cast<size_t>(std::max(dem.levels, 1)));
-  while (true) {
-    TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
-    if (!row) break;
-    const int64_t level = stmt->ColumnInt(0);
-    if (level >= 0 && level < static_cast<int64_t>(out.size()))
-      out[static_cast<size_t>(level)] = {stmt->ColumnInt(1), stmt->ColumnInt(2)};
-  }
-  stmt->Reset();
-  return out;
-}
-
-Result<nlohmann::json> DescribeDem(Store& store, const DemInfo& dem) {
-  TB_ASSIGN_OR_RETURN(auto stats, StatsByLevel(store, dem));
+Result<nlohmann::json> DescribeDem(DemStore& dems, const DemInfo& dem) {
+  TB_ASSIGN_OR_RETURN(auto stats, dems.LevelStats(dem));
   nlohmann::json levels = nlohmann::json::array();
   int64_t bytes = 0;
   for (int level = 0; level < dem.levels; ++level) {
     const DemLevel l = LevelOf(dem, level);
-    const LevelStats& st = stats[static_cast<size_t>(level)];
+    const DemLevelStats& st = stats[static_cast<size_t>(level)];
     bytes += st.bytes;
     levels.push_back({{"level", level},
                       {"width", l.geometry.width},
@@ -175,7 +152,7 @@ int RunInfo(const InfoArgs& args) {
   DemStore dems(**store);
   auto dem = ResolveDem(dems, args.dem);
   if (!dem.ok()) return ReportError(dem.status());
-  auto j = DescribeDem(**store, *dem);
+  auto j = DescribeDem(dems, *dem);
   if (!j.ok()) return ReportError(j.status());
   if (args.json) {
     std::cout << j->dump(2) << "\n";

@@ -40,9 +40,8 @@ Result<nlohmann::json> DescribeStore(Store& store) {
   TB_ASSIGN_OR_RETURN(auto dem_list, dems.List());
   out["dems"] = nlohmann::json::array();
   for (const DemInfo& d : dem_list) {
-    TB_ASSIGN_OR_RETURN(int64_t blocks,
-                        store.db().QueryInt("SELECT count(*) FROM dem_blocks WHERE dem = " +
-                                            std::to_string(d.id) + " AND level = 0"));
+    TB_ASSIGN_OR_RETURN(std::vector<DemLevelStats> stats, dems.LevelStats(d));
+    const int64_t blocks = stats[0].blocks;
     out["dems"].push_back({{"name", d.name},
                            {"width", d.geometry.width},
                            {"height", d.geometry.height},

@@ -4,7 +4,7 @@
 
 namespace tinbase {
 
-WalCheckpointer::WalCheckpointer(SqliteDb& writer) : writer_(writer) {
+WalCheckpointer::WalCheckpointer(SqliteConnection& writer) : writer_(writer) {
   sqlite3_wal_hook(writer_.handle(), &WalCheckpointer::OnCommit, this);
 }
 
@@ -41,7 +41,7 @@ void WalCheckpointer::Wake() {
 }
 
 void WalCheckpointer::Run() {
-  auto connection = SqliteDb::Open(writer_.path(), SqliteDb::Mode::kReadWrite);
+  auto connection = SqliteConnection::Open(writer_.path(), Connection::Mode::kReadWrite);
   std::unique_lock<std::mutex> lock(mu_);
   for (;;) {
     wake_.wait(lock, [&] { return stop_ || pending_; });
@@ -60,7 +60,7 @@ void WalCheckpointer::Run() {
   idle_.notify_all();
 }
 
-void WalCheckpointer::CheckpointOnce(SqliteDb& connection) {
+void WalCheckpointer::CheckpointOnce(SqliteConnection& connection) {
   // A connection that has never read has not opened the log and would checkpoint nothing.
   (void)connection.QueryInt("SELECT count(*) FROM sqlite_master");
   sqlite3_wal_checkpoint_v2(connection.handle(), "main", SQLITE_CHECKPOINT_PASSIVE, nullptr,

@@ -2,18 +2,18 @@
 // commit path.
 //
 // SQLite's automatic checkpoint runs inside the COMMIT that crosses wal_autocheckpoint pages, so
-// one insert in every few pays for writing back all the pages the others changed (on a 1e6-
-// triangle store that made a commit 1-9 ms or ~50 ms at random). This replaces it: a commit that
-// leaves kWakePages or more in the log wakes a background thread, which checkpoints PASSIVE (never
-// waiting for readers or the writer) through its own connection. Should the log already hold
-// kInlinePages before a commit adds its frames (the thread cannot keep up, or readers pin old
-// frames), the writer checkpoints inline as SQLite would, so the log stays bounded (by
-// kInlinePages plus the largest transaction). One big transaction alone (a bulk import of
-// millions of rows, whose ~800 MB took ~2.6 s to copy back inside its COMMIT) only wakes the
-// thread: the commit is as durable either way, as its frames are in the log. SQLite has no background checkpointer of its
-// own; this is the pattern its documentation suggests for sqlite3_wal_hook.
-// Thread-safety: owned by the Store whose writer connection it hooks; destroy it before closing
-// that connection.
+// one insert in every few pays for writing back all the pages the others changed, and commit times
+// become erratic on large stores. This replaces it: a commit that leaves kWakePages or more in the
+// log wakes a background thread, which checkpoints PASSIVE (never waiting for readers or the
+// writer) through its own connection. Should the log already hold kInlinePages before a commit
+// adds its frames (the thread cannot keep up, or readers pin old frames), the writer checkpoints
+// inline as SQLite would, so the log stays bounded (by kInlinePages plus the largest transaction).
+// One big transaction alone (a bulk import of millions of rows, whose log would take long to copy
+// back inside its COMMIT) only wakes the thread: the commit is as durable either way, as its
+// frames are in the log. SQLite has no background checkpointer of its own; this is the pattern
+// its documentation suggests for its WAL hook.
+// Thread-safety: owned by the SqliteConnection whose commits it hooks (a store's writer,
+// Connection::ConfigureForStore), which destroys it before closing.
 #pragma once
 
 #include <condition_variable>
@@ -23,7 +23,7 @@
 #include <string>
 #include <thread>
 
-#include "db/sqlite/sqlite_db.h"
+#include "db/sqlite/sqlite_connection.h"
 
 namespace tinbase {
 
@@ -34,7 +34,7 @@ class WalCheckpointer {
 
   // Hooks `writer`'s commits (replacing its automatic checkpoint). The thread and its connection
   // start at the first commit that needs them.
-  explicit WalCheckpointer(SqliteDb& writer);
+  explicit WalCheckpointer(SqliteConnection& writer);
   ~WalCheckpointer();
   WalCheckpointer(const WalCheckpointer&) = delete;
   WalCheckpointer& operator=(const WalCheckpointer&) = delete;
@@ -48,9 +48,9 @@ class WalCheckpointer {
   static int OnCommit(void* self, struct sqlite3* db, const char* schema, int log_pages);
   void Wake();
   void Run();
-  void CheckpointOnce(SqliteDb& connection);
+  void CheckpointOnce(SqliteConnection& connection);
 
-  SqliteDb& writer_;
+  SqliteConnection& writer_;
   mutable std::mutex mu_;
   std::condition_variable wake_;
   std::condition_variable idle_;

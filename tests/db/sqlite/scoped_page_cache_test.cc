@@ -11,11 +11,11 @@ namespace {
 
 using testing::TempDir;
 
-int64_t CacheSize(SqliteDb& db) { return *db.QueryInt("PRAGMA cache_size"); }
+int64_t CacheSize(Connection& db) { return *db.QueryInt("PRAGMA cache_size"); }
 
 TEST(ScopedPageCacheTest, RaisedForLargeWritesAndRestored) {
   TempDir dir;
-  auto db = SqliteDb::Open(dir.Path("c.db"), SqliteDb::Mode::kCreate);
+  auto db = Connection::Open(dir.Path("c.db"), Connection::Mode::kCreate);
   ASSERT_TRUE(db.ok());
   const int64_t before = CacheSize(**db);
   ASSERT_LT(before, 0);  // SQLite's default is in KiB
@@ -42,7 +42,7 @@ TEST(ScopedPageCacheTest, GrowsWithTheWriteUpToTheCap) {
             -static_cast<int64_t>(rows / 1024) * ScopedPageCache::kBytesPerRow);
   EXPECT_EQ(ScopedPageCache::CacheSizeFor(size_t{1} << 40), -ScopedPageCache::kMaxCacheKib);
   TempDir dir;
-  auto db = SqliteDb::Open(dir.Path("c.db"), SqliteDb::Mode::kCreate);
+  auto db = Connection::Open(dir.Path("c.db"), Connection::Mode::kCreate);
   ASSERT_TRUE(db.ok());
   {
     ScopedPageCache large(**db, rows);
@@ -57,7 +57,7 @@ TEST(ScopedPageCacheTest, GrowsWithTheWriteUpToTheCap) {
 
 TEST(ScopedPageCacheTest, CacheInPagesIsLeftAlone) {
   TempDir dir;
-  auto db = SqliteDb::Open(dir.Path("c.db"), SqliteDb::Mode::kCreate);
+  auto db = Connection::Open(dir.Path("c.db"), Connection::Mode::kCreate);
   ASSERT_TRUE(db.ok());
   ASSERT_TRUE((*db)->Exec("PRAGMA cache_size = 500").ok());
   {

@@ -15,8 +15,8 @@ namespace {
 
 using testing::TempDir;
 
-std::unique_ptr<SqliteDb> WalDb(const std::string& path) {
-  auto db = SqliteDb::Open(path, SqliteDb::Mode::kCreate);
+std::unique_ptr<SqliteConnection> WalDb(const std::string& path) {
+  auto db = SqliteConnection::Open(path, SqliteConnection::Mode::kCreate);
   EXPECT_TRUE(db.ok()) << db.status().ToString();
   EXPECT_TRUE((*db)->Exec("PRAGMA journal_mode = WAL").ok());
   EXPECT_TRUE((*db)->Exec("CREATE TABLE blobs(id INTEGER PRIMARY KEY, data BLOB)").ok());
@@ -24,7 +24,7 @@ std::unique_ptr<SqliteDb> WalDb(const std::string& path) {
 }
 
 // One transaction of `count` 4 KiB blobs: about one log page each.
-void InsertBlobs(SqliteDb& db, int count) {
+void InsertBlobs(SqliteConnection& db, int count) {
   ASSERT_TRUE(db.Exec("BEGIN IMMEDIATE").ok());
   auto insert = db.Cached("INSERT INTO blobs(data) VALUES (?)");
   ASSERT_TRUE(insert.ok());

@@ -1,6 +1,6 @@
 // Foreign keys go unchecked while an UncheckedForeignKeys lives, inside a transaction too, and
 // are enforced again after it (and stay off when they were off).
-#include "db/sqlite/unchecked_foreign_keys.h"
+#include "db/sql/unchecked_foreign_keys.h"
 
 #include <gtest/gtest.h>
 
@@ -11,14 +11,15 @@ namespace {
 
 using testing::TempDir;
 
-std::unique_ptr<SqliteDb> ParentAndChild(const TempDir& dir) {
-  auto db = SqliteDb::Open(dir.Path("fk.db"), SqliteDb::Mode::kCreate);
+std::unique_ptr<Connection> ParentAndChild(const TempDir& dir) {
+  auto db = Connection::Open(dir.Path("fk.db"), Connection::Mode::kCreate);
   EXPECT_TRUE(db.ok()) << db.status().ToString();
   EXPECT_TRUE((*db)->Exec("PRAGMA foreign_keys = ON").ok());
-  EXPECT_TRUE((*db)->Exec("CREATE TABLE parent(id INTEGER PRIMARY KEY); "
-                          "CREATE TABLE child(id INTEGER PRIMARY KEY, p INTEGER REFERENCES "
-                          "parent(id)); INSERT INTO parent(id) VALUES (1); "
-                          "INSERT INTO child(id, p) VALUES (1, 1)")
+  EXPECT_TRUE((*db)
+                  ->Exec("CREATE TABLE parent(id INTEGER PRIMARY KEY); "
+                         "CREATE TABLE child(id INTEGER PRIMARY KEY, p INTEGER REFERENCES "
+                         "parent(id)); INSERT INTO parent(id) VALUES (1); "
+                         "INSERT INTO child(id, p) VALUES (1, 1)")
                   .ok());
   return std::move(*db);
 }

@@ -1,7 +1,7 @@
 // Bulk writes reach every row once, in order, whatever the count (full batches, then halving
 // ones), inserts number rows as NextId said, a statement over ids changes only those rows, and a
 // statement that fails part way is undone alone.
-#include "db/sqlite/bulk_write.h"
+#include "db/sql/bulk_write.h"
 
 #include <gtest/gtest.h>
 
@@ -14,8 +14,8 @@ namespace {
 
 using testing::TempDir;
 
-std::unique_ptr<SqliteDb> Table(const TempDir& dir) {
-  auto db = SqliteDb::Open(dir.Path("bulk.db"), SqliteDb::Mode::kCreate);
+std::unique_ptr<Connection> Table(const TempDir& dir) {
+  auto db = Connection::Open(dir.Path("bulk.db"), Connection::Mode::kCreate);
   EXPECT_TRUE(db.ok()) << db.status().ToString();
   EXPECT_TRUE((*db)
                   ->Exec("CREATE TABLE t(id INTEGER PRIMARY KEY, a INTEGER NOT NULL, "
@@ -25,7 +25,7 @@ std::unique_ptr<SqliteDb> Table(const TempDir& dir) {
 }
 
 // Rows in id order as "a:b".
-std::vector<std::string> Rows(SqliteDb& db) {
+std::vector<std::string> Rows(Connection& db) {
   auto stmt = db.Cached("SELECT a, b FROM t ORDER BY id");
   EXPECT_TRUE(stmt.ok());
   std::vector<std::string> rows;
@@ -106,7 +106,7 @@ TEST(BulkWriteTest, RunOverIdsReachesEveryIdOnce) {
 // is undone alone: the rows of the earlier statements stay.
 TEST(BulkWriteTest, AFailedStatementIsUndoneAloneAfterALargeOne) {
   TempDir dir;
-  auto db = SqliteDb::Open(dir.Path("fk.db"), SqliteDb::Mode::kCreate);
+  auto db = Connection::Open(dir.Path("fk.db"), Connection::Mode::kCreate);
   ASSERT_TRUE(db.ok());
   ASSERT_TRUE((*db)->Exec("PRAGMA foreign_keys = ON").ok());
   ASSERT_TRUE((*db)

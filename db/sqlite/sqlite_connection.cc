@@ -1,0 +1,253 @@
+#include "db/sqlite/sqlite_connection.h"
+
+#include <sqlite3.h>
+
+#include <filesystem>
+#include <mutex>
+
+#include "db/sqlite/scoped_page_cache.h"
+#include "db/sqlite/wal_checkpointer.h"
+#include "db/sqlite/wal_write_batching.h"
+
+namespace tinbase {
+
+Status StatusFromSqlite(int rc, sqlite3* db, std::string_view context) {
+  if (rc == SQLITE_OK || rc == SQLITE_DONE || rc == SQLITE_ROW) return Status::Ok();
+  std::string msg(context);
+  msg += ": ";
+  msg += db != nullptr ? sqlite3_errmsg(db) : sqlite3_errstr(rc);
+  switch (rc & 0xff) {
+    case SQLITE_BUSY:
+    case SQLITE_LOCKED:
+      return Status::Busy(msg);
+    case SQLITE_CONSTRAINT:
+      return Status::Conflict(msg);
+    case SQLITE_CORRUPT:
+    case SQLITE_NOTADB:
+      return Status::Corruption(msg);
+    case SQLITE_NOTFOUND:
+      return Status::NotFound(msg);
+    case SQLITE_MISMATCH:
+    case SQLITE_RANGE:
+    case SQLITE_TOOBIG:
+    case SQLITE_ERROR:
+      return Status::InvalidArgument(msg);
+    default:
+      return Status::IOError(msg);
+  }
+}
+
+SqliteStatement::SqliteStatement(sqlite3* db, sqlite3_stmt* stmt, std::string sql)
+    : Statement(std::move(sql)), db_(db), stmt_(stmt) {}
+
+SqliteStatement::~SqliteStatement() { sqlite3_finalize(stmt_); }
+
+SqliteStatement& SqliteStatement::Bind(int index, int64_t value) {
+  sqlite3_bind_int64(stmt_, index, value);
+  return *this;
+}
+SqliteStatement& SqliteStatement::Bind(int index, double value) {
+  sqlite3_bind_double(stmt_, index, value);
+  return *this;
+}
+SqliteStatement& SqliteStatement::Bind(int index, std::string_view text) {
+  sqlite3_bind_text(stmt_, index, text.data(), static_cast<int>(text.size()), SQLITE_TRANSIENT);
+  return *this;
+}
+SqliteStatement& SqliteStatement::BindStaticText(int index, const char* text) {
+  sqlite3_bind_text(stmt_, index, text, -1, SQLITE_STATIC);
+  return *this;
+}
+SqliteStatement& SqliteStatement::BindBlob(int index, const void* data, size_t size) {
+  sqlite3_bind_blob64(stmt_, index, data, size, SQLITE_TRANSIENT);
+  return *this;
+}
+SqliteStatement& SqliteStatement::BindNull(int index) {
+  sqlite3_bind_null(stmt_, index);
+  return *this;
+}
+
+Result<bool> SqliteStatement::Step() {
+  const int rc = sqlite3_step(stmt_);
+  if (rc == SQLITE_ROW) return true;
+  if (rc == SQLITE_DONE) return false;
+  return StatusFromSqlite(rc, db_, sql().substr(0, 60));
+}
+
+Status SqliteStatement::Run() {
+  Result<bool> r = Step();
+  while (r.ok() && *r) r = Step();
+  Reset();
+  return r.status();
+}
+
+void SqliteStatement::Reset() {
+  sqlite3_reset(stmt_);
+  sqlite3_clear_bindings(stmt_);
+}
+
+int SqliteStatement::ColumnCount() const { return sqlite3_column_count(stmt_); }
+int64_t SqliteStatement::ColumnInt(int index) const { return sqlite3_column_int64(stmt_, index); }
+double SqliteStatement::ColumnDouble(int index) const {
+  return sqlite3_column_double(stmt_, index);
+}
+std::string SqliteStatement::ColumnText(int index) const {
+  const auto* text = sqlite3_column_text(stmt_, index);
+  return text == nullptr ? std::string()
+                         : std::string(reinterpret_cast<const char*>(text),
+                                       static_cast<size_t>(sqlite3_column_bytes(stmt_, index)));
+}
+bool SqliteStatement::ColumnIsNull(int index) const {
+  return sqlite3_column_type(stmt_, index) == SQLITE_NULL;
+}
+const uint8_t* SqliteStatement::ColumnBlob(int index, size_t* size) const {
+  const void* data = sqlite3_column_blob(stmt_, index);
+  *size = static_cast<size_t>(sqlite3_column_bytes(stmt_, index));
+  return static_cast<const uint8_t*>(data);
+}
+
+namespace {
+
+// A statement that may fail part way (a multi-row write with foreign keys or CHECKs to enforce)
+// keeps the original of every page it changes in a statement journal, in memory only up to
+// 64 KiB by default; once one statement of a transaction passed that, the journal is a temporary
+// file for the rest of it, and every page a statement changes costs a pwrite (a load feature by
+// feature makes many such statements). Statements that change more than
+// kStatementJournalInMemory bytes of pages still spill. The setting is process-wide and must come
+// before SQLite initialises: when another user of SQLite in the process (GDAL's GeoPackage
+// driver) came first, the default stays, which is only slower.
+constexpr int kStatementJournalInMemory = 16 << 20;
+
+void ConfigureSqliteOnce() {
+  static std::once_flag once;
+  std::call_once(
+      once, [] { (void)sqlite3_config(SQLITE_CONFIG_STMTJRNL_SPILL, kStatementJournalInMemory); });
+}
+
+}  // namespace
+
+Result<std::unique_ptr<SqliteConnection>> SqliteConnection::Open(const std::string& path,
+                                                                 Mode mode) {
+  ConfigureSqliteOnce();
+  const bool exists = std::filesystem::exists(path);
+  if (mode == Mode::kCreate && exists)
+    return Status::InvalidArgument(path + ": a file already exists there");
+  if (mode != Mode::kCreate && !exists) return Status::NotFound(path + ": no such store");
+  int flags = SQLITE_OPEN_NOMUTEX;
+  if (mode == Mode::kReadOnly) flags |= SQLITE_OPEN_READONLY;
+  if (mode == Mode::kReadWrite) flags |= SQLITE_OPEN_READWRITE;
+  if (mode == Mode::kCreate) flags |= SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE;
+  sqlite3* raw = nullptr;
+  const int rc = sqlite3_open_v2(path.c_str(), &raw, flags, WalWriteBatchingVfs());
+  if (rc != SQLITE_OK) {
+    Status s = StatusFromSqlite(rc, raw, path);
+    sqlite3_close(raw);
+    return s;
+  }
+  sqlite3_extended_result_codes(raw, 1);
+  sqlite3_busy_timeout(raw, 10000);
+  return std::unique_ptr<SqliteConnection>(new SqliteConnection(raw, path));
+}
+
+SqliteConnection::SqliteConnection(sqlite3* db, std::string path)
+    : db_(db), path_(std::move(path)) {}
+
+SqliteConnection::~SqliteConnection() {
+  checkpointer_.reset();
+  cache_.clear();
+  sqlite3_close(db_);
+}
+
+Status SqliteConnection::Exec(std::string_view sql) {
+  std::string text(sql);
+  char* err = nullptr;
+  const int rc = sqlite3_exec(db_, text.c_str(), nullptr, nullptr, &err);
+  sqlite3_free(err);
+  return StatusFromSqlite(rc, db_, text.substr(0, 60));
+}
+
+Result<std::unique_ptr<Statement>> SqliteConnection::Prepare(std::string_view sql) {
+  sqlite3_stmt* stmt = nullptr;
+  const int rc = sqlite3_prepare_v2(db_, sql.data(), static_cast<int>(sql.size()), &stmt, nullptr);
+  if (rc != SQLITE_OK) {
+    Status s =
+        StatusFromSqlite(rc, db_, std::string("preparing ") + std::string(sql.substr(0, 60)));
+    sqlite3_finalize(stmt);
+    return s;
+  }
+  return std::unique_ptr<Statement>(new SqliteStatement(db_, stmt, std::string(sql)));
+}
+
+Result<Statement*> SqliteConnection::Cached(std::string_view sql) {
+  auto it = cache_.find(std::string(sql));
+  if (it != cache_.end()) {
+    it->second->Reset();
+    return it->second.get();
+  }
+  TB_ASSIGN_OR_RETURN(auto stmt, Prepare(sql));
+  auto* raw = static_cast<SqliteStatement*>(stmt.release());
+  cache_.emplace(std::string(sql), std::unique_ptr<SqliteStatement>(raw));
+  return static_cast<Statement*>(raw);
+}
+
+int64_t SqliteConnection::LastInsertRowId() const { return sqlite3_last_insert_rowid(db_); }
+int64_t SqliteConnection::Changes() const { return sqlite3_changes64(db_); }
+int64_t SqliteConnection::TotalChanges() const { return sqlite3_total_changes64(db_); }
+
+Status SqliteConnection::BeginWrite() { return Exec("BEGIN IMMEDIATE"); }
+
+Status SqliteConnection::BeginRead() {
+  TB_RETURN_IF_ERROR(Exec("BEGIN DEFERRED"));
+  Status s = QueryInt("SELECT count(*) FROM sqlite_master").status();
+  if (!s.ok()) (void)Exec("ROLLBACK");
+  return s;
+}
+
+Status SqliteConnection::Commit() { return Exec("COMMIT"); }
+Status SqliteConnection::Rollback() { return Exec("ROLLBACK"); }
+
+Status SqliteConnection::BeginSavepoint(std::string_view name) {
+  return Exec("SAVEPOINT " + std::string(name));
+}
+Status SqliteConnection::ReleaseSavepoint(std::string_view name) {
+  return Exec("RELEASE SAVEPOINT " + std::string(name));
+}
+Status SqliteConnection::RollbackToSavepoint(std::string_view name) {
+  return Exec("ROLLBACK TO SAVEPOINT " + std::string(name));
+}
+
+bool SqliteConnection::InTransaction() const { return sqlite3_get_autocommit(db_) == 0; }
+
+Result<int64_t> SqliteConnection::ApplicationId() { return QueryInt("PRAGMA application_id"); }
+Status SqliteConnection::SetApplicationId(int32_t id) {
+  return Exec("PRAGMA application_id = " + std::to_string(id));
+}
+Result<int64_t> SqliteConnection::SchemaVersion() { return QueryInt("PRAGMA user_version"); }
+Status SqliteConnection::SetSchemaVersion(int64_t version) {
+  return Exec("PRAGMA user_version = " + std::to_string(version));
+}
+
+Status SqliteConnection::ConfigureForStore(const StoreSettings& settings) {
+  if (settings.create) TB_RETURN_IF_ERROR(Exec("PRAGMA journal_mode = WAL"));
+  TB_RETURN_IF_ERROR(Exec("PRAGMA foreign_keys = ON"));
+  TB_RETURN_IF_ERROR(Exec("PRAGMA mmap_size = " + std::to_string(settings.memory_map_bytes)));
+  TB_RETURN_IF_ERROR(Exec("PRAGMA synchronous = NORMAL"));
+  if (settings.writer && !checkpointer_) checkpointer_ = std::make_unique<WalCheckpointer>(*this);
+  return Status::Ok();
+}
+
+std::unique_ptr<Connection::Scope> SqliteConnection::BeginLargeWrite(size_t rows) {
+  auto cache = std::make_unique<ScopedPageCache>(*this, rows);
+  if (!cache->raised()) return nullptr;
+  return cache;
+}
+
+Result<bool> SqliteConnection::SetForeignKeys(bool on) {
+  int was = 0, now = 0;
+  int rc = sqlite3_db_config(db_, SQLITE_DBCONFIG_ENABLE_FKEY, -1, &was);
+  if (rc == SQLITE_OK) rc = sqlite3_db_config(db_, SQLITE_DBCONFIG_ENABLE_FKEY, on ? 1 : 0, &now);
+  if (rc != SQLITE_OK) return StatusFromSqlite(rc, db_, "turning foreign keys on or off");
+  return was != 0;
+}
+
+}  // namespace tinbase
