@@ -26,7 +26,7 @@
 #include "core/raster/gdal_raster.h"
 #include "db/dem_block_cache.h"
 #include "db/dem_store.h"
-#include "db/sqlite/sqlite_db.h"
+#include "db/sql/connection.h"
 
 namespace tinbase {
 namespace {

@@ -12,7 +12,6 @@
 // Each insert is undone (polygon remove, untimed) so every iteration sees the same store.
 // Stores are synthetic smooth terrains built at full resolution in a temporary directory.
 #include <benchmark/benchmark.h>
-#include <sqlite3.h>
 
 #include <algorithm>
 #include <chrono>
@@ -150,9 +149,9 @@ void InsertAndUndo(benchmark::State& state, int64_t side, int n, double r_cells)
   // One untimed insert first: the statements are prepared and the pages read once.
   TimedInsertUndone(**store, o);
   for (auto _ : state) {
-    const int64_t changes_before = sqlite3_total_changes64((*store)->db().handle());
+    const int64_t changes_before = (*store)->db().TotalChanges();
     auto report = AddPolygons(**store, o);
-    rows_written = sqlite3_total_changes64((*store)->db().handle()) - changes_before;
+    rows_written = (*store)->db().TotalChanges() - changes_before;
     if (!report.ok()) {
       state.SkipWithError(report.status().ToString().c_str());
       break;

@@ -16,7 +16,7 @@ const std::vector<Migration>& SqliteMigrations() {
 
 int LatestSchemaVersion() { return static_cast<int>(SqliteMigrations().size()); }
 
-Status MigrateSqlite(SqliteDb& db, int target_version) {
+Status MigrateSqlite(Connection& db, int target_version) {
   TB_ASSIGN_OR_RETURN(int64_t current, db.SchemaVersion());
   if (target_version < current || target_version > LatestSchemaVersion())
     return Status::InvalidArgument("cannot migrate schema from version " + std::to_string(current) +

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "core/base/status.h"
-#include "db/sqlite/sqlite_db.h"
+#include "db/sql/connection.h"
 
 namespace tinbase {
 
@@ -26,6 +26,6 @@ int LatestSchemaVersion();
 
 // Applies migrations (current version, target] in one transaction; nothing changes on failure.
 // REQUIRES: the store's version <= target <= LatestSchemaVersion().
-Status MigrateSqlite(SqliteDb& db, int target_version);
+Status MigrateSqlite(Connection& db, int target_version);
 
 }  // namespace tinbase

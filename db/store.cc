@@ -24,7 +24,7 @@ StoreSettings Settings(bool create, Store::Access access) {
 
 }  // namespace
 
-Store::Store(std::unique_ptr<SqliteDb> db, int version)
+Store::Store(std::unique_ptr<Connection> db, int version)
     : db_(std::move(db)), schema_version_(version) {}
 
 void Store::SetMemoryMapLimit(int64_t bytes) { g_memory_map_bytes = std::max<int64_t>(bytes, 0); }
@@ -34,7 +34,7 @@ Result<std::unique_ptr<Store>> Store::Create(const std::string& path, const std:
   if (!crs_text.empty()) {
     TB_ASSIGN_OR_RETURN(crs, Crs::FromUserInput(crs_text));
   }
-  TB_ASSIGN_OR_RETURN(auto db, SqliteDb::Open(path, SqliteDb::Mode::kCreate));
+  TB_ASSIGN_OR_RETURN(auto db, Connection::Open(path, Connection::Mode::kCreate));
   Status status = db->ConfigureForStore(Settings(/*create=*/true, Access::kReadWrite));
   if (status.ok()) status = db->SetApplicationId(kTinbaseApplicationId);
   if (status.ok()) status = MigrateSqlite(*db, LatestSchemaVersion());
@@ -50,8 +50,8 @@ Result<std::unique_ptr<Store>> Store::Create(const std::string& path, const std:
 
 Result<std::unique_ptr<Store>> Store::Open(const std::string& path, Access access) {
   TB_ASSIGN_OR_RETURN(
-      auto db, SqliteDb::Open(path, access == Access::kReadOnly ? SqliteDb::Mode::kReadOnly
-                                                                : SqliteDb::Mode::kReadWrite));
+      auto db, Connection::Open(path, access == Access::kReadOnly ? Connection::Mode::kReadOnly
+                                                                : Connection::Mode::kReadWrite));
   auto app_id = db->ApplicationId();
   if (!app_id.ok())
     return Status::InvalidArgument(path + " is not a tinbase store (not an SQLite database)");

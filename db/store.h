@@ -15,7 +15,7 @@
 #include "core/base/status.h"
 #include "core/geometry/crs.h"
 #include "db/sql/transaction.h"
-#include "db/sqlite/sqlite_db.h"
+#include "db/sql/connection.h"
 
 namespace tinbase {
 
@@ -55,11 +55,11 @@ class Store {
 
   int SchemaVersion() const { return schema_version_; }
   const std::string& path() const { return db_->path(); }
-  SqliteDb& db() { return *db_; }
+  Connection& db() { return *db_; }
 
  private:
-  Store(std::unique_ptr<SqliteDb> db, int version);
-  std::unique_ptr<SqliteDb> db_;
+  Store(std::unique_ptr<Connection> db, int version);
+  std::unique_ptr<Connection> db_;
   int schema_version_;
 };
 

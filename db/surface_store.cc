@@ -1,6 +1,5 @@
 #include "db/surface_store.h"
 
-#include <sqlite3.h>
 
 #include <algorithm>
 #include <array>
@@ -16,8 +15,8 @@
 
 #include "core/base/paged_id_map.h"
 #include "db/mesh/mesh_tables.h"
-#include "db/sqlite/scoped_page_cache.h"
-#include "db/sqlite/unchecked_foreign_keys.h"
+#include "db/sql/large_write_hint.h"
+#include "db/sql/unchecked_foreign_keys.h"
 
 namespace tinbase {
 
@@ -89,7 +88,7 @@ BlockGrid GridFor(const std::vector<TinVertex>& vertices, size_t triangles) {
 
 // Inserts the surfaces row of `spec` with block grid `grid`; returns spec with id and grid.
 // Conflict when the name is taken.
-Result<SurfaceInfo> InsertSurfaceRow(SqliteDb& db, const SurfaceInfo& spec, const BlockGrid& grid) {
+Result<SurfaceInfo> InsertSurfaceRow(Connection& db, const SurfaceInfo& spec, const BlockGrid& grid) {
   {
     TB_ASSIGN_OR_RETURN(Statement * taken, db.Cached("SELECT 1 FROM surfaces WHERE name = ?"));
     taken->Bind(1, spec.name);
@@ -202,7 +201,7 @@ int64_t CentroidBlock(const BlockGrid& grid, double ax, double ay, double bx, do
 }
 
 Result<std::unique_ptr<ReadSnapshot>> SnapshotUnlessInTransaction(Store& store) {
-  if (sqlite3_get_autocommit(store.db().handle()) == 0) return std::unique_ptr<ReadSnapshot>();
+  if (store.db().InTransaction()) return std::unique_ptr<ReadSnapshot>();
   return ReadSnapshot::Begin(store);
 }
 
@@ -218,7 +217,7 @@ Result<SurfaceInfo> SurfaceStore::Create(const SurfaceInfo& spec, const Tin& tin
 Result<SurfaceInfo> SurfaceStore::CreateWhileTriangulating(
     const SurfaceInfo& spec, const std::vector<TinVertex>& vertices,
     const BatchedTriangulation& triangulate) {
-  SqliteDb& db = store_.db();
+  Connection& db = store_.db();
   // n points in general position have 2n - 2 - h Delaunay triangles (h on the convex hull): the
   // grid is sized for 2n, as rows are written before the count is known.
   TB_ASSIGN_OR_RETURN(SurfaceInfo info,
@@ -236,7 +235,7 @@ Result<SurfaceInfo> SurfaceStore::CreateWhileTriangulating(
     queue.Close();
     return status;
   });
-  ScopedPageCache cache(db, 3 * vertices.size());
+  LargeWriteHint cache(db, 3 * vertices.size());
   // Each row's surface is the row this write just made: SQLite's lookup of the parent for every
   // row would prove nothing (and costs a b-tree lookup per row).
   TB_ASSIGN_OR_RETURN(UncheckedForeignKeys unchecked, UncheckedForeignKeys::Begin(db));
@@ -269,8 +268,8 @@ Result<LoadedSurface> SurfaceStore::Replace(const SurfaceInfo& surface, const Ti
 }
 
 Result<LoadedSurface> SurfaceStore::WriteRows(const SurfaceInfo& surface, const Tin& tin) {
-  SqliteDb& db = store_.db();
-  ScopedPageCache cache(db, tin.vertices.size() + tin.triangles.size());
+  Connection& db = store_.db();
+  LargeWriteHint cache(db, tin.vertices.size() + tin.triangles.size());
   // As in CreateWhileTriangulating: every key was made sure of just before.
   TB_ASSIGN_OR_RETURN(UncheckedForeignKeys unchecked, UncheckedForeignKeys::Begin(db));
   MeshTables mesh(db, surface);

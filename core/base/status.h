@@ -2,7 +2,7 @@
 //
 // Every function that can fail because of outside input or storage returns a Status or a
 // Result<T> instead of throwing. Codes are few on purpose (LevelDB's Status), and each backend
-// maps its native codes to them in exactly one place (db/sqlite/sqlite_db.cc for SQLite).
+// maps its native codes to them in exactly one place (db/sqlite/sqlite_connection.cc for SQLite).
 // Messages are for users: they name the thing and the place ("feature 12, ring 0, vertex 7: ...").
 // Thread-safety: plain values, safe to copy between threads.
 #pragma once

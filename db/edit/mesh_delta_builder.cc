@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "core/tin/block_grid.h"
-#include "db/sqlite/bulk_write.h"
+#include "db/sql/bulk_write.h"
 
 namespace tinbase {
 namespace {

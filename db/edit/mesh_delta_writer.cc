@@ -7,8 +7,8 @@
 #include <utility>
 #include <vector>
 
-#include "db/sqlite/bulk_write.h"
-#include "db/sqlite/unchecked_foreign_keys.h"
+#include "db/sql/bulk_write.h"
+#include "db/sql/unchecked_foreign_keys.h"
 
 namespace tinbase {
 namespace {
@@ -16,12 +16,12 @@ namespace {
 // Consecutive ids from which one statement over their range beats looking each up by id.
 constexpr size_t kLongRun = 8;
 
-// Foreign keys unchecked (db/sqlite/unchecked_foreign_keys.h) while the result lives, for the
+// Foreign keys unchecked (db/sql/unchecked_foreign_keys.h) while the result lives, for the
 // bulk statements of a whole-surface edit, whose keys the builder has made sure of. A local
 // edit keeps them checked: turning enforcement off and on again expires every prepared
-// statement of the connection (sqlite3_db_config), and with them unchecked in every edit a
+// statement of the connection, and with them unchecked in every edit a
 // load feature by feature (`--each`) took more CPU than before instead of less.
-Result<std::optional<UncheckedForeignKeys>> UncheckedIf(SqliteDb& db, bool whole_surface) {
+Result<std::optional<UncheckedForeignKeys>> UncheckedIf(Connection& db, bool whole_surface) {
   if (!whole_surface) return std::optional<UncheckedForeignKeys>();
   TB_ASSIGN_OR_RETURN(UncheckedForeignKeys unchecked, UncheckedForeignKeys::Begin(db));
   return std::optional<UncheckedForeignKeys>(std::move(unchecked));
@@ -55,7 +55,7 @@ void BindPaint(Statement& stmt, bool visible, const std::optional<int64_t>& tag)
 
 // Steps 1 and 2: the new vertices, numbered on from first_vertex, and the changed z of the
 // region's vertices.
-Status WriteVertices(SqliteDb& db, const MeshDelta& delta, const WriteStepHook& step) {
+Status WriteVertices(Connection& db, const MeshDelta& delta, const WriteStepHook& step) {
   TB_RETURN_IF_ERROR(step(1));
   TB_RETURN_IF_ERROR(InsertNumberedRows(db, "vertices(surface, x, y, z, kind)", 5,
                                         delta.new_vertices.size(), delta.first_vertex,
@@ -75,7 +75,7 @@ Status WriteVertices(SqliteDb& db, const MeshDelta& delta, const WriteStepHook& 
 // Step 3: the new triangles get ids above every id in the table, so an id never comes back with
 // another triangle: they are inserted before the region's rows go, SQLite numbering them on from
 // the largest id (InsertNumberedRows).
-Status WriteNewTriangles(SqliteDb& db, const MeshDelta& delta, const WriteStepHook& step) {
+Status WriteNewTriangles(Connection& db, const MeshDelta& delta, const WriteStepHook& step) {
   TB_RETURN_IF_ERROR(step(3));
   // Every key bound here holds: the surface is the one being edited, the tags were interned by
   // the builder in this transaction.
@@ -91,7 +91,7 @@ Status WriteNewTriangles(SqliteDb& db, const MeshDelta& delta, const WriteStepHo
 // statement per run of consecutive ids (its triangles were mostly written together, in block
 // order, so a run is often dozens of rows; an IN list of the ids of short runs cost more:
 // SQLite builds a temporary table of them for each statement). Then the dropped vertices.
-Status DeleteRegion(SqliteDb& db, const MeshDelta& delta, const WriteStepHook& step) {
+Status DeleteRegion(Connection& db, const MeshDelta& delta, const WriteStepHook& step) {
   TB_RETURN_IF_ERROR(step(4));
   if (delta.whole_surface) {
     TB_ASSIGN_OR_RETURN(Statement * del_all,
@@ -121,7 +121,7 @@ Status DeleteRegion(SqliteDb& db, const MeshDelta& delta, const WriteStepHook& s
 // Step 5: the triangles outside the region point across its outline at the new ones. One
 // UPDATE a row: cheaper than batches, whether REPLACE of whole rows or UPDATE ... FROM a VALUES
 // list.
-Status WriteRelinks(SqliteDb& db, const MeshDelta& delta, const WriteStepHook& step) {
+Status WriteRelinks(Connection& db, const MeshDelta& delta, const WriteStepHook& step) {
   TB_RETURN_IF_ERROR(step(5));
   TB_ASSIGN_OR_RETURN(Statement * relink,
                       db.Cached("UPDATE triangles SET n0 = ?, n1 = ?, n2 = ? WHERE id = ?"));
@@ -140,7 +140,7 @@ Status WriteRelinks(SqliteDb& db, const MeshDelta& delta, const WriteStepHook& s
 // Step 6: constraint rows. The new ones go in the order of the (surface, va, vb) index, so that
 // its entries go in one sweep; every key holds (the surface is this one, each feature an added
 // one, written before the edit, or an owner of a kept constraint).
-Status WriteConstraints(SqliteDb& db, const MeshDelta& delta, const WriteStepHook& step) {
+Status WriteConstraints(Connection& db, const MeshDelta& delta, const WriteStepHook& step) {
   TB_RETURN_IF_ERROR(step(6));
   TB_ASSIGN_OR_RETURN(Statement * del_feature,
                       db.Cached("DELETE FROM constraints WHERE surface = ? AND feature = ?"));
@@ -164,7 +164,7 @@ Status WriteConstraints(SqliteDb& db, const MeshDelta& delta, const WriteStepHoo
 }
 
 // The rows `ids` take one paint, up to 64 ids a statement.
-Status RepaintByIds(SqliteDb& db, bool visible, const std::optional<int64_t>& tag,
+Status RepaintByIds(Connection& db, bool visible, const std::optional<int64_t>& tag,
                     const std::vector<int64_t>& ids, int64_t* repainted) {
   return RunOverIds(
       db, "UPDATE triangles SET visible = ?1, tag = ?2 WHERE id IN",
@@ -179,7 +179,7 @@ Status RepaintByIds(SqliteDb& db, bool visible, const std::optional<int64_t>& ta
 // up to 64 of one paint in one statement (an UPDATE costs several times a row's lookup). Rows
 // that already have the paint are not rewritten, and only the rows that change count.
 // REQUIRES: `repaints` ascending by triangle.
-Status WriteRepaints(SqliteDb& db, const std::vector<TriangleRepaint>& repaints,
+Status WriteRepaints(Connection& db, const std::vector<TriangleRepaint>& repaints,
                      int64_t* repainted) {
   TB_ASSIGN_OR_RETURN(Statement * repaint_run,
                       db.Cached("UPDATE triangles SET visible = ?1, tag = ?2 WHERE "
@@ -210,7 +210,7 @@ Status WriteRepaints(SqliteDb& db, const std::vector<TriangleRepaint>& repaints,
 }
 
 // Step 7: paint around the changed features and of uniform blocks, then z around.
-Status WritePaint(SqliteDb& db, const MeshDelta& delta, const WriteStepHook& step,
+Status WritePaint(Connection& db, const MeshDelta& delta, const WriteStepHook& step,
                   int64_t* repainted) {
   TB_RETURN_IF_ERROR(step(7));
   TB_RETURN_IF_ERROR(WriteRepaints(db, delta.repaints, repainted));
@@ -223,7 +223,7 @@ Status WritePaint(SqliteDb& db, const MeshDelta& delta, const WriteStepHook& ste
 
 }  // namespace
 
-Result<int64_t> WriteMeshDelta(SqliteDb& db, const MeshDelta& delta, const WriteStepHook& step) {
+Result<int64_t> WriteMeshDelta(Connection& db, const MeshDelta& delta, const WriteStepHook& step) {
   TB_RETURN_IF_ERROR(WriteVertices(db, delta, step));
   TB_RETURN_IF_ERROR(WriteNewTriangles(db, delta, step));
   TB_RETURN_IF_ERROR(DeleteRegion(db, delta, step));

@@ -1,6 +1,6 @@
 // The one writer of an edit's mesh rows: applies a MeshDelta (db/edit/mesh_delta.h) to the
 // triangles, vertices and constraints tables of a store in seven steps, with the bulk statements
-// of db/sqlite/bulk_write.h and the connection's cached prepared statements. Every SQL string
+// of db/sql/bulk_write.h and the connection's cached prepared statements. Every SQL string
 // that writes mesh rows for the edit path lives in this file.
 //
 // Ownership: borrows the connection. Not thread-safe.
@@ -10,7 +10,7 @@
 
 #include "core/base/status.h"
 #include "db/edit/mesh_delta.h"
-#include "db/sqlite/sqlite_db.h"
+#include "db/sql/connection.h"
 
 namespace tinbase {
 
@@ -23,6 +23,6 @@ using WriteStepHook = std::function<Status(int step)>;
 // ones the delta names (another writer came between); any error of the store; the hook's Status.
 // On error some steps may have run: the caller's transaction rolls them back.
 // REQUIRES: inside a write transaction; the delta built in it from the rows as stored.
-Result<int64_t> WriteMeshDelta(SqliteDb& db, const MeshDelta& delta, const WriteStepHook& step);
+Result<int64_t> WriteMeshDelta(Connection& db, const MeshDelta& delta, const WriteStepHook& step);
 
 }  // namespace tinbase

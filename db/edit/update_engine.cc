@@ -73,7 +73,7 @@ Result<EditResult> UpdateEngine::Apply(const LocalEdit& edit) {
   TB_RETURN_IF_ERROR(rules.status());
   // 4. Everything the edit changes, as one value; the last read of the edit.
   if (!page_cache_ || !page_cache_->raised())
-    page_cache_ = std::make_unique<ScopedPageCache>(store_.db(), RowsWritten(region, patch, plan));
+    page_cache_ = std::make_unique<LargeWriteHint>(store_.db(), RowsWritten(region, patch, plan));
   TB_ASSIGN_OR_RETURN(const MeshDelta delta, BuildMeshDelta(ctx, rules, edit, region, patch, plan));
   TB_RETURN_IF_ERROR(rules.status());
   // 5. The one writer, then the cache from the same delta.

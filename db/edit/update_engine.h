@@ -20,7 +20,7 @@
 //
 // Ownership: borrows the Store; all writes happen inside the caller's WriteTransaction, so an
 // error leaves the rollback to it. An edit that writes many rows (a fill over most of a surface)
-// raises the connection's page cache (db/sqlite/scoped_page_cache.h) until the engine is
+// raises the connection's page cache (db/sql/large_write_hint.h) until the engine is
 // destroyed: destroy it after the commit. Not thread-safe; one edit at a time.
 #pragma once
 
@@ -30,7 +30,7 @@
 #include "db/dem_store.h"
 #include "db/edit/local_edit.h"
 #include "db/mesh_cache.h"
-#include "db/sqlite/scoped_page_cache.h"
+#include "db/sql/large_write_hint.h"
 #include "db/store.h"
 #include "db/surface_store.h"
 
@@ -58,7 +58,7 @@ class UpdateEngine {
   DemStore& dems_;
   const DemInfo& dem_;
   MeshCache* mesh_cache_ = nullptr;
-  std::unique_ptr<ScopedPageCache> page_cache_;
+  std::unique_ptr<LargeWriteHint> page_cache_;
 };
 
 }  // namespace tinbase

@@ -5,7 +5,7 @@
 #include <numeric>
 #include <utility>
 
-#include "db/sqlite/bulk_write.h"
+#include "db/sql/bulk_write.h"
 #include "db/surface_store.h"
 
 namespace tinbase {
@@ -80,7 +80,7 @@ Result<std::optional<int64_t>> FirstValue(Statement& stmt) {
 }
 
 // The store id of every tag value of `tin`, adding the values the dictionary lacks.
-Result<std::vector<int64_t>> TagIds(SqliteDb& db, const Tin& tin) {
+Result<std::vector<int64_t>> TagIds(Connection& db, const Tin& tin) {
   std::vector<int64_t> ids;
   ids.reserve(tin.tags.size());
   for (const std::string& value : tin.tags) {
@@ -147,7 +147,7 @@ TriangleLayout LayOutTriangles(const BlockGrid& grid, const Tin& tin) {
 }
 
 // Writes the vertex rows of `surface` with fresh ids; returns the id of each vertex by index.
-Result<std::vector<int64_t>> WriteVertexRows(SqliteDb& db, const SurfaceInfo& surface,
+Result<std::vector<int64_t>> WriteVertexRows(Connection& db, const SurfaceInfo& surface,
                                              const std::vector<TinVertex>& vertices) {
   TB_ASSIGN_OR_RETURN(const int64_t base, NextId(db, "vertices"));
   const std::vector<uint32_t> order = VertexOrder(vertices);
@@ -259,7 +259,7 @@ class GatheredRows {
 
 // Writes the triangle and constraint rows of `tin` for `surface`, whose vertices have the ids
 // `vertex_ids`, laid out by `layout`; returns the id of each triangle by index.
-Result<std::vector<int64_t>> WriteTriangleRows(SqliteDb& db, const SurfaceInfo& surface,
+Result<std::vector<int64_t>> WriteTriangleRows(Connection& db, const SurfaceInfo& surface,
                                                const Tin& tin,
                                                const std::vector<int64_t>& vertex_ids,
                                                const TriangleLayout& layout) {
@@ -311,7 +311,7 @@ Result<std::vector<int64_t>> WriteTriangleRows(SqliteDb& db, const SurfaceInfo& 
 // Writes the rows of `batch` (triangle index t gets id base + t, vertex index v the id
 // vertex_id(v)), then the neighbour columns its links fill in rows written before.
 template <typename VertexId>
-Status WriteTriangleBatch(SqliteDb& db, const SurfaceInfo& surface, const TriangleBatch& batch,
+Status WriteTriangleBatch(Connection& db, const SurfaceInfo& surface, const TriangleBatch& batch,
                           int64_t base, const VertexId& vertex_id) {
   const auto triangle_id = [&](int32_t t) { return base + t; };
   const int64_t first = base + static_cast<int64_t>(batch.first);
@@ -633,7 +633,7 @@ Status MeshTables::DeleteAll() {
   return Status::Ok();
 }
 
-Status MeshTables::DeleteConstraintsOfFeature(SqliteDb& db, int64_t feature) {
+Status MeshTables::DeleteConstraintsOfFeature(Connection& db, int64_t feature) {
   TB_ASSIGN_OR_RETURN(Statement * stmt, db.Cached("DELETE FROM constraints WHERE feature = ?"));
   stmt->Bind(1, feature);
   return stmt->Run();

@@ -27,7 +27,7 @@
 #include "core/tin/tin.h"
 #include "core/tin/triangle_batch.h"
 #include "db/mesh/mesh_rows.h"
-#include "db/sqlite/sqlite_db.h"
+#include "db/sql/connection.h"
 
 namespace tinbase {
 
@@ -105,7 +105,7 @@ struct MeshCounts {
 class MeshTables {
  public:
   // REQUIRES: `db` and `surface` outlive this object.
-  MeshTables(SqliteDb& db, const SurfaceInfo& surface) : db_(db), surface_(surface) {}
+  MeshTables(Connection& db, const SurfaceInfo& surface) : db_(db), surface_(surface) {}
 
   // ---- Reads by id. A missing row is NotFound naming the row and the surface; a caller that
   // followed a link to it reports Corruption in its own words (the link is what is wrong).
@@ -187,12 +187,12 @@ class MeshTables {
   // Deletes every constraint, triangle and vertex row of the surface.
   Status DeleteAll();
   // Deletes the constraint rows of `feature` (of whatever surface).
-  static Status DeleteConstraintsOfFeature(SqliteDb& db, int64_t feature);
+  static Status DeleteConstraintsOfFeature(Connection& db, int64_t feature);
 
  private:
   std::string Where() const;  // "surface 'name'"
 
-  SqliteDb& db_;
+  Connection& db_;
   const SurfaceInfo& surface_;
 };
 

@@ -178,7 +178,7 @@ const sqlite3_io_methods kLogMethods = [] {
 }();
 
 // A statement journal that outgrew memory is written by SQLite one in-memory chunk a call, and a
-// chunk is as large as SQLITE_CONFIG_STMTJRNL_SPILL (16 MiB: db/sqlite/sqlite_db.cc), longer than
+// chunk is as large as SQLITE_CONFIG_STMTJRNL_SPILL (16 MiB: db/sqlite/sqlite_connection.cc), longer than
 // the unix VFS writes in one call (it reports the rest as a full disk).
 int StatementJournalWrite(sqlite3_file* file, const void* data, int bytes, sqlite3_int64 offset) {
   return WriteInPieces(AsLog(file), static_cast<const char*>(data), static_cast<size_t>(bytes),

@@ -14,9 +14,9 @@
 // the frame pattern goes straight through, so a future SQLite that wrote its log differently would
 // only lose the batching. It also cuts a spilling statement journal's writes to lengths the
 // default VFS accepts (SQLite writes a whole in-memory chunk a call, as large as the in-memory
-// limit SqliteDb sets, and the unix VFS writes at most 128 KiB - 1 bytes a call and calls the rest
+// limit SqliteConnection sets, and the unix VFS writes at most 128 KiB - 1 bytes a call and calls the rest
 // a full disk). Main database files and other journals are the default VFS's own.
-// Thread-safety: register once (done by SqliteDb::Open); each log file belongs to one connection.
+// Thread-safety: register once (done by SqliteConnection::Open); each log file belongs to one connection.
 #pragma once
 
 #include <cstdint>

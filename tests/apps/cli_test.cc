@@ -12,7 +12,7 @@
 #include "apps/tinbase/bulk_commands.h"
 #include "core/geometry/crs.h"
 #include "core/raster/gdal_raster.h"
-#include "db/sqlite/sqlite_db.h"
+#include "db/sql/connection.h"
 #include "tests/support/cli_support.h"
 #include "tests/support/test_support.h"
 
@@ -316,7 +316,7 @@ TEST_F(CliTest, CheckNamesTheFirstBrokenTriangle) {
     ASSERT_EQ(RunCli("check " + Quote(store_)).exit_code, 0);
     std::filesystem::copy_file(store_, copy);
     {
-      auto db = SqliteDb::Open(copy, SqliteDb::Mode::kReadWrite);
+      auto db = Connection::Open(copy, Connection::Mode::kReadWrite);
       ASSERT_TRUE(db.ok());
       ASSERT_TRUE((*db)->Exec(c.sql).ok()) << c.sql;
     }

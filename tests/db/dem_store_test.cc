@@ -22,7 +22,7 @@
 
 #include "core/raster/gdal_raster.h"
 #include "db/migrations.h"
-#include "db/sqlite/sqlite_db.h"
+#include "db/sql/connection.h"
 #include "db/store.h"
 #include "tests/support/test_support.h"
 #include "tests/support/tin_fixtures.h"
@@ -517,7 +517,7 @@ TEST(DemStore, Migration0003FillsTheBlockAnchorFromTheFirstSource) {
   TempDir dir;
   const std::string path = dir.Path("v2.tinbase");
   {
-    auto db = SqliteDb::Open(path, SqliteDb::Mode::kCreate);
+    auto db = Connection::Open(path, Connection::Mode::kCreate);
     ASSERT_TRUE(db.ok());
     ASSERT_TRUE(
         (*db)->Exec("PRAGMA application_id = " + std::to_string(kTinbaseApplicationId)).ok());

@@ -15,7 +15,7 @@ namespace {
 using testing::TempDir;
 
 // Every schema object as (type, name, normalised SQL), in name order.
-std::string SchemaOf(SqliteDb& db) {
+std::string SchemaOf(Connection& db) {
   auto stmt = db.Prepare(
       "SELECT type, name, sql FROM sqlite_master WHERE name NOT LIKE 'sqlite_%' ORDER BY name");
   EXPECT_TRUE(stmt.ok());
@@ -46,7 +46,7 @@ TEST(Migrations, ProduceExactlyTheSchemaFile) {
   TempDir dir;
   auto store = Store::Create(dir.Path("a.tinbase"), "");
   ASSERT_TRUE(store.ok()) << store.status().ToString();
-  auto reference = SqliteDb::Open(dir.Path("ref.sqlite"), SqliteDb::Mode::kCreate);
+  auto reference = Connection::Open(dir.Path("ref.sqlite"), Connection::Mode::kCreate);
   ASSERT_TRUE(reference.ok());
   ASSERT_TRUE((*reference)->Exec(ReadFile(std::string(TINBASE_SCHEMA_DIR) + "/sqlite.sql")).ok());
   EXPECT_EQ(SchemaOf((*store)->db()), SchemaOf(**reference));
@@ -63,7 +63,7 @@ TEST(Store, OlderStoreIsMigratedForward) {
   TempDir dir;
   const std::string path = dir.Path("old.tinbase");
   {
-    auto db = SqliteDb::Open(path, SqliteDb::Mode::kCreate);
+    auto db = Connection::Open(path, Connection::Mode::kCreate);
     ASSERT_TRUE(db.ok());
     ASSERT_TRUE((*db)->Exec("PRAGMA application_id = " + std::to_string(kTinbaseApplicationId)).ok());
     ASSERT_TRUE(MigrateSqlite(**db, 1).ok());
@@ -79,7 +79,7 @@ TEST(Store, OlderStoreIsMigratedForward) {
 }
 
 // The first column of the first row of `sql`, as text.
-std::string Text(SqliteDb& db, const std::string& sql) {
+std::string Text(Connection& db, const std::string& sql) {
   auto stmt = db.Prepare(sql);
   EXPECT_TRUE(stmt.ok());
   if (!stmt.ok() || !*(*stmt)->Step()) return "";
@@ -97,9 +97,9 @@ TEST(Store, Migration0009KeepsTheTriangleRows) {
       "ORDER BY id)";
   std::string before;
   {
-    auto db = SqliteDb::Open(path, SqliteDb::Mode::kCreate);
+    auto db = Connection::Open(path, Connection::Mode::kCreate);
     ASSERT_TRUE(db.ok());
-    SqliteDb& d = **db;
+    Connection& d = **db;
     ASSERT_TRUE(d.Exec("PRAGMA application_id = " + std::to_string(kTinbaseApplicationId)).ok());
     ASSERT_TRUE(MigrateSqlite(d, 8).ok());
     ASSERT_TRUE(d.Exec("INSERT INTO surfaces(id, name, kind, method, block_origin_x, "
@@ -113,7 +113,7 @@ TEST(Store, Migration0009KeepsTheTriangleRows) {
   }
   auto store = Store::Open(path);
   ASSERT_TRUE(store.ok()) << store.status().ToString();
-  SqliteDb& d = (*store)->db();
+  Connection& d = (*store)->db();
   EXPECT_EQ(*d.QueryInt("PRAGMA user_version"), LatestSchemaVersion());
   EXPECT_EQ(Text(d, rows), before);
   EXPECT_EQ(*d.QueryInt("SELECT count(*) FROM pragma_foreign_key_list('triangles')"), 1)
@@ -127,7 +127,7 @@ TEST(Store, NewerStoreIsRefusedWithAClearMessage) {
   const std::string path = dir.Path("new.tinbase");
   { ASSERT_TRUE(Store::Create(path, "").ok()); }
   {
-    auto db = SqliteDb::Open(path, SqliteDb::Mode::kReadWrite);
+    auto db = Connection::Open(path, Connection::Mode::kReadWrite);
     ASSERT_TRUE((*db)->Exec("PRAGMA user_version = 999").ok());
   }
   auto store = Store::Open(path);
@@ -145,7 +145,7 @@ TEST(Store, ForeignFilesAreNotStores) {
   EXPECT_NE(a.status().message().find("not a tinbase store"), std::string::npos);
 
   const std::string other = dir.Path("other.sqlite");
-  { ASSERT_TRUE((*SqliteDb::Open(other, SqliteDb::Mode::kCreate))->Exec("CREATE TABLE t(x)").ok()); }
+  { ASSERT_TRUE((*Connection::Open(other, Connection::Mode::kCreate))->Exec("CREATE TABLE t(x)").ok()); }
   auto b = Store::Open(other);
   ASSERT_FALSE(b.ok());
   EXPECT_NE(b.status().message().find("not a tinbase store"), std::string::npos);

@@ -264,7 +264,7 @@ TEST_F(SurfaceStoreTest, LoadNamesBrokenReferencesAndTakesAnyRowId) {
   ASSERT_FALSE(tin.tags.empty());
   ASSERT_FALSE(tin.constraints.empty());
   const SurfaceInfo info = CreateSurface("bedrock", SurfaceKind::kDelaunay, tin);
-  SqliteDb& db = store_->db();
+  Connection& db = store_->db();
   const int64_t first = *db.QueryInt("SELECT min(id) FROM triangles");
   const int64_t with_neighbour = *db.QueryInt("SELECT min(id) FROM triangles WHERE n1 IS NOT NULL");
   const int64_t tagged = *db.QueryInt("SELECT min(id) FROM triangles WHERE tag IS NOT NULL");

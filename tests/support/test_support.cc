@@ -13,7 +13,7 @@
 #include <random>
 #include <sstream>
 
-#include "db/sqlite/sqlite_db.h"
+#include "db/sql/connection.h"
 
 namespace tinbase::testing {
 
@@ -40,7 +40,7 @@ TempDir::~TempDir() {
 
 std::map<std::string, std::string> TableChecksums(const std::string& store_path) {
   std::map<std::string, std::string> sums;
-  auto db = SqliteDb::Open(store_path, SqliteDb::Mode::kReadOnly);
+  auto db = Connection::Open(store_path, Connection::Mode::kReadOnly);
   if (!db.ok()) return {{"<error>", db.status().ToString()}};
   auto tables = (*db)->Prepare(
       "SELECT name FROM sqlite_master WHERE type = 'table' AND name NOT LIKE 'sqlite_%' "

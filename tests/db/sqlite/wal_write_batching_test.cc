@@ -13,7 +13,7 @@
 
 #include <string>
 
-#include "db/sqlite/sqlite_db.h"
+#include "db/sqlite/sqlite_connection.h"
 #include "tests/support/test_support.h"
 
 namespace tinbase {
@@ -23,8 +23,8 @@ using testing::TempDir;
 
 constexpr int kRowsPerCommit = 40;  // of ~1 KiB: about ten pages a commit
 
-std::unique_ptr<SqliteDb> OpenLog(const std::string& path, SqliteDb::Mode mode) {
-  auto db = SqliteDb::Open(path, mode);
+std::unique_ptr<SqliteConnection> OpenLog(const std::string& path, SqliteConnection::Mode mode) {
+  auto db = SqliteConnection::Open(path, mode);
   EXPECT_TRUE(db.ok()) << db.status().ToString();
   EXPECT_TRUE((*db)->Exec("PRAGMA journal_mode = WAL").ok());
   EXPECT_TRUE((*db)->Exec("PRAGMA synchronous = NORMAL").ok());
@@ -33,13 +33,13 @@ std::unique_ptr<SqliteDb> OpenLog(const std::string& path, SqliteDb::Mode mode) 
 }
 
 // A new database at `path` with the table the tests fill.
-std::unique_ptr<SqliteDb> NewTable(const std::string& path) {
-  auto db = OpenLog(path, SqliteDb::Mode::kCreate);
+std::unique_ptr<SqliteConnection> NewTable(const std::string& path) {
+  auto db = OpenLog(path, SqliteConnection::Mode::kCreate);
   EXPECT_TRUE(db->Exec("CREATE TABLE t(tx INTEGER, payload BLOB)").ok());
   return db;
 }
 
-Status CommitRows(SqliteDb& db, int commit) {
+Status CommitRows(SqliteConnection& db, int commit) {
   TB_RETURN_IF_ERROR(db.Exec("BEGIN"));
   for (int r = 0; r < kRowsPerCommit; ++r)
     TB_RETURN_IF_ERROR(db.Exec("INSERT INTO t(tx, payload) VALUES (" + std::to_string(commit) +
@@ -112,7 +112,7 @@ TEST(WalWriteBatchingTest, AProcessKilledAfterItsCommitsLosesNone) {
   const pid_t child = fork();
   ASSERT_GE(child, 0);
   if (child == 0) {
-    auto db = OpenLog(path, SqliteDb::Mode::kReadWrite);
+    auto db = OpenLog(path, SqliteConnection::Mode::kReadWrite);
     for (int commit = 1; commit <= kCommits; ++commit)
       if (!CommitRows(*db, commit).ok()) _exit(1);
     // Nothing closes the connection or flushes anything more.
@@ -156,14 +156,14 @@ TEST(WalWriteBatchingTest, SpilledFramesOfARolledBackTransactionLeaveTheLogConsi
   EXPECT_EQ(after.Int("SELECT count(*) FROM t"), 24 * kRowsPerCommit);
 }
 
-// A statement journal larger than what SqliteDb keeps in memory spills to a temporary file
+// A statement journal larger than what SqliteConnection keeps in memory spills to a temporary file
 // without failing: SQLite writes the spill one 16 MiB chunk a call, and the unix VFS alone would
 // write 128 KiB - 1 bytes of it and report a full disk.
 TEST(WalWriteBatchingTest, AStatementJournalLargerThanTheInMemoryLimitSpills) {
   TempDir dir;
-  auto db = SqliteDb::Open(dir.Path("j.db"), SqliteDb::Mode::kCreate);
+  auto db = SqliteConnection::Open(dir.Path("j.db"), SqliteConnection::Mode::kCreate);
   ASSERT_TRUE(db.ok()) << db.status().ToString();
-  SqliteDb& d = **db;
+  SqliteConnection& d = **db;
   ASSERT_TRUE(d.Exec("PRAGMA journal_mode = WAL").ok());
   // A CHECK makes every UPDATE one that may fail part way, so it keeps a statement journal.
   ASSERT_TRUE(d.Exec("CREATE TABLE t(id INTEGER PRIMARY KEY, n INTEGER CHECK (n >= 0), b BLOB)")
