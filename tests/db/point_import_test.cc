@@ -158,8 +158,9 @@ TEST(PointImport, SameSurfaceOnAnyNumberOfThreads) {
       if (i % 1000 == 0) out << 500000 + x << " " << 5200000 + y << " " << 1.0 * i << "\n";
     }
   }
+  int runs = 0;
   const auto import = [&](int threads) {
-    const std::string path = dir.Path("threads" + std::to_string(threads) + ".tinbase");
+    const std::string path = dir.Path("run" + std::to_string(++runs) + ".tinbase");
     {
       auto store = Store::Create(path, "EPSG:32632");
       EXPECT_TRUE(store.ok()) << store.status().ToString();
