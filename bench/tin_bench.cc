@@ -9,6 +9,7 @@
 #include <gdal_priv.h>
 #include <ogr_spatialref.h>
 #include <sys/resource.h>
+#include <tbb/global_control.h>
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -22,13 +23,13 @@
 #include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <random>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "bench/generated_terrain.h"
-#include "core/base/huge_page_malloc.h"
 #include "core/geometry/cdt.h"
 #include "core/raster/gdal_raster.h"
 #include "core/tin/edge_collapse.h"
@@ -202,7 +203,7 @@ Row GreedyWithStore(const std::string& dir, double tolerance) {
 }
 
 int Measure(const std::string& dir, const std::vector<double>& errors, bool all_methods,
-            bool store, int threads) {
+            bool store) {
   const Grid grid = LoadTerrain(dir);
   std::map<std::pair<std::string, double>, double> peer_seconds;
   std::ifstream peers(dir + "/peers.jsonl");
@@ -219,15 +220,14 @@ int Measure(const std::string& dir, const std::vector<double>& errors, bool all_
   // freshly mapped memory (glibc returns large blocks until its thresholds grow with them) and
   // took several times what the same builds took at the next error.
   if (!errors.empty()) {
-    (void)BuildGreedyTin(grid, {.tolerance = errors.front(), .threads = threads});
+    (void)BuildGreedyTin(grid, {.tolerance = errors.front()});
     (void)BuildRtinTin(grid, {.tolerance = errors.front()});
   }
   for (double e : errors) {
     // value() of the temporary moves the mesh out (`*` would copy it inside the timed region).
     Tin greedy;
-    const double greedy_s = TimeLikePeers(grid, [&] {
-      greedy = BuildGreedyTin(grid, {.tolerance = e, .threads = threads}).value();
-    });
+    const double greedy_s =
+        TimeLikePeers(grid, [&] { greedy = BuildGreedyTin(grid, {.tolerance = e}).value(); });
     Print(Measured("greedy", e, greedy, grid, greedy_s), csv);
     if (store) Print(GreedyWithStore(dir, e), csv);
     Tin rtin;
@@ -337,8 +337,6 @@ std::vector<double> ParseList(const std::string& text) {
 }  // namespace tinbase
 
 int main(int argc, char** argv) {
-  // As the tinbase CLI runs; CGAL alone in `delaunay` gets the same malloc.
-  tinbase::RestartWithHugePageMalloc(argv);
   GDALAllRegister();
   CLI::App app{"tinbase TIN builder benchmark"};
   app.require_subcommand(1);
@@ -358,9 +356,13 @@ int main(int argc, char** argv) {
   measure->add_flag("--all", all, "Also VIP (threshold = error) and collapse (greedy's faces)");
   measure->add_flag("--store", store, "Also greedy through a store: build + write");
   int threads = 0;
-  measure->add_option("--threads", threads, "greedy: GreedyOptions::threads (0: automatic)");
-  measure->callback(
-      [&] { rc = tinbase::Measure(dir, tinbase::ParseList(errors), all, store, threads); });
+  measure->add_option("--threads", threads, "At most this many threads (0: one per core)");
+  measure->callback([&] {
+    std::optional<tbb::global_control> limit;
+    if (threads > 0)
+      limit.emplace(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
+    rc = tinbase::Measure(dir, tinbase::ParseList(errors), all, store);
+  });
   CLI::App* delaunay = app.add_subcommand("delaunay", "CGAL alone against points -> store");
   delaunay->add_option("--points", points);
   delaunay->add_option("--dir", dir)->required();

@@ -9,9 +9,10 @@ namespace {
 // rows can be written while the next is inserted. Six, shrinking upwards
 // (Cdt::InsertVerticesInBands: the first holds 31 % of the points, the last 1/36): the first
 // band then ends about when the writer has written the vertex rows, so it does not wait for
-// triangles (with four, the first 44 %, it waited ~0.3 s of a 2.5 s import of 1e6 points), and
-// little is left to write after the triangulation. More bands cost a scan of the faces each.
-// Small imports, written in moments anyway, go in one band.
+// triangles (with four, the first 44 %, it waited a noticeable part of the import), and little
+// is left to write after the triangulation. More bands cost a scan of the faces each. Small
+// imports, written in moments anyway, go in one band. The bands depend on the point count
+// alone, so the surface does not depend on the number of threads.
 int TriangulationBands(size_t points) { return points < 20000 ? 1 : 6; }
 
 }  // namespace
@@ -41,8 +42,8 @@ Result<PointImportReport> ImportPoints(Store& store, const PointImportOptions& o
   spec.name = options.surface;
   spec.kind = SurfaceKind::kDelaunay;
   spec.method = options.thin ? "lidar-voronoi-thinned" : "lidar";
-  // The report is filled in on the triangulating thread; CreateWhileTriangulating has joined it
-  // before it returns.
+  // The report is filled in by the triangulating task; CreateWhileTriangulating has waited for
+  // it before it returns.
   TB_ASSIGN_OR_RETURN(
       SurfaceInfo created,
       SurfaceStore(store).CreateWhileTriangulating(

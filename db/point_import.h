@@ -2,10 +2,10 @@
 //
 // One write transaction: read the file's points (core/pointcloud/point_tin.h: class filter,
 // reprojection to the store's CRS, duplicates out, optional Voronoi density thinning), adopt the
-// file's CRS when the store has none yet, then bulk-Delaunay the points on a second thread while
-// the vertex rows are written (SurfaceStore::CreateWhileTriangulating) and write the triangles.
-// Nothing is written on any error. Thread-safety: as Store (one per thread); uses one extra
-// thread of its own during the import.
+// file's CRS when the store has none yet, then bulk-Delaunay the points as a TBB task while the
+// vertex rows are written (SurfaceStore::CreateWhileTriangulating) and write the triangles.
+// Nothing is written on any error. The surface is the same on any number of threads.
+// Thread-safety: as Store (one per thread); uses TBB's threads during the import.
 #pragma once
 
 #include <cstdint>

@@ -1,12 +1,14 @@
 #include "db/surface_store.h"
 
+#include <tbb/task_group.h>
+
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <condition_variable>
 #include <deque>
-#include <future>
 #include <limits>
 #include <mutex>
 #include <numeric>
@@ -118,7 +120,7 @@ Result<SurfaceInfo> InsertSurfaceRow(Connection& db, const SurfaceInfo& spec, co
   return info;
 }
 
-// Batches from a triangulating thread to the writing one, in order.
+// Batches from the triangulating task to the writing thread, in order.
 class BatchQueue {
  public:
   void Push(TriangleBatch batch) {
@@ -224,16 +226,24 @@ Result<SurfaceInfo> SurfaceStore::CreateWhileTriangulating(
                       InsertSurfaceRow(db, spec, GridFor(vertices, 2 * vertices.size())));
   const BlockGrid grid = info.blocks;
   BatchQueue queue;
-  // std::async's future waits for the task in its destructor, so `vertices`, `triangulate` and
-  // `queue` outlive it on every return path.
-  std::future<Status> worker = std::async(std::launch::async, [&]() -> Status {
+  Status triangulated;
+  std::atomic<bool> started{false};
+  // A TBB task triangulates. It is waited for on every return path (WaitOnExit), so what it
+  // uses outlives it; when no thread took it up (one thread allowed), it runs here before the
+  // first batch is read (below), its batches waiting in the queue.
+  tbb::task_group group;
+  struct WaitOnExit {
+    tbb::task_group& group;
+    ~WaitOnExit() { group.wait(); }
+  } wait_on_exit{group};
+  group.run([&] {
+    started = true;
     const auto block = [&](const TinTriangle& t) {
       const TinVertex &a = vertices[t.v[0]], &b = vertices[t.v[1]], &c = vertices[t.v[2]];
       return CentroidBlock(grid, a.x, a.y, b.x, b.y, c.x, c.y);
     };
-    Status status = triangulate(block, [&](TriangleBatch batch) { queue.Push(std::move(batch)); });
+    triangulated = triangulate(block, [&](TriangleBatch batch) { queue.Push(std::move(batch)); });
     queue.Close();
-    return status;
   });
   LargeWriteHint cache(db, 3 * vertices.size());
   // Each row's surface is the row this write just made: SQLite's lookup of the parent for every
@@ -247,6 +257,7 @@ Result<SurfaceInfo> SurfaceStore::CreateWhileTriangulating(
     consecutive = vertex_ids[i] == first_vertex + static_cast<int64_t>(i);
   TB_ASSIGN_OR_RETURN(const int64_t base, mesh.NextTriangleId());
   size_t written = 0;
+  if (!started) group.wait();
   while (std::optional<TriangleBatch> batch = queue.Pop()) {
     TB_RETURN_IF_ERROR(ValidateBatch(*batch, vertices.size(), written)
                            .WithContext("surface " + Quoted(spec.name)));
@@ -255,7 +266,8 @@ Result<SurfaceInfo> SurfaceStore::CreateWhileTriangulating(
         mesh.InsertTriangleBatch(*batch, base, first_vertex, consecutive ? nullptr : &vertex_ids));
     written += batch->triangles.size();
   }
-  TB_RETURN_IF_ERROR(worker.get());
+  group.wait();
+  TB_RETURN_IF_ERROR(triangulated);
   return info;
 }
 

@@ -75,11 +75,11 @@ class SurfaceStore {
   // consistent (LinkNeighbours).
   Result<SurfaceInfo> Create(const SurfaceInfo& spec, const Tin& tin);
   // Triangulates, handing the triangles over in batches sorted by `order` as they become final
-  // (TriangleBatch); returns its own errors. Runs on a thread of its own.
+  // (TriangleBatch); returns its own errors. Runs as a TBB task, beside the writing thread.
   using BatchedTriangulation =
       std::function<Status(const TriangleOrder& order, const TriangleSink& finished)>;
   // As Create, for a bulk import whose triangles are still to be computed from `vertices`:
-  // `triangulate` runs on a second thread while this one writes the surface and vertex rows, and
+  // `triangulate` runs as a TBB task while this thread writes the surface and vertex rows, and
   // then each batch's triangle rows as it comes (neighbours not final yet are written NULL and
   // filled in when a later batch links them). The block grid is sized for 2n triangles before
   // the count is known. Errors: Create's, and those `triangulate` returns; InvalidArgument when a

@@ -10,6 +10,7 @@ PACKAGES=(
   libopenvdb-dev libboost-iostreams-dev
   libsqlite3-dev sqlite3 libblosc-dev libzstd-dev zlib1g-dev
   nlohmann-json3-dev libcli11-dev
+  libtbb-dev
   libgtest-dev libgmock-dev librapidcheck-dev libbenchmark-dev
   clang-format clang-tidy
 )

@@ -1,7 +1,6 @@
 // Kernel: `export` (a surface, or the inside of one polygon feature, to OBJ or GeoJSON).
 #include <iostream>
 
-#include "apps/tinbase/bulk_commands.h"
 #include "apps/tinbase/command.h"
 #include "apps/tinbase/output.h"
 #include "core/export/tin_export.h"
@@ -26,8 +25,6 @@ int RunExport(const ExportArgs& args) {
   if (!format.ok()) return ReportError(format.status());
   if (args.surface.empty() == (args.feature == 0))
     return ReportError(Status::InvalidArgument("give --surface or --feature (one of them)"));
-  // A feature's surface is read from the blocks of its box only: no need for huge pages.
-  if (args.feature == 0) RestartOnHugePagesIfLarge(args.store);
   auto store = Store::Open(args.store, Store::Access::kReadOnly);
   if (!store.ok()) return ReportError(store.status());
   SurfaceStore surfaces(**store);

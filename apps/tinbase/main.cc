@@ -1,15 +1,15 @@
 // tinbase: the command-line entry point. Only wiring; every command lives in its own file.
 #include <gdal_priv.h>
+#include <tbb/global_control.h>
 
 #include <cstdint>
 #include <cstdlib>
 #include <iostream>
+#include <memory>
 #include <optional>
 #include <string>
 
-#include "apps/tinbase/bulk_commands.h"
 #include "apps/tinbase/command.h"
-#include "core/base/huge_page_malloc.h"
 #include "db/dem_block_cache.h"
 #include "db/store.h"
 
@@ -34,6 +34,18 @@ Result<std::optional<int64_t>> MibFromEnv(const char* name) {
   return std::optional<int64_t>(int64_t{mib} << 20);
 }
 
+// A whole number from the environment variable `name`, at least 1; nullopt when it is not set.
+Result<std::optional<int>> CountFromEnv(const char* name) {
+  const char* text = std::getenv(name);
+  if (text == nullptr || *text == '\0') return std::optional<int>();
+  char* end = nullptr;
+  const long long count = std::strtoll(text, &end, 10);
+  if (*end != '\0' || count < 1 || count > 4096)
+    return Status::InvalidArgument(
+        std::string(name) + " must be a whole number of threads (1 or more), got '" + text + "'");
+  return std::optional<int>(static_cast<int>(count));
+}
+
 // TINBASE_DEM_CACHE_MIB sets the memory limit of the process-wide DEM block cache (default
 // 256 MiB), like GDAL_CACHEMAX for GDAL: a builder streaming a DEM larger than memory holds at
 // most this much of it decoded. TINBASE_MMAP_MIB sets how much of a store file is read through a
@@ -46,14 +58,24 @@ Status ApplyMemoryLimits() {
   return Status::Ok();
 }
 
+// TINBASE_THREADS caps the threads parallel work uses (TBB's, by default one per core); results
+// are the same on any number. The limit lives as long as the returned object.
+Result<std::unique_ptr<tbb::global_control>> ApplyThreadLimit() {
+  TB_ASSIGN_OR_RETURN(std::optional<int> threads, CountFromEnv("TINBASE_THREADS"));
+  if (!threads) return std::unique_ptr<tbb::global_control>();
+  return std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                               static_cast<size_t>(*threads));
+}
+
 }  // namespace
 
 }  // namespace tinbase::cli
 
 int main(int argc, char** argv) {
-  if (tinbase::cli::TriangulatesInBulk(argc, argv)) tinbase::RestartWithHugePageMalloc(argv);
   if (tinbase::Status s = tinbase::cli::ApplyMemoryLimits(); !s.ok())
     return tinbase::cli::ReportError(s);
+  auto thread_limit = tinbase::cli::ApplyThreadLimit();
+  if (!thread_limit.ok()) return tinbase::cli::ReportError(thread_limit.status());
   GDALAllRegister();
   CPLSetErrorHandler(CPLQuietErrorHandler);  // GDAL's errors reach users through Status messages
   CLI::App app{"tinbase: a store of triangulated terrain and geological surfaces"};

@@ -3,7 +3,6 @@
 
 #include <nlohmann/json.hpp>
 
-#include "apps/tinbase/bulk_commands.h"
 #include "apps/tinbase/command.h"
 #include "apps/tinbase/output.h"
 #include "db/dem_store.h"
@@ -98,7 +97,6 @@ struct CheckArgs {
 };
 
 int RunCheck(const CheckArgs& args) {
-  RestartOnHugePagesIfLarge(args.store);
   auto store = Store::Open(args.store, Store::Access::kReadOnly);
   if (!store.ok()) return ReportError(store.status());
   CheckOptions options;

@@ -9,6 +9,7 @@
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
 #include <CGAL/property_map.h>
 #include <CGAL/spatial_sort.h>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cassert>
@@ -17,7 +18,6 @@
 #include <map>
 #include <numeric>
 #include <set>
-#include <thread>
 #include <unordered_map>
 #include <utility>
 
@@ -728,7 +728,7 @@ void Cdt::IndexCrossings(const ElevationFn& elevation) {
   }
 }
 
-Tin Cdt::ToTin(const ElevationFn& elevation, bool two_threads) {
+Tin Cdt::ToTin(const ElevationFn& elevation) {
   Triangulation& cdt = impl_->cdt;
   IndexCrossings(elevation);
   Tin tin;
@@ -753,11 +753,17 @@ Tin Cdt::ToTin(const ElevationFn& elevation, bool two_threads) {
   // Triangles and constraints in one walk over all faces, which touches each face once instead of
   // once more per edge. Constraints come in finite_edges() order: an edge belongs to the face of
   // its two with the smaller handle (CGAL's edge iterator), and is finite when neither end is
-  // the infinite vertex. Each face writes only its own triangle, so two threads can split the
-  // walk; the second's constraints go after the first's, as one walk would list them.
-  const auto walk = [&](size_t first, size_t last,
-                        std::vector<std::pair<uint32_t, uint32_t>>& constraints) {
-    for (size_t k = first; k < last; ++k) {
+  // the infinite vertex. Each face writes only its own triangle, so the walk is cut into chunks of
+  // kFacesPerChunk faces that run in parallel (TBB), each listing its constraints apart; the
+  // lists are joined in chunk order, as one walk would list them. The chunks depend on the face
+  // count alone, so the result does not depend on the number of threads.
+  constexpr size_t kFacesPerChunk = size_t{1} << 15;
+  const size_t chunks = (faces.size() + kFacesPerChunk - 1) / kFacesPerChunk;
+  std::vector<std::vector<std::pair<uint32_t, uint32_t>>> chunk_constraints(chunks);
+  const auto walk = [&](size_t chunk) {
+    std::vector<std::pair<uint32_t, uint32_t>>& constraints = chunk_constraints[chunk];
+    const size_t last = std::min(faces.size(), (chunk + 1) * kFacesPerChunk);
+    for (size_t k = chunk * kFacesPerChunk; k < last; ++k) {
       const FaceHandle f = faces[k];
       const bool finite = f->info().id != kNoNeighbour;
       TinTriangle t;
@@ -773,15 +779,13 @@ Tin Cdt::ToTin(const ElevationFn& elevation, bool two_threads) {
       if (finite) tin.triangles[static_cast<size_t>(f->info().id)] = t;
     }
   };
-  if (!two_threads) {
-    walk(0, faces.size(), tin.constraints);
-    return tin;
+  if (chunks == 1) {
+    walk(0);
+  } else {
+    tbb::parallel_for(size_t{0}, chunks, walk);
   }
-  std::vector<std::pair<uint32_t, uint32_t>> later_constraints;
-  std::thread helper(walk, faces.size() / 2, faces.size(), std::ref(later_constraints));
-  walk(0, faces.size() / 2, tin.constraints);
-  helper.join();
-  tin.constraints.insert(tin.constraints.end(), later_constraints.begin(), later_constraints.end());
+  for (auto& constraints : chunk_constraints)
+    tin.constraints.insert(tin.constraints.end(), constraints.begin(), constraints.end());
   return tin;
 }
 

@@ -147,10 +147,10 @@ class Cdt {
   // vertices CGAL created at constraint crossings, kind kSteiner, z from `elevation`), every
   // finite face as a counter-clockwise triangle with n[i] opposite v[i] (kNoNeighbour across the
   // convex hull), every constrained edge once in Tin::constraints, all triangles visible and
-  // untagged. Crossing vertices keep the indices given here from then on. With `two_threads`, a
-  // helper thread converts half of the faces; the result is the same.
+  // untagged. Crossing vertices keep the indices given here from then on. A large triangulation
+  // is converted in parallel (TBB), to the same Tin on any number of threads.
   // REQUIRES: `elevation` callable when constraints crossed.
-  Tin ToTin(const ElevationFn& elevation = nullptr, bool two_threads = false);
+  Tin ToTin(const ElevationFn& elevation = nullptr);
 
  private:
   struct Impl;

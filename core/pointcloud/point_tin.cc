@@ -1,9 +1,10 @@
 #include "core/pointcloud/point_tin.h"
 
+#include <tbb/parallel_invoke.h>
+
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
-#include <future>
 
 #include "core/geometry/cdt.h"
 #include "core/geometry/reproject.h"
@@ -33,22 +34,21 @@ std::vector<TinVertex> SelectedVertices(const PointCloud& cloud, const ClassSele
 // Sorts `vertices` by x, then y, and leaves out each one at the x, y of an earlier one in input
 // order (the stable sort puts that one first among equals): the vertex Cdt::InsertVertices keeps
 // too. The x, y order is also the one the store writes vertex rows in. Returns how many went.
-// Large inputs sort their halves on two threads and merge them, which is still stable (the first
-// half's elements go first among equals): the store's other thread is idle until the points are
-// sorted, and the sort was a tenth of a million-point import.
+// Large inputs sort their halves as two tasks and merge them, which is still stable (the first
+// half's elements go first among equals), so the order is the same on any number of threads: the
+// store's writer is idle until the points are sorted, and the sort is a sizeable part of an
+// import.
 size_t SortDroppingDuplicates(std::vector<TinVertex>& vertices) {
   const auto by_xy = [](const TinVertex& a, const TinVertex& b) {
     return a.x != b.x ? a.x < b.x : a.y < b.y;
   };
-  constexpr size_t kTwoThreadsFrom = 100000;
-  if (vertices.size() < kTwoThreadsFrom) {
+  constexpr size_t kHalvesFrom = 100000;
+  if (vertices.size() < kHalvesFrom) {
     std::stable_sort(vertices.begin(), vertices.end(), by_xy);
   } else {
     const auto middle = vertices.begin() + static_cast<ptrdiff_t>(vertices.size() / 2);
-    std::future<void> first_half =
-        std::async(std::launch::async, [&] { std::stable_sort(vertices.begin(), middle, by_xy); });
-    std::stable_sort(middle, vertices.end(), by_xy);
-    first_half.get();
+    tbb::parallel_invoke([&] { std::stable_sort(vertices.begin(), middle, by_xy); },
+                         [&] { std::stable_sort(middle, vertices.end(), by_xy); });
     std::inplace_merge(vertices.begin(), middle, vertices.end(), by_xy);
   }
   const auto end =

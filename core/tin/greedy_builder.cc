@@ -1,12 +1,15 @@
 #include "core/tin/greedy_builder.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
 #include <optional>
 #include <string>
-#include <thread>
 #include <utility>
 #include <vector>
 
@@ -50,10 +53,6 @@ Status ValidateOptions(const GreedyOptions& options) {
     return Status::InvalidArgument(
         "greedy TIN: tolerance must be a positive number of metres, got " +
         std::to_string(options.tolerance));
-  }
-  if (options.threads < 0 || options.threads > 2) {
-    return Status::InvalidArgument("greedy TIN: threads must be 0 (automatic), 1 or 2, got " +
-                                   std::to_string(options.threads));
   }
   if (options.max_points < 0 || (options.max_points > 0 && options.max_points < 4)) {
     return Status::InvalidArgument(
@@ -120,7 +119,7 @@ Result<std::vector<TinVertex>> GridCorners(CellSource& dem) {
   return corners;
 }
 
-// The four grid corners, then tolerance refinement over the whole grid, on one thread.
+// The four grid corners, then tolerance refinement over the whole grid, unsplit.
 Result<Tin> BuildFromCorners(CellSource& dem, const GreedyOptions& options) {
   TB_ASSIGN_OR_RETURN(std::vector<TinVertex> corners, GridCorners(dem));
   if (options.tile > 0) AddSeedLattice(dem, options.tile, &corners);
@@ -130,8 +129,8 @@ Result<Tin> BuildFromCorners(CellSource& dem, const GreedyOptions& options) {
   refine.tolerance = options.tolerance;
   refine.max_points = options.max_points > 0 ? options.max_points - 4 : 0;
   refine.tile = options.tile;
-  // One thread refines; unless told to stay on one, a second helps with the largest scans.
-  refine.parallel_scans = options.threads != 1;
+  // Insertions are made in order; the largest scans are shared between threads.
+  refine.parallel_scans = true;
   if (options.max_points != 4) RefineToTolerance(cdt, dem, refine);
   return cdt.ToTin();
 }
@@ -160,8 +159,8 @@ void PutFirst(const std::vector<TinVertex>& first, Tin& tin) {
     for (uint32_t& v : t.v) v = new_index[v];
 }
 
-// The same result on two threads (core/tin/split_refinement.h); nullopt when `min_seam_vertices`
-// keeps it on one.
+// The TIN refined in two halves (core/tin/split_refinement.h); nullopt when `min_seam_vertices`
+// keeps it unsplit.
 Result<std::optional<Tin>> BuildInHalves(const Grid& dem, const GreedyOptions& options,
                                          size_t min_seam_vertices) {
   GridCellSource source(dem);
@@ -170,21 +169,21 @@ Result<std::optional<Tin>> BuildInHalves(const Grid& dem, const GreedyOptions& o
       dem, options.tolerance,
       [&](int64_t col, int64_t row) { return HullElevation(source, col, row); }, min_seam_vertices);
   if (!cdt) return std::optional<Tin>();
-  Tin tin = cdt->ToTin(/*elevation=*/nullptr, /*two_threads=*/true);
-  // Freeing the triangulation takes about as long as PutFirst (a few ms at 1e6 faces) and
-  // nothing reads it any more: the helper thread frees it meanwhile.
-  std::thread release([spent = std::move(*cdt)]() mutable { spent = Cdt(); });
-  PutFirst(corners, tin);
-  release.join();
+  Tin tin = cdt->ToTin();
+  // Nothing reads the triangulation any more: it is freed while PutFirst runs, which takes
+  // about as long.
+  tbb::parallel_invoke([&] { cdt.reset(); }, [&] { PutFirst(corners, tin); });
   return std::optional<Tin>(std::move(tin));
 }
 
 // Whether the options and the grid allow a split at all (its seam may still keep an automatic
-// build on one thread).
+// build unsplit).
 bool MaySplit(const Grid& dem, const GreedyOptions& options) {
-  if (options.threads == 1 || options.max_points > 0 || options.tile > 0) return false;
+  if (options.split == GreedySplit::kNever || options.max_points > 0 || options.tile > 0)
+    return false;
   const GridGeometry& g = dem.geometry;
-  return options.threads == 2 ? std::max(g.width, g.height) >= 3 : WorthSplitting(g);
+  return options.split == GreedySplit::kAlways ? std::max(g.width, g.height) >= 3
+                                               : WorthSplitting(g);
 }
 
 // The triangles in the order of the DEM tiles holding their centroids (256 cells: the DEM store's
@@ -256,20 +255,19 @@ int64_t MiddleRowOnAWord(const GridGeometry& g) {
   return 0;
 }
 
-// Fills `report` with the errors over every valid cell. With `two_threads` (a DEM that allows
-// concurrent reads), the lower half of the rows is measured on a helper thread: on a 4097^2 grid
-// at 1 m the measure took about as long as a tenth of the build.
-void Measure(CellSource& dem, const Tin& tin, const std::vector<size_t>& order, bool two_threads,
+// Fills `report` with the errors over every valid cell. On a DEM that allows concurrent reads
+// the upper and lower halves of the rows are measured as two tasks (the measure is a sizeable
+// part of a build); their sums are added in the same order on any number of threads.
+void Measure(CellSource& dem, const Tin& tin, const std::vector<size_t>& order,
              GreedyReport* report) {
   const GridGeometry& g = dem.geometry();
   std::vector<uint64_t> seen(static_cast<size_t>((g.CellCount() + 63) / 64), 0);
   ErrorSums sums;
   const int64_t middle = MiddleRowOnAWord(g);
-  if (two_threads && dem.ConcurrentReads() && middle > 0) {
+  if (dem.ConcurrentReads() && middle > 0) {
     ErrorSums lower;
-    std::thread helper([&] { lower = MeasureRows(dem, tin, order, middle, g.height - 1, seen); });
-    sums = MeasureRows(dem, tin, order, 0, middle - 1, seen);
-    helper.join();
+    tbb::parallel_invoke([&] { sums = MeasureRows(dem, tin, order, 0, middle - 1, seen); },
+                         [&] { lower = MeasureRows(dem, tin, order, middle, g.height - 1, seen); });
     sums.max_error = std::max(sums.max_error, lower.max_error);
     sums.sum_sq += lower.sum_sq;
     sums.count += lower.count;
@@ -283,24 +281,19 @@ void Measure(CellSource& dem, const Tin& tin, const std::vector<size_t>& order, 
 }
 
 // Every triangle's visibility over a grid in memory: no reading order to keep, so no sort by
-// tile. With `two_threads`, the second half of the triangles is done on a helper thread (each
-// triangle's flag depends on it alone, so the result is the same).
-void MarkVisible(const Grid& dem, Tin& tin, bool two_threads) {
+// tile. The triangles are marked in parallel: each one's flag depends on it alone.
+void MarkVisible(const Grid& dem, Tin& tin) {
   // Every vertex is a cell centre, so every centroid lies on the grid, in a cell that holds data
-  // when all do; ToTin left every triangle visible. Finding that out reads each cell once:
-  // 0.3 ms on SRTM 1025^2, where the test per triangle (6e5 at 0.5 m) took 10-20 ms.
+  // when all do; ToTin left every triangle visible. Finding that out reads each cell once, far
+  // less work than the test per triangle, which reads the cells under each.
   const bool any_nodata =
       std::any_of(dem.cells.begin(), dem.cells.end(), [](float v) { return std::isnan(v); });
   if (!any_nodata) return;
-  const auto mark = [&](size_t first, size_t last) {
-    for (size_t i = first; i < last; ++i)
-      tin.triangles[i].visible = TriangleOnData(dem, tin, tin.triangles[i]);
-  };
-  const size_t n = tin.triangles.size();
-  if (!two_threads) return mark(0, n);
-  std::thread helper(mark, n / 2, n);
-  mark(0, n / 2);
-  helper.join();
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, tin.triangles.size()),
+                    [&](const tbb::blocked_range<size_t>& range) {
+                      for (size_t i = range.begin(); i != range.end(); ++i)
+                        tin.triangles[i].visible = TriangleOnData(dem, tin, tin.triangles[i]);
+                    });
 }
 
 }  // namespace
@@ -311,7 +304,7 @@ Result<Tin> BuildGreedyTin(CellSource& dem, const GreedyOptions& options, Greedy
   TB_ASSIGN_OR_RETURN(Tin tin, BuildFromCorners(dem, options));
   const std::vector<size_t> order = InDemTileOrder(dem.geometry(), tin);
   PaintInOrder(dem, tin, order);
-  if (report != nullptr) Measure(dem, tin, order, /*two_threads=*/false, report);
+  if (report != nullptr) Measure(dem, tin, order, report);
   TB_RETURN_IF_ERROR(dem.status());
   return tin;
 }
@@ -327,9 +320,10 @@ Result<Tin> BuildGreedyTin(const Grid& dem, const GreedyOptions& options, Greedy
   GridCellSource source(dem);
   std::optional<Tin> halves;
   if (MaySplit(dem, options)) {
-    TB_ASSIGN_OR_RETURN(
-        halves, BuildInHalves(dem, options,
-                              options.threads == 2 ? size_t{0} : MinSeamVertices(dem.geometry)));
+    TB_ASSIGN_OR_RETURN(halves, BuildInHalves(dem, options,
+                                              options.split == GreedySplit::kAlways
+                                                  ? size_t{0}
+                                                  : MinSeamVertices(dem.geometry)));
   }
   Tin tin;
   if (halves) {
@@ -337,11 +331,8 @@ Result<Tin> BuildGreedyTin(const Grid& dem, const GreedyOptions& options, Greedy
   } else {
     TB_ASSIGN_OR_RETURN(tin, BuildFromCorners(source, options));
   }
-  MarkVisible(dem, tin, /*two_threads=*/halves.has_value());
-  if (report != nullptr) {
-    Measure(source, tin, InDemTileOrder(dem.geometry, tin), /*two_threads=*/options.threads != 1,
-            report);
-  }
+  MarkVisible(dem, tin);
+  if (report != nullptr) Measure(source, tin, InDemTileOrder(dem.geometry, tin), report);
   return tin;
 }
 

@@ -1,9 +1,10 @@
 #include "core/tin/split_refinement.h"
 
+#include <tbb/parallel_invoke.h>
+
 #include <algorithm>
 #include <cmath>
 #include <optional>
-#include <thread>
 #include <utility>
 #include <vector>
 
@@ -186,9 +187,10 @@ std::optional<Cdt> RefineInHalves(const Grid& dem, double tolerance,
   if (chain.size() < min_seam_vertices) return std::nullopt;
   Cdt first = StartHalf(g, seam, 0, chain, boundary_z);
   Cdt second = StartHalf(g, seam, 1, chain, boundary_z);
-  std::thread helper([&] { RefineHalf(second, dem, seam, tolerance); });
-  RefineHalf(first, dem, seam, tolerance);
-  helper.join();
+  // Each half reads and writes only its own triangulation: run side by side or one after the
+  // other, they end the same.
+  tbb::parallel_invoke([&] { RefineHalf(first, dem, seam, tolerance); },
+                       [&] { RefineHalf(second, dem, seam, tolerance); });
   std::vector<Cdt::FaceRef> changed;
   first.Absorb(std::move(second), &changed);
   GridCellSource source(dem);

@@ -1,13 +1,16 @@
 #include "core/tin/tolerance_refiner.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+#include <tbb/task_arena.h>
+
 #include <algorithm>
 #include <cmath>
-#include <optional>
 #include <queue>
 #include <set>
 #include <utility>
 
-#include "core/base/helper_thread.h"
 #include "core/geometry/predicates.h"
 #include "core/tin/cell_cover.h"
 #include "core/tin/worst_cell.h"
@@ -27,7 +30,7 @@ class Refiner {
     } else {
       queues_.resize(1);
     }
-    if (options.parallel_scans && dem.ConcurrentReads()) helper_.emplace();
+    parallel_ = options.parallel_scans && dem.ConcurrentReads();
   }
 
   std::vector<uint32_t> Run(std::vector<Cdt::FaceRef> region, RefineReport* report) {
@@ -139,15 +142,15 @@ class Refiner {
     FinishScan(job);
   }
 
-  // Scans the faces one insertion made. When they hold many cells together, the helper takes
-  // the last of them (about half the cells) while this thread scans the others: on coarse
-  // tolerances most insertions split faces of thousands of cells, too small one by one to share
-  // by rows (AnyWorstCell) but not together.
+  // Scans the faces one insertion made. When they hold many cells together, they are scanned
+  // in parallel, a face per task: on coarse tolerances most insertions split faces of thousands
+  // of cells, too small one by one to share by rows (AnyWorstCell) but not together. Each job's
+  // result depends on its face alone and the jobs are queued in their given order afterwards, so
+  // the result is that of one thread.
   void ScanAll(const std::vector<Cdt::FaceRef>& faces) {
-    // Below this, handing faces over costs about what it saves. Measured on generated 2049^2 at
-    // 20 m: with 2^10 or 2^12 the build took 20-30 % less time than sharing no faces; 2^15 no less.
+    // Below this, handing faces to other threads costs about what it saves.
     constexpr double kParallelFacesCells = 1 << 10;
-    if (!helper_ || faces.size() < 2) {
+    if (!Parallel() || faces.size() < 2) {
       for (Cdt::FaceRef f : faces) Scan(f);
       return;
     }
@@ -162,19 +165,18 @@ class Refiner {
     if (cells < kParallelFacesCells || jobs_.size() < 2) {
       for (ScanJob& job : jobs_) job.worst = WorstOfFaceSharingRows(job);
     } else {
-      size_t split = jobs_.size() - 1;  // the helper's jobs are jobs_[split..]
-      for (double theirs = TriangleCells(jobs_[split].cells);
-           split > 1 && theirs + TriangleCells(jobs_[split - 1].cells) <= cells / 2;) {
-        theirs += TriangleCells(jobs_[--split].cells);
-      }
-      helper_->Run([this, split] {
-        for (size_t i = split; i < jobs_.size(); ++i) jobs_[i].worst = WorstOfFace(jobs_[i]);
-      });
-      for (size_t i = 0; i < split; ++i) jobs_[i].worst = WorstOfFace(jobs_[i]);
-      helper_->Wait();
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, jobs_.size()),
+                        [this](const tbb::blocked_range<size_t>& range) {
+                          for (size_t i = range.begin(); i != range.end(); ++i)
+                            jobs_[i].worst = WorstOfFace(jobs_[i]);
+                        });
     }
     for (const ScanJob& job : jobs_) FinishScan(job);
   }
+
+  // Whether scans may be shared: allowed by the options and the DEM, and more than one thread
+  // in the arena this runs in.
+  bool Parallel() const { return parallel_ && tbb::this_task_arena::max_concurrency() > 1; }
 
   // Stamps the face and fills `job`; false when the face is not scanned (outside the region, or
   // of zero area).
@@ -199,14 +201,14 @@ class Refiner {
     }
   }
 
-  // The worst sample the face may insert, its rows shared with the helper when it is very large
+  // The worst sample the face may insert, its rows shared between threads when it is very large
   // (AnyWorstCell).
   WorstCell WorstOfFaceSharingRows(const ScanJob& job) {
     return Insertable(job, AnyWorstCell(job.cells, job.plane));
   }
 
   // The worst sample the face may insert, on the calling thread alone: reads the DEM, the
-  // blocked cells and the options, never the triangulation, so either thread may run it.
+  // blocked cells and the options, never the triangulation, so any thread may run it.
   WorstCell WorstOfFace(const ScanJob& job) const {
     WorstCell worst{options_.tolerance};
     const auto [row_min, row_max] = CellSpanRows(job.cells, geometry_.height);
@@ -227,23 +229,32 @@ class Refiner {
 
   // The largest |plane - DEM| above the tolerance over the valid cells of the face's spans, at
   // the first cell that has it (col -1 when none). A face over more than kParallelScanCells
-  // cells is scanned in two row ranges, the second on the helper: the first range's cell wins
-  // a tie, as it would come first in one scan.
+  // cells is scanned in parallel by ranges of rows; joining ranges in row order with the earlier
+  // range's cell winning a tie gives the cell one scan finds, however the rows were cut.
   WorstCell AnyWorstCell(const CellTriangle& t, const CellPlane& plane) {
-    // Below this, handing half a scan over costs about what it saves (a wake-up is ~10-50 us).
+    // Below this, handing part of a scan to another thread costs about what it saves.
     constexpr double kParallelScanCells = 1 << 17;
-    WorstCell worst{options_.tolerance};
+    const WorstCell floor{options_.tolerance};
     const auto [row_min, row_max] = CellSpanRows(t, geometry_.height);
-    if (!helper_ || row_max - row_min < 2 || TriangleCells(t) < kParallelScanCells) {
+    const double cells = TriangleCells(t);
+    if (!Parallel() || row_max - row_min < 2 || cells < kParallelScanCells) {
+      WorstCell worst = floor;
       RaiseToWorstInRows(dem_, t, plane, row_min, row_max, &worst);
       return worst;
     }
-    const int64_t middle = row_min + (row_max - row_min) / 2;
-    WorstCell lower = worst;
-    helper_->Run([&] { RaiseToWorstInRows(dem_, t, plane, middle + 1, row_max, &lower); });
-    RaiseToWorstInRows(dem_, t, plane, row_min, middle, &worst);
-    helper_->Wait();
-    return lower.error > worst.error ? lower : worst;
+    // Rows per range: about kParallelScanCells / 2 cells each.
+    const auto rows = static_cast<double>(row_max - row_min + 1);
+    const auto grain =
+        std::max<size_t>(1, static_cast<size_t>(rows * (kParallelScanCells / 2) / cells));
+    return tbb::parallel_reduce(
+        tbb::blocked_range<int64_t>(row_min, row_max + 1, grain), floor,
+        [&](const tbb::blocked_range<int64_t>& range, WorstCell worst) {
+          RaiseToWorstInRows(dem_, t, plane, range.begin(), range.end() - 1, &worst);
+          return worst;
+        },
+        [](const WorstCell& earlier, const WorstCell& later) {
+          return later.error > earlier.error ? later : earlier;
+        });
   }
 
   // The face's area in cells: about how many cells its scan reads.
@@ -305,8 +316,8 @@ class Refiner {
   std::vector<Cdt::FaceRef> incident_;
   std::vector<ScanJob> jobs_;  // ScanAll's faces, kept to reuse their memory
   std::set<std::pair<int64_t, int64_t>> blocked_;
-  std::optional<HelperThread> helper_;  // with options.parallel_scans on a ConcurrentReads DEM
-  uint64_t next_stamp_ = 1;             // 0 is a fresh face's stamp, never queued
+  bool parallel_ = false;    // options.parallel_scans on a ConcurrentReads DEM
+  uint64_t next_stamp_ = 1;  // 0 is a fresh face's stamp, never queued
 };
 
 }  // namespace

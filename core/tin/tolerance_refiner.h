@@ -1,6 +1,7 @@
 // Tolerance refinement: greedy insertion of DEM samples into a constrained Delaunay
-// triangulation until the TIN is within a vertical tolerance of the DEM (papers 000/001;
-// Garland and Heckbert 1995), over the whole triangulation or a region of it.
+// triangulation until the TIN is within a vertical tolerance of the DEM (Garland and Heckbert
+// 1995; docs/design.md, "Where the ideas come from"), over the whole triangulation or a region of
+// it.
 //
 // Every face of the region keeps its worst-approximated valid DEM sample (core/tin/tin_raster.h
 // defines which cells a face covers and its z there) in a priority queue; the worst sample of
@@ -9,7 +10,8 @@
 // never crosses a constrained edge, so a region bounded by constrained edges stays the region.
 // The greedy builder is this refinement started from the grid's corners; the update engine runs
 // it inside a conflict region whose outline it has constrained.
-// Thread-safety: works on the caller's Cdt; one thread.
+// Thread-safety: works on the caller's Cdt; with RefineOptions::parallel_scans its scans run on
+// TBB's threads, changing nothing in the result.
 #pragma once
 
 #include <array>
@@ -38,11 +40,12 @@ struct RefineOptions {
   // the tolerance, so a DEM streamed from a store is read nearly in order; the same error bound,
   // a slightly different (usually a little larger) point set.
   int64_t tile = 0;
-  // Share scans with a second thread: a face over very many cells (the first ones span the
-  // grid) by halves of its rows, and the faces one insertion makes, when they hold a few
-  // thousand cells together, by faces. The same result, faster on coarse tolerances, where those
-  // scans are most of the work. Only where the DEM may be read from two threads at once
-  // (CellSource::ConcurrentReads); otherwise ignored. `excluded` is then called from both.
+  // Share scans between threads (TBB, as many as the arena has): a face over very many cells
+  // (the first ones span the grid) by ranges of its rows, and the faces one insertion makes,
+  // when they hold a few thousand cells together, by faces. The same result on any number of
+  // threads, faster on coarse tolerances, where those scans are most of the work. Only where the
+  // DEM may be read from several threads at once (CellSource::ConcurrentReads); otherwise
+  // ignored. `excluded` is then called from several threads.
   bool parallel_scans = false;
 };
 

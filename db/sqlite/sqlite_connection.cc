@@ -7,7 +7,6 @@
 
 #include "db/sqlite/scoped_page_cache.h"
 #include "db/sqlite/wal_checkpointer.h"
-#include "db/sqlite/wal_write_batching.h"
 
 namespace tinbase {
 
@@ -111,12 +110,13 @@ namespace {
 // A statement that may fail part way (a multi-row write with foreign keys or CHECKs to enforce)
 // keeps the original of every page it changes in a statement journal, in memory only up to
 // 64 KiB by default; once one statement of a transaction passed that, the journal is a temporary
-// file for the rest of it, and every page a statement changes costs a pwrite (a load feature by
-// feature makes many such statements). Statements that change more than
-// kStatementJournalInMemory bytes of pages still spill. The setting is process-wide and must come
-// before SQLite initialises: when another user of SQLite in the process (GDAL's GeoPackage
-// driver) came first, the default stays, which is only slower.
-constexpr int kStatementJournalInMemory = 16 << 20;
+// file for the rest of it, and every page a statement changes costs a pwrite. A larger limit
+// keeps the journals of more edits in memory, but SQLite spills the journal to its file one
+// chunk of the limit's size a call, and the unix VFS writes at most 128 KiB - 1 bytes a call
+// (it calls the rest a full disk): the limit is the largest that stays below. The setting is
+// process-wide and must come before SQLite initialises: when another user of SQLite in the
+// process (GDAL's GeoPackage driver) came first, the default stays, which is only slower.
+constexpr int kStatementJournalInMemory = (128 << 10) - 1;
 
 void ConfigureSqliteOnce() {
   static std::once_flag once;
@@ -138,7 +138,7 @@ Result<std::unique_ptr<SqliteConnection>> SqliteConnection::Open(const std::stri
   if (mode == Mode::kReadWrite) flags |= SQLITE_OPEN_READWRITE;
   if (mode == Mode::kCreate) flags |= SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE;
   sqlite3* raw = nullptr;
-  const int rc = sqlite3_open_v2(path.c_str(), &raw, flags, WalWriteBatchingVfs());
+  const int rc = sqlite3_open_v2(path.c_str(), &raw, flags, nullptr);
   if (rc != SQLITE_OK) {
     Status s = StatusFromSqlite(rc, raw, path);
     sqlite3_close(raw);

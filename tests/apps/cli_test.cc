@@ -6,12 +6,8 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <random>
 #include <sstream>
 
-#include "apps/tinbase/bulk_commands.h"
-#include "core/geometry/crs.h"
-#include "core/raster/gdal_raster.h"
 #include "db/sql/connection.h"
 #include "tests/support/cli_support.h"
 #include "tests/support/test_support.h"
@@ -42,51 +38,34 @@ class CliTest : public ::testing::Test {
   std::string store_;
 };
 
-// Runs `command` plainly and then in every environment that turns the huge-page restart on,
-// off or makes it moot: it must exit 0 with the same output every way.
-void ExpectSameRunWithOrWithoutHugePages(const std::string& command) {
-  const CliResult plain = RunCli(command);
-  ASSERT_EQ(plain.exit_code, 0) << command << ": " << plain.err;
-  ASSERT_FALSE(plain.out.empty()) << command;
-  for (const std::string env :
-       {"TINBASE_HUGE_PAGES=0", "GLIBC_TUNABLES=glibc.malloc.hugetlb=0",
-        "GLIBC_TUNABLES=glibc.malloc.check=0", "TINBASE_HUGE_PAGES_RESTARTED=1"}) {
-    const CliResult run = RunCli(command, env);
-    EXPECT_EQ(run.exit_code, 0) << command << ", " << env << ": " << run.err;
-    EXPECT_EQ(run.out, plain.out) << command << ", " << env;
+// TINBASE_THREADS caps the threads a build uses; the surface is the same whatever the cap. A
+// cap that is not a whole number of threads is rejected before anything runs.
+TEST_F(CliTest, TinBuildIsTheSameOnAnyNumberOfThreads) {
+  std::string want;
+  for (const char* threads : {"1", "2", "4"}) {
+    SCOPED_TRACE(std::string("TINBASE_THREADS=") + threads);
+    const std::string surface = std::string("t") + threads;
+    const CliResult built =
+        RunCli("tin build " + Quote(store_) + " --surface " + surface + " --tolerance 2",
+               std::string("TINBASE_THREADS=") + threads);
+    ASSERT_EQ(built.exit_code, 0) << built.err;
+    const std::string obj = dir_.Path(surface + ".obj");
+    ASSERT_EQ(RunCli("export " + Quote(store_) + " --surface " + surface + " --format obj -o " +
+                     Quote(obj))
+                  .exit_code,
+              0);
+    std::ifstream in(obj);
+    std::stringstream text;
+    text << in.rdbuf();
+    ASSERT_FALSE(text.str().empty());
+    if (want.empty()) want = text.str();
+    EXPECT_EQ(text.str(), want);
   }
-}
-
-// The CLI starts a bulk command again on huge-page malloc (core/base/huge_page_malloc.h) unless
-// told not to or already told how, and any other command not at all: every way, it runs the
-// command with its arguments once.
-TEST(CliStartTest, RunsTheCommandOnceWithOrWithoutHugePages) {
-  for (const std::string command : {"--version", "points import --help"})
-    ExpectSameRunWithOrWithoutHugePages(command);
-  EXPECT_NE(RunCli("no-such-command").exit_code, 0);
-  EXPECT_NE(RunCli("points no-such-command").exit_code, 0);
-}
-
-// `check` of a large store starts again from its handler, once it knows the store's size
-// (apps/tinbase/bulk_commands.h), after the command line was parsed: still one run, same output.
-TEST(CliStartTest, ChecksALargeStoreOnceWithOrWithoutHugePages) {
-  TempDir dir;
-  const std::string store = dir.Path("large.tinbase");
-  const std::string tif = dir.Path("noise.tif");
-  // Noise hardly compresses, so this DEM alone makes a store past the bound.
-  Grid noise;
-  noise.geometry = GridGeometry{500000, 5200000, 10, -10, 3200, 3200};
-  noise.crs_wkt = Crs::FromUserInput("EPSG:32632")->Wkt();
-  noise.cells.resize(3200 * 3200);
-  std::mt19937 rng(5);
-  std::uniform_real_distribution<float> height(0, 1000);
-  for (float& cell : noise.cells) cell = height(rng);
-  ASSERT_TRUE(WriteGeoTiff(noise, tif).ok());
-  ASSERT_EQ(RunCli("init " + Quote(store) + " --crs EPSG:32632").exit_code, 0);
-  const CliResult imported = RunCli("dem import " + Quote(store) + " " + Quote(tif));
-  ASSERT_EQ(imported.exit_code, 0) << imported.err;
-  ASSERT_TRUE(cli::IsLargeStore(store));
-  ExpectSameRunWithOrWithoutHugePages("check " + Quote(store));
+  for (const char* bad : {"0", "-1", "two", "2x"}) {
+    const CliResult r = RunCli("info " + Quote(store_), std::string("TINBASE_THREADS=") + bad);
+    EXPECT_NE(r.exit_code, 0) << bad;
+    EXPECT_NE(r.err.find("TINBASE_THREADS"), std::string::npos) << bad << ": " << r.err;
+  }
 }
 
 TEST_F(CliTest, InfoListsTheDemAndTheSurface) {

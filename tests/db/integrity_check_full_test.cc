@@ -60,7 +60,7 @@ TEST_F(FullCheckTest, GreedySurfaceWithNodataIsIntact) {
   testing::ExpectStoreIntact(*store_, /*full=*/true);
 }
 
-// A DEM the block cache holds is refined on two threads (core/tin/split_refinement.h): the
+// A DEM the block cache holds is refined in two halves (core/tin/split_refinement.h): the
 // stored surface is that build, keeps invariant 7 at every cell, and a tolerance below its true
 // max error is caught.
 TEST_F(FullCheckTest, TwoThreadGreedySurfaceKeepsTolerance) {
@@ -68,8 +68,8 @@ TEST_F(FullCheckTest, TwoThreadGreedySurfaceKeepsTolerance) {
   auto grid = testing::ReadGridWithGdal(DataPath("dem/elev_vinschgau.tif"));
   ASSERT_TRUE(grid.ok());
   ASSERT_TRUE(WorthSplitting(grid->geometry));
-  auto one = BuildGreedyTin(*grid, {.tolerance = 2.0, .threads = 1});
-  auto two = BuildGreedyTin(*grid, {.tolerance = 2.0, .threads = 2});
+  auto one = BuildGreedyTin(*grid, {.tolerance = 2.0, .split = GreedySplit::kNever});
+  auto two = BuildGreedyTin(*grid, {.tolerance = 2.0, .split = GreedySplit::kAlways});
   ASSERT_TRUE(one.ok() && two.ok());
   // Told apart by their counts, so the counts below show which one was stored.
   ASSERT_NE(one->vertices.size(), two->vertices.size());

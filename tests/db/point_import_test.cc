@@ -9,11 +9,13 @@
 
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <random>
 
 #include "db/integrity_check.h"
 #include "db/surface_store.h"
 #include "tests/support/test_support.h"
+#include "tests/support/thread_count.h"
 #include "tests/support/tin_checks.h"
 
 namespace tinbase {
@@ -136,6 +138,49 @@ TEST(PointImport, BandedImportOfAnXyzFile) {
   EXPECT_EQ(counts->triangles, static_cast<int64_t>(report->points.triangles));
   EXPECT_GT(report->points.triangles, 2 * points - 200);
   ExpectStoreIntact(*store);
+}
+
+// An import large enough for the sort in halves and the banded triangulation, with duplicate
+// points (the first of each is kept), stores the same rows on 1, 2 and 4 threads.
+TEST(PointImport, SameSurfaceOnAnyNumberOfThreads) {
+  TempDir dir;
+  const size_t points = 120000;
+  {
+    std::mt19937 rng(23);
+    std::uniform_real_distribution<double> coord(0, 400);
+    std::ofstream out(dir.Path("cloud.xyz"));
+    out.precision(12);
+    for (size_t i = 0; i < points; ++i) {
+      // Every 50th point repeats an x, y of before with another z.
+      const double x = i % 50 == 49 ? std::floor(coord(rng)) : coord(rng);
+      const double y = i % 50 == 49 ? std::floor(coord(rng)) : coord(rng);
+      out << 500000 + x << " " << 5200000 + y << " " << 300 + std::sin(x / 9) * y / 50 << "\n";
+      if (i % 1000 == 0) out << 500000 + x << " " << 5200000 + y << " " << 1.0 * i << "\n";
+    }
+  }
+  int runs = 0;
+  const auto import = [&](int threads) {
+    const std::string path = dir.Path("run" + std::to_string(++runs) + ".tinbase");
+    {
+      auto store = Store::Create(path, "EPSG:32632");
+      EXPECT_TRUE(store.ok()) << store.status().ToString();
+      if (!store.ok()) return std::map<std::string, std::string>();
+      PointImportOptions options;
+      options.file = dir.Path("cloud.xyz");
+      options.surface = "cloud";
+      auto report = testing::WithThreads(threads, [&] { return ImportPoints(**store, options); });
+      EXPECT_TRUE(report.ok()) << report.status().ToString();
+      if (report.ok()) {
+        EXPECT_GT(report->points.duplicates, 0u);
+      }
+      ExpectStoreIntact(**store);
+    }
+    const std::map<std::string, std::string> sums = testing::TableChecksums(path);
+    return std::map<std::string, std::string>{{"vertices", sums.at("vertices")},
+                                              {"triangles", sums.at("triangles")}};
+  };
+  const auto want = import(1);
+  for (int threads : testing::kThreadCounts) EXPECT_EQ(import(threads), want) << threads;
 }
 
 TEST(PointImport, FailuresWriteNothing) {

@@ -15,6 +15,7 @@
 #include "tests/support/read_grid.h"
 #include "tests/support/terrain_grids.h"
 #include "tests/support/test_support.h"
+#include "tests/support/thread_count.h"
 #include "tests/support/tin_checks.h"
 
 namespace tinbase {
@@ -145,10 +146,10 @@ TEST(GreedyBuilderTest, TiledPassesKeepTheBoundWithFewExtraPoints) {
   }
 }
 
-// Two threads (core/tin/split_refinement.h) keep every promise of one, each checked against
-// every cell, with about as many points: nodata holes and a nodata corner, a south-up grid, and
-// a grid taller than wide (split across its rows).
-TEST(GreedyBuilderTest, TwoThreadsKeepTheBoundCellByCell) {
+// A split build (core/tin/split_refinement.h) keeps every promise of an unsplit one, each checked
+// against every cell, with about as many points: nodata holes and a nodata corner, a south-up
+// grid, and a grid taller than wide (split across its rows).
+TEST(GreedyBuilderTest, SplitKeepsTheBoundCellByCell) {
   Grid holes = MakeGrid(517, 389, [](double x, double y) {
     if (std::hypot(x - 2600.0, y + 1900.0) < 400 || x + (-y) < 150) return kNaN;
     return Sines(x, y);
@@ -161,8 +162,8 @@ TEST(GreedyBuilderTest, TwoThreadsKeepTheBoundCellByCell) {
       SCOPED_TRACE(std::to_string(dem->geometry.width) + " x " +
                    std::to_string(dem->geometry.height));
       GreedyReport one, two;
-      auto a = BuildGreedyTin(*dem, {.tolerance = tolerance, .threads = 1}, &one);
-      auto b = BuildGreedyTin(*dem, {.tolerance = tolerance, .threads = 2}, &two);
+      auto a = BuildGreedyTin(*dem, {.tolerance = tolerance, .split = GreedySplit::kNever}, &one);
+      auto b = BuildGreedyTin(*dem, {.tolerance = tolerance, .split = GreedySplit::kAlways}, &two);
       ASSERT_TRUE(a.ok() && b.ok());
       ExpectValidGreedyTin(*b, *dem, tolerance, two);
       // The bound is reached, so the cell-by-cell check above works at its edge.
@@ -176,9 +177,9 @@ TEST(GreedyBuilderTest, TwoThreadsKeepTheBoundCellByCell) {
 }
 
 // The narrowest grids a split allows (3 cells across, 2 along the seam) and random sizes.
-TEST(GreedyBuilderTest, TwoThreadsOnRandomTerrains) {
+TEST(GreedyBuilderTest, SplitOnRandomTerrains) {
   const unsigned seed = std::random_device{}();
-  std::printf("TwoThreadsOnRandomTerrains seed %u\n", seed);
+  std::printf("SplitOnRandomTerrains seed %u\n", seed);
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> unit(0, 1);
   for (int round = 0; round < 12; ++round) {
@@ -193,16 +194,17 @@ TEST(GreedyBuilderTest, TwoThreadsOnRandomTerrains) {
     });
     const double tolerance = 0.5 + 10 * unit(rng);
     GreedyReport report;
-    auto tin = BuildGreedyTin(dem, {.tolerance = tolerance, .threads = 2}, &report);
+    auto tin =
+        BuildGreedyTin(dem, {.tolerance = tolerance, .split = GreedySplit::kAlways}, &report);
     ASSERT_TRUE(tin.ok()) << tin.status().ToString();
     ExpectValidGreedyTin(*tin, dem, tolerance, report);
   }
 }
 
-// Automatic threads split only when the seam's chain is long (core/tin/split_refinement.h): a
-// coarse tolerance, whose chain is short, gives exactly the one-thread TIN, a fine one exactly
-// the two-thread TIN.
-TEST(GreedyBuilderTest, AutomaticThreadsSplitOnlyOnALongSeam) {
+// An automatic build splits only when the seam's chain is long (core/tin/split_refinement.h): a
+// coarse tolerance, whose chain is short, gives exactly the unsplit TIN, a fine one exactly the
+// split TIN.
+TEST(GreedyBuilderTest, AutomaticSplitOnlyOnALongSeam) {
   const Grid dem = MakeGrid(400, 300, Sines);
   ASSERT_TRUE(WorthSplitting(dem.geometry));
   const BoundaryElevationFn z = [&](int64_t c, int64_t r) { return double{dem.At(c, r)}; };
@@ -220,8 +222,8 @@ TEST(GreedyBuilderTest, AutomaticThreadsSplitOnlyOnALongSeam) {
         ChooseSeam(dem, tolerance, z).chain_vertices >= MinSeamVertices(dem.geometry);
     EXPECT_EQ(long_seam, tolerance < 1);  // the premise: one case of each
     auto automatic = BuildGreedyTin(dem, {.tolerance = tolerance});
-    auto one = BuildGreedyTin(dem, {.tolerance = tolerance, .threads = 1});
-    auto two = BuildGreedyTin(dem, {.tolerance = tolerance, .threads = 2});
+    auto one = BuildGreedyTin(dem, {.tolerance = tolerance, .split = GreedySplit::kNever});
+    auto two = BuildGreedyTin(dem, {.tolerance = tolerance, .split = GreedySplit::kAlways});
     ASSERT_TRUE(automatic.ok() && one.ok() && two.ok());
     ASSERT_FALSE(same(*one, *two));  // else the comparison below tells nothing
     EXPECT_TRUE(same(*automatic, long_seam ? *two : *one));
@@ -249,16 +251,14 @@ TEST(GreedyBuilderTest, ReportMeasuresEveryValidCellOnOneOrTwoThreads) {
   const Grid dem = MakeGrid(157, 200, [](double x, double y) {
     return std::hypot(x - 700.0, y + 900.0) < 200 ? kNaN : Sines(x, y);
   });
-  // A point budget keeps the build on one thread, so each run makes the same TIN.
-  const GreedyOptions one{.tolerance = 0.5, .max_points = 1500, .threads = 1};
-  GreedyOptions two = one;
-  two.threads = 0;
+  // A point budget keeps the build unsplit, so the streamed run makes the same TIN.
+  const GreedyOptions options{.tolerance = 0.5, .max_points = 1500};
   GreedyReport on_one, on_two, streamed;
-  auto tin = BuildGreedyTin(dem, one, &on_one);
+  auto tin = testing::WithThreads(1, [&] { return BuildGreedyTin(dem, options, &on_one); });
   ASSERT_TRUE(tin.ok()) << tin.status().ToString();
-  ASSERT_TRUE(BuildGreedyTin(dem, two, &on_two).ok());
+  ASSERT_TRUE(testing::WithThreads(2, [&] { return BuildGreedyTin(dem, options, &on_two); }).ok());
   GridCellSource source(dem);
-  ASSERT_TRUE(BuildGreedyTin(source, one, &streamed).ok());
+  ASSERT_TRUE(BuildGreedyTin(source, options, &streamed).ok());
   const TinGridError want = CompareTinToGrid(*tin, dem);
   ASSERT_EQ(want.uncovered, 0);
   ASSERT_GT(want.rms_error, 0);
@@ -289,11 +289,6 @@ TEST(GreedyBuilderTest, RejectsBadInput) {
     EXPECT_EQ(tin.status().code(), StatusCode::kInvalidArgument);
     EXPECT_NE(tin.status().message().find("tolerance"), std::string::npos)
         << tin.status().message();
-  }
-  for (int threads : {-1, 3}) {
-    auto tin = BuildGreedyTin(dem, {.tolerance = 1, .threads = threads});
-    ASSERT_FALSE(tin.ok());
-    EXPECT_NE(tin.status().message().find("threads"), std::string::npos);
   }
   for (int64_t max_points : {-1, 1, 3}) {
     auto tin = BuildGreedyTin(dem, {.tolerance = 1, .max_points = max_points});
@@ -351,7 +346,7 @@ TEST(GreedyBuilderTest, SouthUpGrid) {
 
 // Returns the number of hidden triangles of the last build.
 int CheckRealDem(const std::string& relative, std::initializer_list<double> tolerances,
-                 int threads = 0) {
+                 GreedySplit split = GreedySplit::kAutomatic) {
   auto dem = testing::ReadGridWithGdal(DataPath(relative));
   EXPECT_TRUE(dem.ok()) << dem.status().ToString();
   if (!dem.ok()) return -1;
@@ -359,30 +354,78 @@ int CheckRealDem(const std::string& relative, std::initializer_list<double> tole
   for (double tolerance : tolerances) {
     GreedyReport report;
     const auto start = std::chrono::steady_clock::now();
-    auto tin = BuildGreedyTin(*dem, {.tolerance = tolerance, .threads = threads}, &report);
+    auto tin = BuildGreedyTin(*dem, {.tolerance = tolerance, .split = split}, &report);
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     EXPECT_TRUE(tin.ok()) << tin.status().ToString();
     if (!tin.ok()) return -1;
-    std::printf("%s at %.0f m, threads %d: %lld points, %zu triangles, max %.3f m, rms %.3f m, "
-                "%.2f s\n",
-                relative.c_str(), tolerance, threads, static_cast<long long>(report.points),
-                tin->triangles.size(), report.max_error, report.rms_error, seconds);
+    std::printf(
+        "%s at %.0f m, split %d: %lld points, %zu triangles, max %.3f m, rms %.3f m, "
+        "%.2f s\n",
+        relative.c_str(), tolerance, static_cast<int>(split), static_cast<long long>(report.points),
+        tin->triangles.size(), report.max_error, report.rms_error, seconds);
     ExpectValidGreedyTin(*tin, *dem, tolerance, report);
     hidden = HiddenTriangles(*tin);
   }
   return hidden;
 }
 
+// The same TIN and report, bit for bit, on 1, 2 and 4 threads: split builds (automatic and
+// forced), an unsplit one whose largest scans are shared, and one over a streamed source.
+TEST(GreedyBuilderTest, SameTinOnAnyNumberOfThreads) {
+  const Grid dem = MakeGrid(700, 520, [](double x, double y) {
+    return std::hypot(x - 2600.0, y + 1900.0) < 300 ? kNaN : Sines(x, y);
+  });
+  ASSERT_TRUE(WorthSplitting(dem.geometry));
+  for (const GreedyOptions& options :
+       {GreedyOptions{.tolerance = 0.5}, GreedyOptions{.tolerance = 5.0},
+        GreedyOptions{.tolerance = 2.0, .split = GreedySplit::kAlways},
+        GreedyOptions{.tolerance = 2.0, .split = GreedySplit::kNever},
+        GreedyOptions{.tolerance = 40.0, .split = GreedySplit::kNever}}) {
+    SCOPED_TRACE("tolerance " + std::to_string(options.tolerance) + ", split " +
+                 std::to_string(static_cast<int>(options.split)));
+    const auto build = [&](int threads) {
+      GreedyReport report;
+      auto tin =
+          testing::WithThreads(threads, [&] { return BuildGreedyTin(dem, options, &report); });
+      EXPECT_TRUE(tin.ok()) << tin.status().ToString();
+      return std::pair{tin.ok() ? *tin : Tin(), report};
+    };
+    const auto [want, want_report] = build(1);
+    ASSERT_GT(want.triangles.size(), 100u);
+    for (int threads : testing::kThreadCounts) {
+      SCOPED_TRACE(std::to_string(threads) + " threads");
+      const auto [got, report] = build(threads);
+      testing::ExpectSameTin(got, want);
+      EXPECT_EQ(report.max_error, want_report.max_error);
+      EXPECT_EQ(report.rms_error, want_report.rms_error);
+      EXPECT_EQ(report.points, want_report.points);
+    }
+  }
+  GridCellSource source(dem);
+  const auto streamed = [&](int threads) {
+    return testing::WithThreads(threads, [&] { return BuildGreedyTin(source, {.tolerance = 2}); });
+  };
+  const auto want = streamed(1);
+  ASSERT_TRUE(want.ok());
+  for (int threads : testing::kThreadCounts) {
+    const auto got = streamed(threads);
+    ASSERT_TRUE(got.ok());
+    testing::ExpectSameTin(*got, *want);
+  }
+}
+
 TEST(GreedyBuilderTest, VinschgauDem) { CheckRealDem("dem/elev_vinschgau.tif", {20.0, 5.0, 1.0}); }
 
 // Nodata outside Luxembourg: real holes and nodata corners.
 TEST(GreedyBuilderTest, LuxembourgDemWithNodata) {
-  for (int threads : {1, 2}) EXPECT_GT(CheckRealDem("dem/elev.tif", {20.0, 5.0, 1.0}, threads), 0);
+  for (GreedySplit split : {GreedySplit::kNever, GreedySplit::kAlways})
+    EXPECT_GT(CheckRealDem("dem/elev.tif", {20.0, 5.0, 1.0}, split), 0);
 }
 
 TEST(GreedyBuilderTest, SrtmN43E007) {
-  for (int threads : {1, 2}) CheckRealDem("dem/N43E007.hgt", {20.0, 5.0, 1.0}, threads);
+  for (GreedySplit split : {GreedySplit::kNever, GreedySplit::kAlways})
+    CheckRealDem("dem/N43E007.hgt", {20.0, 5.0, 1.0}, split);
 }
 
 }  // namespace

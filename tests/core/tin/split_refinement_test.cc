@@ -10,6 +10,8 @@
 #include <cstdlib>
 #include <functional>
 
+#include "tests/support/thread_count.h"
+
 namespace tinbase {
 namespace {
 
@@ -89,7 +91,7 @@ TEST(SplitRefinementTest, MinimumChainGrowsWithTheSeam) {
   EXPECT_EQ(minimum(8000, 4000), 4000u / kMaxSeamCellsPerVertex);
 }
 
-TEST(SplitRefinementTest, ShortSeamKeepsOneThreadOnlyWhenAsked) {
+TEST(SplitRefinementTest, ShortSeamKeepsTheGridWholeOnlyWhenAsked) {
   // Every line of a plane has a chain of 2: below any useful minimum.
   const Grid dem = PlaneWithZigzag(300, 300, /*vertical=*/true, -1);
   EXPECT_FALSE(RefineInHalves(dem, 1.0, CellValue(dem), kMinSeamVertices).has_value());
@@ -97,6 +99,31 @@ TEST(SplitRefinementTest, ShortSeamKeepsOneThreadOnlyWhenAsked) {
   ASSERT_TRUE(split.has_value());
   // The four corners and the seam's two ends: a plane needs nothing more.
   EXPECT_EQ(split->vertices().size(), 6u);
+}
+
+// The halves refined side by side or one after the other, then joined and refined again: the
+// same triangulation, vertex for vertex in the same order, on 1, 2 and 4 threads.
+TEST(SplitRefinementTest, SameTriangulationOnAnyNumberOfThreads) {
+  const Grid dem = MakeGrid(400, 260, [](int64_t c, int64_t r) {
+    return 300 +
+           40 * std::sin(static_cast<double>(c) / 17) * std::cos(static_cast<double>(r) / 23) +
+           static_cast<double>((c * 7 + r * 13) % 5);
+  });
+  for (const double tolerance : {1.0, 8.0}) {
+    SCOPED_TRACE("tolerance " + std::to_string(tolerance));
+    const auto refine = [&](int threads) {
+      std::optional<Cdt> cdt = testing::WithThreads(
+          threads, [&] { return RefineInHalves(dem, tolerance, CellValue(dem)); });
+      EXPECT_TRUE(cdt.has_value());
+      return cdt ? cdt->ToTin() : Tin();
+    };
+    const Tin want = refine(1);
+    ASSERT_GT(want.vertices.size(), 100u);
+    for (int threads : testing::kThreadCounts) {
+      SCOPED_TRACE(std::to_string(threads) + " threads");
+      testing::ExpectSameTin(refine(threads), want);
+    }
+  }
 }
 
 }  // namespace

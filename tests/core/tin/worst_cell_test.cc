@@ -12,6 +12,7 @@
 #include "core/geometry/cdt.h"
 #include "core/tin/tolerance_refiner.h"
 #include "tests/support/terrain_grids.h"
+#include "tests/support/thread_count.h"
 
 namespace tinbase {
 namespace {
@@ -113,11 +114,12 @@ TEST(WorstCellTest, RowRangesTogetherAreTheWholeScan) {
   }
 }
 
-// Faces over more than 2^17 cells are scanned on two threads by rows (a 700 x 700 grid's first
-// faces are), and the faces of an insertion over 2^10 cells together by faces.
+// Faces over more than 2^17 cells are scanned by ranges of rows on several threads (a 700 x 700
+// grid's first faces are), and the faces of an insertion over 2^10 cells together by faces: the
+// same points in the same order as without sharing, on 1, 2 and 4 threads.
 TEST(WorstCellTest, ParallelScansInsertTheSamePoints) {
   const Grid grid = TerrainWithHoles(700, 700);
-  const auto refine = [&](bool parallel) {
+  const auto refine = [&](bool parallel, int threads) {
     Cdt cdt;
     const GridGeometry& g = grid.geometry;
     cdt.InsertVertices({{g.CellCenterX(0), g.CellCenterY(0), 300, VertexKind::kDem},
@@ -127,15 +129,19 @@ TEST(WorstCellTest, ParallelScansInsertTheSamePoints) {
     RefineOptions options;
     options.tolerance = 8;
     options.parallel_scans = parallel;
-    RefineToTolerance(cdt, grid, options);
+    testing::WithThreads(threads, [&] { RefineToTolerance(cdt, grid, options); });
     return cdt.vertices();
   };
-  const std::vector<TinVertex> one = refine(false), two = refine(true);
+  const std::vector<TinVertex> one = refine(false, 1);
   ASSERT_GT(one.size(), 100u);
-  ASSERT_EQ(one.size(), two.size());
-  for (size_t i = 0; i < one.size(); ++i) {
-    EXPECT_EQ(one[i].x, two[i].x) << i;
-    EXPECT_EQ(one[i].y, two[i].y) << i;
+  for (int threads : testing::kThreadCounts) {
+    SCOPED_TRACE(std::to_string(threads) + " threads");
+    const std::vector<TinVertex> shared = refine(true, threads);
+    ASSERT_EQ(one.size(), shared.size());
+    for (size_t i = 0; i < one.size(); ++i) {
+      EXPECT_EQ(one[i].x, shared[i].x) << i;
+      EXPECT_EQ(one[i].y, shared[i].y) << i;
+    }
   }
 }
 

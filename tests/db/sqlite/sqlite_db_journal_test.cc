@@ -1,10 +1,7 @@
-// The batching VFS gathers a commit's WAL frames into few writes, and still every committed byte
-// is with the OS when COMMIT returns: a connection through SQLite's own VFS sees each commit at
-// once, a process killed right after its commits loses none of them, and a transaction that
-// spilled frames and rolled back leaves the log consistent. A spilling statement journal is
-// written in pieces the default VFS accepts.
-#include "db/sqlite/wal_write_batching.h"
-
+// SqliteConnection's journals through SQLite's own VFS: in WAL mode every committed byte is with the OS
+// when COMMIT returns (another connection sees each commit at once, a process killed right after
+// its commits loses none of them), a transaction that spilled frames and rolled back leaves the
+// log consistent, and a statement journal larger than SqliteConnection keeps in memory spills to a file.
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sqlite3.h>
@@ -47,7 +44,7 @@ Status CommitRows(SqliteConnection& db, int commit) {
   return db.Exec("COMMIT");
 }
 
-// A connection through SQLite's default VFS, which sees only what reached the file.
+// A connection of SQLite's own, which sees only what reached the file.
 class PlainReader {
  public:
   explicit PlainReader(const std::string& path) {
@@ -78,20 +75,7 @@ class PlainReader {
   sqlite3* db_ = nullptr;
 };
 
-TEST(WalWriteBatchingTest, ACommitOfManyPagesTakesFewWrites) {
-  ASSERT_NE(WalWriteBatchingVfs(), nullptr);
-  TempDir dir;
-  auto db = NewTable(dir.Path("a.db"));
-  const WalWriteCounts before = WalWriteCountsSoFar();
-  ASSERT_TRUE(CommitRows(*db, 1).ok());
-  const WalWriteCounts after = WalWriteCountsSoFar();
-  const int64_t requested = after.requested - before.requested;
-  const int64_t issued = after.issued - before.issued;
-  EXPECT_GE(requested, 20);  // two a frame
-  EXPECT_LE(issued, 3);      // the frames up to the commit's header, then its page
-}
-
-TEST(WalWriteBatchingTest, AnotherConnectionSeesEachCommitAtOnce) {
+TEST(SqliteDbJournalTest, AnotherConnectionSeesEachCommitAtOnce) {
   TempDir dir;
   const std::string path = dir.Path("a.db");
   auto db = NewTable(path);
@@ -104,7 +88,7 @@ TEST(WalWriteBatchingTest, AnotherConnectionSeesEachCommitAtOnce) {
   EXPECT_EQ(reader.Text("PRAGMA integrity_check"), "ok");
 }
 
-TEST(WalWriteBatchingTest, AProcessKilledAfterItsCommitsLosesNone) {
+TEST(SqliteDbJournalTest, AProcessKilledAfterItsCommitsLosesNone) {
   TempDir dir;
   const std::string path = dir.Path("a.db");
   NewTable(path);  // closed again: the child opens its own connection
@@ -128,7 +112,7 @@ TEST(WalWriteBatchingTest, AProcessKilledAfterItsCommitsLosesNone) {
   EXPECT_EQ(reader.Text("PRAGMA integrity_check"), "ok");
 }
 
-TEST(WalWriteBatchingTest, SpilledFramesOfARolledBackTransactionLeaveTheLogConsistent) {
+TEST(SqliteDbJournalTest, SpilledFramesOfARolledBackTransactionLeaveTheLogConsistent) {
   TempDir dir;
   const std::string path = dir.Path("a.db");
   auto db = NewTable(path);
@@ -156,18 +140,18 @@ TEST(WalWriteBatchingTest, SpilledFramesOfARolledBackTransactionLeaveTheLogConsi
   EXPECT_EQ(after.Int("SELECT count(*) FROM t"), 24 * kRowsPerCommit);
 }
 
-// A statement journal larger than what SqliteConnection keeps in memory spills to a temporary file
-// without failing: SQLite writes the spill one 16 MiB chunk a call, and the unix VFS alone would
-// write 128 KiB - 1 bytes of it and report a full disk.
-TEST(WalWriteBatchingTest, AStatementJournalLargerThanTheInMemoryLimitSpills) {
+// A statement journal far larger than what SqliteConnection keeps in memory spills to a temporary file
+// without failing: SQLite writes the spill one in-memory chunk a call, and the unix VFS would
+// write at most 128 KiB - 1 bytes of a larger chunk and report a full disk.
+TEST(SqliteDbJournalTest, AStatementJournalLargerThanTheInMemoryLimitSpills) {
   TempDir dir;
   auto db = SqliteConnection::Open(dir.Path("j.db"), SqliteConnection::Mode::kCreate);
   ASSERT_TRUE(db.ok()) << db.status().ToString();
   SqliteConnection& d = **db;
   ASSERT_TRUE(d.Exec("PRAGMA journal_mode = WAL").ok());
   // A CHECK makes every UPDATE one that may fail part way, so it keeps a statement journal.
-  ASSERT_TRUE(d.Exec("CREATE TABLE t(id INTEGER PRIMARY KEY, n INTEGER CHECK (n >= 0), b BLOB)")
-                  .ok());
+  ASSERT_TRUE(
+      d.Exec("CREATE TABLE t(id INTEGER PRIMARY KEY, n INTEGER CHECK (n >= 0), b BLOB)").ok());
   ASSERT_TRUE(d.Exec("WITH RECURSIVE k(i) AS (SELECT 1 UNION ALL SELECT i + 1 FROM k WHERE "
                      "i < 60000) INSERT INTO t SELECT i, 0, randomblob(400) FROM k")
                   .ok());  // ~26 MB of pages
