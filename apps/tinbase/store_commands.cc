@@ -34,7 +34,7 @@ Result<nlohmann::json> DescribeStore(Store& store) {
   out["store"] = store.path();
   out["schema_version"] = store.SchemaVersion();
   TB_ASSIGN_OR_RETURN(auto crs, store.GetCrs());
-  out["crs"] = crs ? crs->Label() : nullptr;
+  out["crs"] = crs ? nlohmann::json(crs->Label()) : nlohmann::json(nullptr);
   DemStore dems(store);
   TB_ASSIGN_OR_RETURN(auto dem_list, dems.List());
   out["dems"] = nlohmann::json::array();

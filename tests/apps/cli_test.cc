@@ -322,6 +322,18 @@ TEST(CliStandalone, RasterWithoutCrsIsRejected) {
   ExpectRejected(store, "dem import " + Quote(store) + " " + Quote(asc), "CRS");
 }
 
+// Regression: `info --json` on a store whose CRS was never set built a std::string from null and
+// aborted.
+TEST(CliStandalone, InfoOfAStoreWithNoCrsSaysNull) {
+  TempDir dir;
+  const std::string store = dir.Path("s.tinbase");
+  ASSERT_EQ(RunCli("init " + Quote(store)).exit_code, 0);
+  CliResult r = RunCli("info --json " + Quote(store));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(Json(r)["crs"].is_null());
+  EXPECT_EQ(RunCli("info " + Quote(store)).exit_code, 0);
+}
+
 TEST(CliStandalone, InitWithCrsAndRefusalToOverwrite) {
   TempDir dir;
   const std::string store = dir.Path("s.tinbase");
