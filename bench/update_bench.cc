@@ -312,7 +312,7 @@ std::string HamersleyStore() {
 // The maps: the real Hamersley geology (61 polygons), and a 1000+ polygon map with the shape of
 // one: the DEM's 40 m elevation bands as single polygons (gdal_contour -p, clipped one cell inside
 // the DEM's cell centres, exploded), which tile the area with shared boundaries, islands and
-// holes as map units do. No real map of 1000+ polygons over a DEM we ship is in ../shared/data.
+// holes as map units do. No real map of 1000+ polygons over a DEM we ship is in tests/data.
 struct MapCase {
   std::string file;
   std::string tag_field;

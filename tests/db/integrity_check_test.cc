@@ -119,7 +119,7 @@ TEST_F(IntegrityCheckTest, FreeSurfacesAreExemptFromDelaunay) {
 
 TEST_F(IntegrityCheckTest, CoCircularGridIsDelaunayWhicheverDiagonal) {
   // Every cell of a regular grid has four co-circular corners: either diagonal is a tie, which
-  // invariant 5 allows (DESIGN.md, pitfalls).
+  // invariant 5 allows (docs/design.md, Pitfalls).
   auto tx = store_->BeginWrite();
   ASSERT_TRUE(tx.ok());
   Create("grid", SurfaceKind::kDelaunay, testing::PerturbedGridTin(40, 30, 23, 30, 0.0));
