@@ -231,6 +231,21 @@ struct DemStore::Impl {
 
   Result<DemImportReport> ImportInTransaction(const std::vector<std::string>& files,
                                               const DemImportOptions& options);
+  // The sources of the DEM after the import: those stored for `existing` (if any), then one per
+  // sheet, `files` and `source_crs` in the sheets' order.
+  Result<nlohmann::json> SourcesAfter(const std::optional<DemInfo>& existing,
+                                      const std::vector<Sheet>& sheets,
+                                      const std::vector<std::string>& files,
+                                      const std::vector<std::string>& source_crs);
+  // Updates the row of `existing`, or inserts the row of a new DEM; returns the DEM's id.
+  Result<int64_t> UpsertDem(const DemInfo& dem, const std::optional<DemInfo>& existing,
+                            const nlohmann::json& sources);
+  // The level-0 cells of block (bx, by): the stored block of `existing` (if any) with the sheets
+  // over it laid on top (under the cells it has, with `keep_first`).
+  Result<std::vector<float>> AssembleBlock(const DemInfo& dem,
+                                           const std::optional<DemInfo>& existing,
+                                           const std::vector<Sheet>& sheets, int64_t bx, int64_t by,
+                                           bool keep_first);
   Result<Crs> StoreCrsFor(const GdalRaster& first);
   // Stores the block, or deletes it when it holds no data.
   Status WriteBlock(const DemInfo& dem, int level, int64_t bx, int64_t by,
@@ -493,34 +508,41 @@ Status DemStore::Impl::UpdateOverviews(const DemInfo& dem, int old_levels,
   return Status::Ok();
 }
 
-Result<DemImportReport> DemStore::Impl::ImportInTransaction(const std::vector<std::string>& files,
-                                                            const DemImportOptions& options) {
-  // Every file is checked before anything is written, so the common failures cost nothing.
+namespace {
+
+// Every file opened, before anything is written, so the common failures cost nothing.
+Result<std::vector<GdalRaster>> OpenRasters(const std::vector<std::string>& files) {
   std::vector<GdalRaster> rasters;
   for (const std::string& file : files) {
     TB_ASSIGN_OR_RETURN(GdalRaster raster, GdalRaster::Open(file));
     rasters.push_back(std::move(raster));
   }
-  const std::string name =
-      options.name.empty() ? std::filesystem::path(files.front()).stem().string() : options.name;
-  if (name.empty()) return Status::InvalidArgument(files.front() + ": no name for the DEM");
+  return rasters;
+}
 
-  DemImportReport report;
-  TB_ASSIGN_OR_RETURN(std::optional<DemInfo> existing,
-                      FindWhere("WHERE name = ?", [&](Statement& st) { st.Bind(1, name); }));
-  TB_ASSIGN_OR_RETURN(Crs crs, StoreCrsFor(rasters.front()));
-
-  // Place every sheet on the DEM's grid: the existing DEM's, else the first sheet's.
+// The sheets of an import on one grid (the existing DEM's, else the first sheet's), each at its
+// first cell in that grid, before the DEM's extent is known.
+struct Placement {
   std::vector<Sheet> sheets;
   std::vector<std::string> source_crs;  // as the files declare it, before any warp
-  const std::optional<double> first_nodata = rasters.front().nodata();
+  GridGeometry grid;
+  bool warped = false;  // some sheet was warped to the store's CRS
+  int64_t cells = 0;    // the sheets' cells
+};
+
+// Warps every raster not in `crs` and places it on the grid; InvalidArgument naming the file
+// whose cell size differs from the grid's or whose origin does not lie on it.
+// REQUIRES: `rasters` is not empty.
+Result<Placement> PlaceSheets(std::vector<GdalRaster> rasters, const Crs& crs,
+                              const std::optional<DemInfo>& existing, const std::string& name) {
+  Placement out;
   std::optional<GridGeometry> grid;
   if (existing) grid = existing->geometry;
   for (GdalRaster& raster : rasters) {
-    source_crs.push_back(raster.crs().Label());
+    out.source_crs.push_back(raster.crs().Label());
     if (!raster.crs().IsSame(crs)) {
       TB_ASSIGN_OR_RETURN(raster, raster.WarpTo(crs, grid ? &*grid : nullptr));
-      report.warped = true;
+      out.warped = true;
     }
     const GridGeometry& g = raster.geometry();
     if (!grid) grid = g;
@@ -533,10 +555,20 @@ Result<DemImportReport> DemStore::Impl::ImportInTransaction(const std::vector<st
     if (!col0 || !row0)
       return Status::InvalidArgument(raster.path() + ": origin " + Point(g.origin_x, g.origin_y) +
                                      " does not lie on the grid of DEM " + Quoted(name));
-    sheets.push_back(Sheet{raster, *col0, *row0});
-    report.cells += g.CellCount();
+    out.sheets.push_back(Sheet{raster, *col0, *row0});
+    out.cells += g.CellCount();
   }
+  out.grid = *grid;
+  return out;
+}
 
+// The DEM after the import: the union of `existing` (if any) and the sheets, on `grid`, anchored
+// where it was (a new DEM at its first sheet), with its levels. Shifts the sheets' first cells to
+// the union's grid.
+DemInfo DemOverSheets(const std::optional<DemInfo>& existing, const std::string& name,
+                      const Crs& crs, const GridGeometry& grid,
+                      const std::optional<double>& first_nodata, int block_size,
+                      std::vector<Sheet>& sheets) {
   // The union of the DEM and the sheets, in cells of the grid placed so far.
   int64_t min_col = 0, min_row = 0;
   int64_t max_col = existing ? existing->geometry.width : 0;
@@ -554,24 +586,46 @@ Result<DemImportReport> DemStore::Impl::ImportInTransaction(const std::vector<st
   DemInfo dem = existing.value_or(DemInfo{});
   dem.name = name;
   dem.crs_wkt = crs.Wkt();
-  dem.geometry = *grid;
-  dem.geometry.origin_x = grid->origin_x + static_cast<double>(min_col) * grid->cell_x;
-  dem.geometry.origin_y = grid->origin_y + static_cast<double>(min_row) * grid->cell_y;
+  dem.geometry = grid;
+  dem.geometry.origin_x = grid.origin_x + static_cast<double>(min_col) * grid.cell_x;
+  dem.geometry.origin_y = grid.origin_y + static_cast<double>(min_row) * grid.cell_y;
   dem.geometry.width = max_col - min_col;
   dem.geometry.height = max_row - min_row;
   if (existing) {
     dem.block_col0 = existing->block_col0 - min_col;
     dem.block_row0 = existing->block_row0 - min_row;
   } else {
-    dem.block_size = options.block_size;
+    dem.block_size = block_size;
     dem.nodata = first_nodata;
     dem.block_col0 = sheets.front().col0;
     dem.block_row0 = sheets.front().row0;
   }
-
-  const int old_levels = existing ? existing->levels : 1;
   dem.levels = LevelCount(dem);
+  return dem;
+}
 
+// The level-0 blocks any sheet touches, as (by, bx): row-major, as GDAL reads best.
+std::set<std::pair<int64_t, int64_t>> BlocksUnder(const DemInfo& dem,
+                                                  const std::vector<Sheet>& sheets) {
+  const int64_t b = dem.block_size;
+  std::set<std::pair<int64_t, int64_t>> touched;
+  for (const Sheet& s : sheets) {
+    const GridGeometry& g = s.raster.geometry();
+    for (int64_t by = FloorDiv(s.row0 - dem.block_row0, b);
+         by <= FloorDiv(s.row0 + g.height - 1 - dem.block_row0, b); ++by)
+      for (int64_t bx = FloorDiv(s.col0 - dem.block_col0, b);
+           bx <= FloorDiv(s.col0 + g.width - 1 - dem.block_col0, b); ++bx)
+        touched.emplace(by, bx);
+  }
+  return touched;
+}
+
+}  // namespace
+
+Result<nlohmann::json> DemStore::Impl::SourcesAfter(const std::optional<DemInfo>& existing,
+                                                    const std::vector<Sheet>& sheets,
+                                                    const std::vector<std::string>& files,
+                                                    const std::vector<std::string>& source_crs) {
   nlohmann::json sources = nlohmann::json::array();
   if (existing) {
     TB_ASSIGN_OR_RETURN(Statement * get,
@@ -591,7 +645,12 @@ Result<DemImportReport> DemStore::Impl::ImportInTransaction(const std::vector<st
                        {"width", g.width},
                        {"height", g.height}});
   }
+  return sources;
+}
 
+Result<int64_t> DemStore::Impl::UpsertDem(const DemInfo& dem,
+                                          const std::optional<DemInfo>& existing,
+                                          const nlohmann::json& sources) {
   // The geometry, anchor, sources and levels change with every import; the rest is set at
   // creation.
   Statement* upsert = nullptr;
@@ -621,39 +680,65 @@ Result<DemImportReport> DemStore::Impl::ImportInTransaction(const std::vector<st
   upsert->Bind(6, static_cast<int64_t>(dem.levels));
   upsert->Bind(7, dem.block_col0).Bind(8, dem.block_row0);
   TB_RETURN_IF_ERROR(upsert->Run());
-  if (!existing) dem.id = store.db().LastInsertRowId();
+  return existing ? dem.id : store.db().LastInsertRowId();
+}
 
-  // Blocks touched by any sheet, each assembled once from the stored block and the sheets over it.
+Result<std::vector<float>> DemStore::Impl::AssembleBlock(const DemInfo& dem,
+                                                         const std::optional<DemInfo>& existing,
+                                                         const std::vector<Sheet>& sheets,
+                                                         int64_t bx, int64_t by, bool keep_first) {
   const int64_t b = dem.block_size;
-  std::set<std::pair<int64_t, int64_t>> touched;  // (by, bx): row-major, as GDAL reads best
+  std::vector<float> cells(static_cast<size_t>(b * b), kNaN);
+  if (existing) {
+    TB_ASSIGN_OR_RETURN(Block old, LoadBlock(*existing, 0, bx, by));
+    if (old) cells = *old;
+  }
+  const int64_t col = dem.block_col0 + bx * b;  // the block's first cell in the DEM grid
+  const int64_t row = dem.block_row0 + by * b;
   for (const Sheet& s : sheets) {
     const GridGeometry& g = s.raster.geometry();
-    for (int64_t by = FloorDiv(s.row0 - dem.block_row0, b);
-         by <= FloorDiv(s.row0 + g.height - 1 - dem.block_row0, b); ++by)
-      for (int64_t bx = FloorDiv(s.col0 - dem.block_col0, b);
-           bx <= FloorDiv(s.col0 + g.width - 1 - dem.block_col0, b); ++bx)
-        touched.emplace(by, bx);
+    if (col >= s.col0 + g.width || col + b <= s.col0 || row >= s.row0 + g.height ||
+        row + b <= s.row0)
+      continue;
+    TB_ASSIGN_OR_RETURN(std::vector<float> window,
+                        s.raster.ReadWindow(col - s.col0, row - s.row0, b, b));
+    for (size_t i = 0; i < cells.size(); ++i) {
+      if (std::isnan(window[i]) || (keep_first && !std::isnan(cells[i]))) continue;
+      cells[i] = window[i];
+    }
   }
+  return cells;
+}
+
+Result<DemImportReport> DemStore::Impl::ImportInTransaction(const std::vector<std::string>& files,
+                                                            const DemImportOptions& options) {
+  TB_ASSIGN_OR_RETURN(std::vector<GdalRaster> rasters, OpenRasters(files));
+  const std::string name =
+      options.name.empty() ? std::filesystem::path(files.front()).stem().string() : options.name;
+  if (name.empty()) return Status::InvalidArgument(files.front() + ": no name for the DEM");
+
+  DemImportReport report;
+  TB_ASSIGN_OR_RETURN(std::optional<DemInfo> existing,
+                      FindWhere("WHERE name = ?", [&](Statement& st) { st.Bind(1, name); }));
+  TB_ASSIGN_OR_RETURN(Crs crs, StoreCrsFor(rasters.front()));
+  const std::optional<double> first_nodata = rasters.front().nodata();
+  TB_ASSIGN_OR_RETURN(Placement placed, PlaceSheets(std::move(rasters), crs, existing, name));
+  report.warped = placed.warped;
+  report.cells = placed.cells;
+  std::vector<Sheet>& sheets = placed.sheets;
+  DemInfo dem =
+      DemOverSheets(existing, name, crs, placed.grid, first_nodata, options.block_size, sheets);
+  const int old_levels = existing ? existing->levels : 1;
+
+  TB_ASSIGN_OR_RETURN(const nlohmann::json sources,
+                      SourcesAfter(existing, sheets, files, placed.source_crs));
+  TB_ASSIGN_OR_RETURN(dem.id, UpsertDem(dem, existing, sources));
+
+  // Blocks touched by any sheet, each assembled once from the stored block and the sheets over it.
+  const std::set<std::pair<int64_t, int64_t>> touched = BlocksUnder(dem, sheets);
   for (const auto& [by, bx] : touched) {
-    std::vector<float> cells(static_cast<size_t>(b * b), kNaN);
-    if (existing) {
-      TB_ASSIGN_OR_RETURN(Block old, LoadBlock(*existing, 0, bx, by));
-      if (old) cells = *old;
-    }
-    const int64_t col = dem.block_col0 + bx * b;  // the block's first cell in the DEM grid
-    const int64_t row = dem.block_row0 + by * b;
-    for (const Sheet& s : sheets) {
-      const GridGeometry& g = s.raster.geometry();
-      if (col >= s.col0 + g.width || col + b <= s.col0 || row >= s.row0 + g.height ||
-          row + b <= s.row0)
-        continue;
-      TB_ASSIGN_OR_RETURN(std::vector<float> window,
-                          s.raster.ReadWindow(col - s.col0, row - s.row0, b, b));
-      for (size_t i = 0; i < cells.size(); ++i) {
-        if (std::isnan(window[i]) || (options.keep_first && !std::isnan(cells[i]))) continue;
-        cells[i] = window[i];
-      }
-    }
+    TB_ASSIGN_OR_RETURN(std::vector<float> cells,
+                        AssembleBlock(dem, existing, sheets, bx, by, options.keep_first));
     TB_RETURN_IF_ERROR(WriteBlock(dem, 0, bx, by, cells, &report));
   }
   TB_RETURN_IF_ERROR(UpdateOverviews(dem, old_levels, touched, &report));

@@ -201,8 +201,10 @@ Paint PaintFromFeatures(const std::vector<EditorFeature>& features, CellSource* 
   return paint;
 }
 
-Result<LoadedSurface> LoadFeatureSurface(Store& store, int64_t feature) {
-  TB_ASSIGN_OR_RETURN(auto snapshot, SnapshotUnlessInTransaction(store));
+namespace {
+
+// The id of the surface that holds `feature`; NotFound when there is no such feature.
+Result<int64_t> SurfaceIdOfFeature(Store& store, int64_t feature) {
   TB_ASSIGN_OR_RETURN(Statement * owner,
                       store.db().Cached("SELECT surface FROM features WHERE id = ?"));
   owner->Bind(1, feature);
@@ -210,76 +212,99 @@ Result<LoadedSurface> LoadFeatureSurface(Store& store, int64_t feature) {
   const int64_t surface_id = found ? owner->ColumnInt(0) : 0;
   owner->Reset();
   if (!found) return Status::NotFound("no feature " + std::to_string(feature));
-  SurfaceStore surfaces(store);
-  TB_ASSIGN_OR_RETURN(SurfaceInfo surface, surfaces.FindById(surface_id));
-  TB_ASSIGN_OR_RETURN(EditorFeature f, LoadFeature(store, surface, feature));
-  if (f.mode == FeatureMode::kBreakline)
-    return Status::InvalidArgument("feature " + std::to_string(feature) +
-                                   " is a breakline: it has no inside to export");
-  const PolygonLocator& inside = *InsideOf(f);
-  const Box box = BoxOf(f);
-  MeshTables tables(store.db(), surface);
-  LoadedSurface out;
-  std::unordered_map<int64_t, uint32_t> index;
-  const auto vertex_index = [&](int64_t id) -> Result<uint32_t> {
-    if (auto it = index.find(id); it != index.end()) return it->second;
-    Result<VertexRow> v = tables.Vertex(id);
+  return surface_id;
+}
+
+// Store ids -> indices into a LoadedSurface being built: each vertex and tag is read and appended
+// on its first use.
+class RowIndex {
+ public:
+  // REQUIRES: `tables` and `out` outlive this object.
+  RowIndex(MeshTables& tables, LoadedSurface& out) : tables_(tables), out_(out) {}
+
+  // The vertex's index in out.tin.vertices; Corruption when it is used but missing.
+  Result<uint32_t> Vertex(int64_t id) {
+    if (auto it = vertices_.find(id); it != vertices_.end()) return it->second;
+    Result<VertexRow> v = tables_.Vertex(id);
     if (v.status().code() == StatusCode::kNotFound)
       return Status::Corruption("vertex " + std::to_string(id) + " is used but missing");
     TB_RETURN_IF_ERROR(v.status());
-    index.emplace(id, static_cast<uint32_t>(out.tin.vertices.size()));
-    out.tin.vertices.push_back(*v);
-    out.vertex_ids.push_back(id);
-    return index.at(id);
-  };
-  // Tag id -> index into out.tin.tags; kNoTag for an id the tags table lacks (as no tag).
-  std::unordered_map<int64_t, int32_t> tags;
-  const auto tag_index = [&](int64_t id) -> Result<int32_t> {
-    if (auto it = tags.find(id); it != tags.end()) return it->second;
-    Result<std::string> value = tables.TagValue(id);
+    vertices_.emplace(id, static_cast<uint32_t>(out_.tin.vertices.size()));
+    out_.tin.vertices.push_back(*v);
+    out_.vertex_ids.push_back(id);
+    return vertices_.at(id);
+  }
+
+  // The tag's index in out.tin.tags; kNoTag for an id the tags table lacks (as no tag).
+  Result<int32_t> Tag(int64_t id) {
+    if (auto it = tags_.find(id); it != tags_.end()) return it->second;
+    Result<std::string> value = tables_.TagValue(id);
     int32_t at = kNoTag;
     if (value.ok()) {
-      at = static_cast<int32_t>(out.tin.tags.size());
-      out.tin.tags.push_back(*value);
+      at = static_cast<int32_t>(out_.tin.tags.size());
+      out_.tin.tags.push_back(*value);
     } else if (value.status().code() != StatusCode::kNotFound) {
       return value.status();
     }
-    tags.emplace(id, at);
+    tags_.emplace(id, at);
     return at;
-  };
-  const BlockGrid& g = surface.blocks;
+  }
+
+ private:
+  MeshTables& tables_;
+  LoadedSurface& out_;
+  std::unordered_map<int64_t, uint32_t> vertices_;
+  std::unordered_map<int64_t, int32_t> tags_;
+};
+
+// The triangle rows of blocks [first, last] with their ids, read whole: the vertex lookups that
+// follow use statements of their own.
+Result<std::vector<std::pair<int64_t, TriangleRow>>> TriangleRowsInBlocks(MeshTables& tables,
+                                                                          int64_t first,
+                                                                          int64_t last) {
+  std::vector<std::pair<int64_t, TriangleRow>> rows;
+  TB_ASSIGN_OR_RETURN(TriangleCursor cursor, tables.TrianglesInBlocks(first, last));
+  int64_t id = 0;
+  for (TriangleRow row;;) {
+    TB_ASSIGN_OR_RETURN(bool more, cursor.Next(&id, &row));
+    if (!more) break;
+    rows.emplace_back(id, row);
+  }
+  return rows;
+}
+
+// The triangles of the blocks under `box` whose centroid is not outside `inside`, with their
+// tags and the vertices of every triangle read (also of those left out).
+Result<LoadedSurface> TrianglesInside(MeshTables& tables, const BlockGrid& g, const Box& box,
+                                      const PolygonLocator& inside) {
+  LoadedSurface out;
+  RowIndex index(tables, out);
   const int64_t bx0 = g.ColumnOf(box.min_x), bx1 = g.ColumnOf(box.max_x);
   for (int64_t by = g.RowOf(box.min_y); by <= g.RowOf(box.max_y); ++by) {
-    // The rows of a run of blocks first: the vertex lookups below use statements of their own.
-    std::vector<std::pair<int64_t, TriangleRow>> rows;
-    {
-      TB_ASSIGN_OR_RETURN(
-          TriangleCursor cursor,
-          tables.TrianglesInBlocks(BlockGrid::Pack(bx0, by), BlockGrid::Pack(bx1, by)));
-      int64_t id = 0;
-      for (TriangleRow row;;) {
-        TB_ASSIGN_OR_RETURN(bool more, cursor.Next(&id, &row));
-        if (!more) break;
-        rows.emplace_back(id, row);
-      }
-    }
+    TB_ASSIGN_OR_RETURN(const auto rows, TriangleRowsInBlocks(tables, BlockGrid::Pack(bx0, by),
+                                                              BlockGrid::Pack(bx1, by)));
     for (const auto& [id, row] : rows) {
       TinTriangle t;
       for (int i = 0; i < 3; ++i) {
-        TB_ASSIGN_OR_RETURN(t.v[i], vertex_index(row.v[i]));
+        TB_ASSIGN_OR_RETURN(t.v[i], index.Vertex(row.v[i]));
       }
       const TinVertex &a = out.tin.vertices[t.v[0]], &b = out.tin.vertices[t.v[1]],
                       &c = out.tin.vertices[t.v[2]];
       if (inside.Locate({(a.x + b.x + c.x) / 3, (a.y + b.y + c.y) / 3}) == PointInPolygon::kOutside)
         continue;
       if (row.tag) {
-        TB_ASSIGN_OR_RETURN(t.tag, tag_index(*row.tag));
+        TB_ASSIGN_OR_RETURN(t.tag, index.Tag(*row.tag));
       }
       out.tin.triangles.push_back(t);
       out.triangle_ids.push_back(id);
     }
   }
-  // Vertices of triangles left outside were read too; keep only the used ones.
+  return out;
+}
+
+// `out` with only the vertices its triangles use, its neighbours linked; Corruption naming
+// `feature` when the triangles overlap.
+Result<LoadedSurface> WithUsedVertices(LoadedSurface out, int64_t feature) {
   std::vector<int64_t> remap(out.tin.vertices.size(), -1);
   Tin compact;
   compact.tags = out.tin.tags;
@@ -300,6 +325,24 @@ Result<LoadedSurface> LoadFeatureSurface(Store& store, int64_t feature) {
   out.tin = std::move(compact);
   out.vertex_ids = std::move(ids);
   return out;
+}
+
+}  // namespace
+
+Result<LoadedSurface> LoadFeatureSurface(Store& store, int64_t feature) {
+  TB_ASSIGN_OR_RETURN(auto snapshot, SnapshotUnlessInTransaction(store));
+  TB_ASSIGN_OR_RETURN(const int64_t surface_id, SurfaceIdOfFeature(store, feature));
+  SurfaceStore surfaces(store);
+  TB_ASSIGN_OR_RETURN(SurfaceInfo surface, surfaces.FindById(surface_id));
+  TB_ASSIGN_OR_RETURN(EditorFeature f, LoadFeature(store, surface, feature));
+  if (f.mode == FeatureMode::kBreakline)
+    return Status::InvalidArgument("feature " + std::to_string(feature) +
+                                   " is a breakline: it has no inside to export");
+  MeshTables tables(store.db(), surface);
+  TB_ASSIGN_OR_RETURN(LoadedSurface read,
+                      TrianglesInside(tables, surface.blocks, BoxOf(f), *InsideOf(f)));
+  // Vertices of triangles left outside were read too; keep only the used ones.
+  return WithUsedVertices(std::move(read), feature);
 }
 
 std::vector<Polygon> ReplacePolygons(const std::vector<EditorFeature>& features) {

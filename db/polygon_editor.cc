@@ -219,30 +219,22 @@ Result<NewFeature> Prepare(SurfaceSession& session, EditorFeature f) {
   return out;
 }
 
-// One transaction: the new features' rows, the engine's local edit (their constraints in, the
-// removed features' constraints out), the removed features' rows gone, one `changes` row. The
-// lines of `added` are moved into the edit; their features stay.
-Result<PolygonAddReport> ApplyEditOnce(SurfaceSession& session, std::vector<NewFeature>& added,
-                                       const std::vector<int64_t>& removed,
-                                       const std::string& action) {
-  Store& store = session.store;
-  TB_ASSIGN_OR_RETURN(auto tx, store.BeginWrite());
-  Change change;
-  change.surface = session.surface.id;
-  change.action = action;
-  PolygonAddReport report;
-  TB_ASSIGN_OR_RETURN(report.tx, AppendChange(store, change));
-  TB_ASSIGN_OR_RETURN(bool mesh_kept, session.mesh.Begin(report.tx));
-  report.mesh_kept = mesh_kept ? 1 : 0;
-  if (mesh_kept && TEST_VerifyMesh()) TB_RETURN_IF_ERROR(session.mesh.VerifyAgainstStore());
+// The surface's features before the edit of change `tx`: the session's when they are those of
+// the change just before, else read from the store.
+Result<std::vector<EditorFeature>> FeaturesBefore(SurfaceSession& session, int64_t tx) {
   std::vector<EditorFeature> existing;
-  if (session.features_tx >= 0 && report.tx == session.features_tx + 1) {
+  if (session.features_tx >= 0 && tx == session.features_tx + 1) {
     existing = std::move(session.features);
   } else {
-    TB_ASSIGN_OR_RETURN(existing, LoadFeatures(store, session.surface));
+    TB_ASSIGN_OR_RETURN(existing, LoadFeatures(session.store, session.surface));
   }
-  session.features_tx = -1;  // until this edit commits
+  return existing;
+}
 
+// The local edit that takes the `removed` features out of `existing` (the surface's features),
+// before the `added` ones go in: the kept features, and where paint may change.
+LocalEdit EditRemoving(const SurfaceSession& session, const std::vector<NewFeature>& added,
+                       const std::vector<int64_t>& removed, std::vector<EditorFeature> existing) {
   // Clip polygons act as one union over the whole surface: adding or removing one can hide or
   // show triangles anywhere, so the paint area is then the whole DEM.
   const auto is_clip = [](const EditorFeature& f) { return f.mode == FeatureMode::kClip; };
@@ -267,22 +259,33 @@ Result<PolygonAddReport> ApplyEditOnce(SurfaceSession& session, std::vector<NewF
     if (is_removed(f)) edit.changed.Add(BoxOf(f));
   std::erase_if(existing, is_removed);
   edit.features = std::move(existing);
+  return edit;
+}
+
+// Writes the rows of the `added` features in change `tx` (setting their ids) and moves their
+// lines into `edit`; returns the number of line vertices.
+Result<int64_t> AddFeatures(SurfaceSession& session, int64_t tx, std::vector<NewFeature>& added,
+                            LocalEdit& edit) {
+  int64_t ring_vertices = 0;
   for (NewFeature& n : added) {
-    TB_RETURN_IF_ERROR(WriteFeature(store, session.surface, report.tx, n.feature));
+    TB_RETURN_IF_ERROR(WriteFeature(session.store, session.surface, tx, n.feature));
     for (EditPolyline& line : n.lines) {
       line.feature = n.feature.id;
-      report.ring_vertices += static_cast<int64_t>(line.points.size());
+      ring_vertices += static_cast<int64_t>(line.points.size());
       edit.add.push_back(std::move(line));
     }
     edit.changed.Add(BoxOf(n.feature));
     edit.features.push_back(n.feature);
   }
-  UpdateEngine engine(store, session.surface, session.dems, session.dem);
-  engine.set_mesh_cache(&session.mesh);
-  TB_ASSIGN_OR_RETURN(EditResult result, engine.Apply(edit));
-  for (int64_t id : removed) TB_RETURN_IF_ERROR(DeleteFeature(store, id));
+  return ring_vertices;
+}
 
-  Box box = edit.changed;
+// Completes the `changes` row of `tx`: the first feature added (else removed), the triangle
+// counts of `result`, and the extent of `changed` and the region.
+Status RecordChange(Store& store, int64_t tx, const std::vector<NewFeature>& added,
+                    const std::vector<int64_t>& removed, const EditResult& result,
+                    const Box& changed) {
+  Box box = changed;
   box.Add(result.region);
   TB_ASSIGN_OR_RETURN(Statement * update,
                       store.db().Cached("UPDATE changes SET feature = ?, removed = ?, added = ?, "
@@ -295,7 +298,35 @@ Result<PolygonAddReport> ApplyEditOnce(SurfaceSession& session, std::vector<NewF
     update->BindNull(1);
   update->Bind(2, result.removed).Bind(3, result.added);
   update->Bind(4, box.min_x).Bind(5, box.min_y).Bind(6, box.max_x).Bind(7, box.max_y);
-  TB_RETURN_IF_ERROR(update->Bind(8, report.tx).Run());
+  return update->Bind(8, tx).Run();
+}
+
+// One transaction: the new features' rows, the engine's local edit (their constraints in, the
+// removed features' constraints out), the removed features' rows gone, one `changes` row. The
+// lines of `added` are moved into the edit; their features stay.
+Result<PolygonAddReport> ApplyEditOnce(SurfaceSession& session, std::vector<NewFeature>& added,
+                                       const std::vector<int64_t>& removed,
+                                       const std::string& action) {
+  Store& store = session.store;
+  TB_ASSIGN_OR_RETURN(auto tx, store.BeginWrite());
+  Change change;
+  change.surface = session.surface.id;
+  change.action = action;
+  PolygonAddReport report;
+  TB_ASSIGN_OR_RETURN(report.tx, AppendChange(store, change));
+  TB_ASSIGN_OR_RETURN(bool mesh_kept, session.mesh.Begin(report.tx));
+  report.mesh_kept = mesh_kept ? 1 : 0;
+  if (mesh_kept && TEST_VerifyMesh()) TB_RETURN_IF_ERROR(session.mesh.VerifyAgainstStore());
+  TB_ASSIGN_OR_RETURN(std::vector<EditorFeature> existing, FeaturesBefore(session, report.tx));
+  session.features_tx = -1;  // until this edit commits
+
+  LocalEdit edit = EditRemoving(session, added, removed, std::move(existing));
+  TB_ASSIGN_OR_RETURN(report.ring_vertices, AddFeatures(session, report.tx, added, edit));
+  UpdateEngine engine(store, session.surface, session.dems, session.dem);
+  engine.set_mesh_cache(&session.mesh);
+  TB_ASSIGN_OR_RETURN(EditResult result, engine.Apply(edit));
+  for (int64_t id : removed) TB_RETURN_IF_ERROR(DeleteFeature(store, id));
+  TB_RETURN_IF_ERROR(RecordChange(store, report.tx, added, removed, result, edit.changed));
   TB_RETURN_IF_ERROR(tx->Commit());
   session.features = std::move(edit.features);
   session.features_tx = report.tx;

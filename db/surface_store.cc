@@ -2,7 +2,6 @@
 
 #include <tbb/task_group.h>
 
-
 #include <algorithm>
 #include <array>
 #include <atomic>
@@ -90,7 +89,8 @@ BlockGrid GridFor(const std::vector<TinVertex>& vertices, size_t triangles) {
 
 // Inserts the surfaces row of `spec` with block grid `grid`; returns spec with id and grid.
 // Conflict when the name is taken.
-Result<SurfaceInfo> InsertSurfaceRow(Connection& db, const SurfaceInfo& spec, const BlockGrid& grid) {
+Result<SurfaceInfo> InsertSurfaceRow(Connection& db, const SurfaceInfo& spec,
+                                     const BlockGrid& grid) {
   {
     TB_ASSIGN_OR_RETURN(Statement * taken, db.Cached("SELECT 1 FROM surfaces WHERE name = ?"));
     taken->Bind(1, spec.name);
@@ -367,83 +367,109 @@ Result<int64_t> SurfaceStore::AnyTriangle(const SurfaceInfo& surface) {
   return *id;
 }
 
-Result<LoadedSurface> SurfaceStore::Load(const SurfaceInfo& surface) {
-  TB_ASSIGN_OR_RETURN(auto snapshot, SnapshotUnlessInTransaction(store_));
-  MeshTables mesh(store_.db(), surface);
-  const auto corrupt = [&](const std::string& what) {
-    return Status::Corruption("surface " + Quoted(surface.name) + what);
-  };
-  LoadedSurface out;
-  // Store id -> index. A surface's rows have runs of consecutive ids, so paged arrays hold this in
-  // a few bytes an id where hash maps took ~40 (and a loaded surface's memory is first touched
-  // page fault by page fault).
+// A surface's rows read whole, phase by phase. Store id -> index maps are paged arrays: a
+// surface's rows have runs of consecutive ids, so they hold an id in a few bytes where hash maps
+// took ~40 (and a loaded surface's memory is first touched page fault by page fault). The phases
+// fill `out` through a reference and keep their row loops whole: this is the load of the largest
+// surfaces, and nothing here may add work per row.
+namespace {
+
+// The triangles as read, their neighbours still store ids.
+struct StoredTriangles {
+  PagedIdMap<int32_t> index;                                  // store id -> index in out.tin
+  std::vector<std::array<std::optional<int64_t>, 3>> across;  // neighbour ids, resolved after
+};
+
+Status CorruptSurface(const SurfaceInfo& surface, const std::string& what) {
+  return Status::Corruption("surface " + Quoted(surface.name) + what);
+}
+
+// Appends every vertex of `surface` to `out`; returns store id -> index into out.tin.vertices.
+Result<PagedIdMap<uint32_t>> LoadVertices(MeshTables& mesh, const SurfaceInfo& surface,
+                                          LoadedSurface& out) {
   PagedIdMap<uint32_t> vertex_index;
-  PagedIdMap<int32_t> triangle_index;
-
-  {
-    TB_ASSIGN_OR_RETURN(VertexCursor vertices, mesh.Vertices());
-    int64_t id = 0;
-    TinVertex v;
-    for (;;) {
-      Result<bool> row = vertices.Next(&id, &v);
-      if (!row.ok()) return row.status().WithContext("surface " + Quoted(surface.name));
-      if (!*row) break;
-      vertex_index.Put(id, static_cast<uint32_t>(out.tin.vertices.size()));
-      out.vertex_ids.push_back(id);
-      out.tin.vertices.push_back(v);
-    }
+  TB_ASSIGN_OR_RETURN(VertexCursor vertices, mesh.Vertices());
+  int64_t id = 0;
+  TinVertex v;
+  for (;;) {
+    Result<bool> row = vertices.Next(&id, &v);
+    if (!row.ok()) return row.status().WithContext("surface " + Quoted(surface.name));
+    if (!*row) break;
+    vertex_index.Put(id, static_cast<uint32_t>(out.tin.vertices.size()));
+    out.vertex_ids.push_back(id);
+    out.tin.vertices.push_back(v);
   }
+  return vertex_index;
+}
 
+// Appends every triangle of `surface` to `out`, with its vertices and tag as indices; its
+// neighbours are returned as store ids. Corruption naming a triangle whose vertex is missing.
+Result<StoredTriangles> LoadTriangles(MeshTables& mesh, const SurfaceInfo& surface,
+                                      const PagedIdMap<uint32_t>& vertex_index,
+                                      LoadedSurface& out) {
   // Tags by id, read once: the tags table is small, and joining it row by row would carry a string
   // per triangle. A tag id not in it loads as no tag (`tinbase check` reports it: unknown-tag).
   TB_ASSIGN_OR_RETURN(const auto tag_values, mesh.TagValues());
   std::unordered_map<int64_t, int32_t> tag_index;  // tag id -> index into out.tin.tags
 
-  std::vector<std::array<std::optional<int64_t>, 3>> across;  // neighbour ids, resolved below
-  {
-    TB_ASSIGN_OR_RETURN(TriangleCursor triangles, mesh.Triangles());
-    int64_t id = 0;
-    TriangleRow row;
-    for (;;) {
-      TB_ASSIGN_OR_RETURN(bool more, triangles.Next(&id, &row));
-      if (!more) break;
-      TinTriangle tri;
-      for (int i = 0; i < 3; ++i) {
-        const uint32_t* index = vertex_index.Find(row.v[i]);
-        if (index == nullptr)
-          return corrupt(", triangle " + std::to_string(id) + ": vertex " +
-                         std::to_string(row.v[i]) + " is missing");
-        tri.v[i] = *index;
-      }
-      across.push_back(row.n);
-      tri.visible = row.visible;
-      if (row.tag) {
-        auto known = tag_index.find(*row.tag);
-        if (known == tag_index.end()) {
-          auto value = tag_values.find(*row.tag);
-          const int32_t index =
-              value == tag_values.end() ? kNoTag : static_cast<int32_t>(out.tin.tags.size());
-          if (value != tag_values.end()) out.tin.tags.push_back(value->second);
-          known = tag_index.emplace(*row.tag, index).first;
-        }
-        tri.tag = known->second;
-      }
-      triangle_index.Put(id, static_cast<int32_t>(out.tin.triangles.size()));
-      out.triangle_ids.push_back(id);
-      out.tin.triangles.push_back(tri);
+  StoredTriangles stored;
+  TB_ASSIGN_OR_RETURN(TriangleCursor triangles, mesh.Triangles());
+  int64_t id = 0;
+  TriangleRow row;
+  for (;;) {
+    TB_ASSIGN_OR_RETURN(bool more, triangles.Next(&id, &row));
+    if (!more) break;
+    TinTriangle tri;
+    for (int i = 0; i < 3; ++i) {
+      const uint32_t* index = vertex_index.Find(row.v[i]);
+      if (index == nullptr)
+        return CorruptSurface(surface, ", triangle " + std::to_string(id) + ": vertex " +
+                                           std::to_string(row.v[i]) + " is missing");
+      tri.v[i] = *index;
     }
+    stored.across.push_back(row.n);
+    tri.visible = row.visible;
+    if (row.tag) {
+      auto known = tag_index.find(*row.tag);
+      if (known == tag_index.end()) {
+        auto value = tag_values.find(*row.tag);
+        const int32_t index =
+            value == tag_values.end() ? kNoTag : static_cast<int32_t>(out.tin.tags.size());
+        if (value != tag_values.end()) out.tin.tags.push_back(value->second);
+        known = tag_index.emplace(*row.tag, index).first;
+      }
+      tri.tag = known->second;
+    }
+    stored.index.Put(id, static_cast<int32_t>(out.tin.triangles.size()));
+    out.triangle_ids.push_back(id);
+    out.tin.triangles.push_back(tri);
   }
+  return stored;
+}
+
+// Sets the neighbours of out.tin.triangles from their store ids; Corruption naming a triangle
+// whose neighbour is missing.
+Status ResolveNeighbours(const SurfaceInfo& surface, const StoredTriangles& stored,
+                         LoadedSurface& out) {
+  const auto& across = stored.across;
   for (size_t t = 0; t < across.size(); ++t) {
     for (int i = 0; i < 3; ++i) {
       if (!across[t][i]) continue;
-      const int32_t* index = triangle_index.Find(*across[t][i]);
+      const int32_t* index = stored.index.Find(*across[t][i]);
       if (index == nullptr)
-        return corrupt(", triangle " + std::to_string(out.triangle_ids[t]) + ": neighbour " +
-                       std::to_string(*across[t][i]) + " is missing");
+        return CorruptSurface(surface, ", triangle " + std::to_string(out.triangle_ids[t]) +
+                                           ": neighbour " + std::to_string(*across[t][i]) +
+                                           " is missing");
       out.tin.triangles[t].n[i] = *index;
     }
   }
+  return Status::Ok();
+}
 
+// Appends every constraint of `surface` to out.tin.constraints; Corruption naming a constraint
+// whose vertex is missing.
+Status LoadConstraints(MeshTables& mesh, const SurfaceInfo& surface,
+                       const PagedIdMap<uint32_t>& vertex_index, LoadedSurface& out) {
   TB_ASSIGN_OR_RETURN(ConstraintCursor constraints, mesh.Constraints());
   for (ConstraintRow c;;) {
     TB_ASSIGN_OR_RETURN(bool more, constraints.Next(&c));
@@ -451,10 +477,24 @@ Result<LoadedSurface> SurfaceStore::Load(const SurfaceInfo& surface) {
     const uint32_t* a = vertex_index.Find(c.va);
     const uint32_t* b = vertex_index.Find(c.vb);
     if (a == nullptr || b == nullptr)
-      return corrupt(": constraint (" + std::to_string(c.va) + ", " + std::to_string(c.vb) +
-                     ") names a missing vertex");
+      return CorruptSurface(surface, ": constraint (" + std::to_string(c.va) + ", " +
+                                         std::to_string(c.vb) + ") names a missing vertex");
     out.tin.constraints.emplace_back(*a, *b);
   }
+  return Status::Ok();
+}
+
+}  // namespace
+
+Result<LoadedSurface> SurfaceStore::Load(const SurfaceInfo& surface) {
+  TB_ASSIGN_OR_RETURN(auto snapshot, SnapshotUnlessInTransaction(store_));
+  MeshTables mesh(store_.db(), surface);
+  LoadedSurface out;
+  TB_ASSIGN_OR_RETURN(const PagedIdMap<uint32_t> vertex_index, LoadVertices(mesh, surface, out));
+  TB_ASSIGN_OR_RETURN(const StoredTriangles stored,
+                      LoadTriangles(mesh, surface, vertex_index, out));
+  TB_RETURN_IF_ERROR(ResolveNeighbours(surface, stored, out));
+  TB_RETURN_IF_ERROR(LoadConstraints(mesh, surface, vertex_index, out));
   return out;
 }
 
