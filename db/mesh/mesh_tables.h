@@ -1,8 +1,9 @@
 // MeshTables: the one module that holds the SQL of the mesh tables, `triangles`, `vertices` and
 // `constraints` (and of `tags`, the dictionary the triangles' tag column points into), for one
 // surface: reads by id, by block, by id range and of the whole surface, and the bulk writes of a
-// surface's rows. Everything else that reads or writes mesh rows (SurfaceStore, MeshCache,
-// PointLocator, the integrity checker, feature exports) goes through it, with the row types of
+// surface's rows, and the writes of one edit. Everything else that reads or writes mesh rows
+// (SurfaceStore, MeshCache, PointLocator, the integrity checker, feature exports, the edit's
+// stages and its writer, db/edit/mesh_delta_writer.h) goes through it, with the row types of
 // db/mesh/mesh_rows.h.
 //
 // Reads run on the connection's cached prepared statements, so a lookup by id costs one step of
