@@ -5,14 +5,13 @@
 //
 // Within one edit every read happens before the first write, so the rows stay current. A load
 // feature by feature (`polygon add --each`) keeps one cache across its transactions: the engine
-// puts every row it writes (Put*, Repaint, AddOwner) or forgets it (Forget*), so after a commit
-// the cache holds only rows as stored, and the next edit starts from them instead of reading
-// them again. That is valid only while
-// nobody else wrote in between: Begin() drops everything unless the store's change number is
-// the one after Committed()'s and no other connection has committed since (SQLite's
-// data_version), and when it has grown past kMaxKeptTriangles. After a failed or rolled-back edit
-// the caller must Clear() (an edit may have forgotten only part of what it wrote, or read rows it
-// had itself written).
+// applies every MeshDelta it writes (Apply: the rows written are put, the deleted forgotten), so
+// after a commit the cache holds only rows as stored, and the next edit starts from them instead of
+// reading them again. That is valid only while nobody else wrote in between: Begin() drops
+// everything unless the store's change number is the one after Committed()'s and no other
+// connection has committed since (SQLite's data_version), and when it has grown past
+// kMaxKeptTriangles. After a failed or rolled-back edit the caller must Clear() (an edit may have
+// forgotten only part of what it wrote, or read rows it had itself written).
 //
 // Ownership: borrows the Store and SurfaceInfo, which must outlive it. Not thread-safe.
 #pragma once
@@ -119,6 +118,21 @@ class MeshCache {
   // `closed` is false when the vertex lies on the domain boundary.
   Result<std::vector<int64_t>> Star(int64_t vertex, int64_t start, bool* closed);
 
+  // Whether Owners() answers every edge from memory (an edge it lacks is unconstrained).
+  bool knows_every_constraint() const { return owners_complete_; }
+
+  // Applies an edit's MeshDelta (written to the store in this transaction) to the rows held, in
+  // the order the writer wrote them: new rows are put, deleted ones forgotten, relinked and
+  // repainted ones updated. The only way rows held change (Clear and Begin only drop them).
+  void Apply(const MeshDelta& delta);
+
+  // Tests: reads every cached row again from the store; Corruption naming the first row that
+  // differs from (or is missing in) the store.
+  Status VerifyAgainstStore();
+
+ private:
+  // ---- The writes Apply is made of.
+
   // A row the current edit deletes, or writes without telling its content: read again from the
   // store when next asked for.
   void ForgetTriangle(int64_t id);
@@ -134,23 +148,11 @@ class MeshCache {
   void AddOwner(int64_t a, int64_t b, int64_t feature);
   // Edge (a, b) has no constraint row now.
   void SetUnconstrained(int64_t a, int64_t b);
-  // Whether Owners() answers every edge from memory (an edge it lacks is unconstrained).
-  bool knows_every_constraint() const { return owners_complete_; }
   void ForgetAllOwners();
   // Every row (an edit rewrote the whole surface); unlike Clear() the rows of the next edit may
   // still be kept (Begin).
   void ForgetAllRows();
 
-  // Applies an edit's MeshDelta (written to the store in this transaction) to the rows held, in
-  // the order the writer wrote them: new rows are put, deleted ones forgotten, relinked and
-  // repainted ones updated. The only way the edit path changes the cache.
-  void Apply(const MeshDelta& delta);
-
-  // Tests: reads every cached row again from the store; Corruption naming the first row that
-  // differs from (or is missing in) the store.
-  Status VerifyAgainstStore();
-
- private:
   struct EdgeHash {
     size_t operator()(const Edge& e) const {
       return std::hash<int64_t>()(e.first) * 1000003u ^ std::hash<int64_t>()(e.second);

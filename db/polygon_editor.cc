@@ -14,6 +14,7 @@
 #include "db/dem_store.h"
 #include "db/edit/update_engine_test_hooks.h"
 #include "db/feature_store.h"
+#include "db/mesh/mesh_tables.h"
 #include "db/mesh_cache.h"
 #include "db/point_locator.h"
 #include "db/surface_store.h"
@@ -197,9 +198,7 @@ Result<size_t> LoadPointsThatReadTheSurface(Store& store, const SurfaceInfo& sur
   size_t points = 0;
   for (const EditorFeature& f : features) points += RingPoints(f);
   if (points < kMinWholeSurfaceRegion) return size_t{0};
-  TB_ASSIGN_OR_RETURN(const int64_t triangles,
-                      store.db().QueryInt("SELECT count(*) FROM triangles WHERE surface = " +
-                                          std::to_string(surface.id)));
+  TB_ASSIGN_OR_RETURN(const int64_t triangles, MeshTables(store.db(), surface).CountTriangles());
   const bool reaches = static_cast<int64_t>(points) * 4 >= triangles;
   const bool kept = triangles * 2 <= static_cast<int64_t>(MeshCache::kMaxKeptTriangles);
   return reaches && kept ? points : size_t{0};

@@ -7,6 +7,7 @@
 #include <unordered_map>
 
 #include "core/geometry/triangle_tests.h"
+#include "db/mesh/mesh_tables.h"
 #include "db/point_locator.h"
 
 namespace tinbase {
@@ -84,12 +85,8 @@ class RegionFinder {
 // The surface's triangles, counted once per edit (an index scan over the surface).
 Result<int64_t> RegionFinder::SurfaceTriangles() {
   if (!surface_triangles_) {
-    TB_ASSIGN_OR_RETURN(Statement * count,
-                        ctx_.store.db().Cached("SELECT count(*) FROM triangles WHERE surface = ?"));
-    count->Bind(1, ctx_.surface.id);
-    TB_ASSIGN_OR_RETURN(bool row, count->Step());
-    surface_triangles_ = row ? count->ColumnInt(0) : 0;
-    count->Reset();
+    TB_ASSIGN_OR_RETURN(surface_triangles_,
+                        MeshTables(ctx_.store.db(), ctx_.surface).CountTriangles());
   }
   return *surface_triangles_;
 }

@@ -25,7 +25,7 @@
 #include "core/geometry/polygon_locator.h"
 #include "db/edit/edit_context.h"
 #include "db/edit/local_edit.h"
-#include "db/edit/mesh_edge.h"
+#include "db/mesh/mesh_edge.h"
 
 namespace tinbase {
 

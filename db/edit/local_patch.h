@@ -25,7 +25,7 @@
 #include "db/edit/conflict_region.h"
 #include "db/edit/edit_context.h"
 #include "db/edit/elevation_rules.h"
-#include "db/edit/mesh_edge.h"
+#include "db/mesh/mesh_edge.h"
 
 namespace tinbase {
 

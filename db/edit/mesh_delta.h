@@ -13,16 +13,11 @@
 #include <vector>
 
 #include "core/tin/tin.h"
-#include "db/edit/mesh_edge.h"
+#include "db/mesh/mesh_edge.h"
+#include "db/mesh/mesh_rows.h"
 #include "db/mesh_cache.h"
 
 namespace tinbase {
-
-// Vertex `id` as it becomes (only z changes).
-struct VertexZ {
-  int64_t id = 0;
-  TinVertex vertex;
-};
 
 // Triangle `triangle` takes this paint (a no-op for a row that already has it).
 struct TriangleRepaint {

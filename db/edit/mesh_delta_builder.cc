@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "core/tin/block_grid.h"
-#include "db/sql/bulk_write.h"
+#include "db/mesh/mesh_tables.h"
 
 namespace tinbase {
 namespace {
@@ -156,7 +156,8 @@ Status DeltaBuilder::NumberVertices() {
                                      FormatPoint({v.x, v.y}));
     fresh.push_back(static_cast<uint32_t>(i));
   }
-  TB_ASSIGN_OR_RETURN(delta_.first_vertex, NextId(ctx_.store.db(), "vertices"));
+  TB_ASSIGN_OR_RETURN(delta_.first_vertex,
+                      MeshTables(ctx_.store.db(), ctx_.surface).NextVertexId());
   for (size_t k = 0; k < fresh.size(); ++k) {
     ids_[fresh[k]] = delta_.first_vertex + static_cast<int64_t>(k);
     delta_.new_vertices.push_back(tin_.vertices[fresh[k]]);
@@ -176,7 +177,8 @@ Status DeltaBuilder::NumberVertices() {
 // back with another triangle. Their rows go in block order, as a built surface's do, so that a
 // later repaint of a block finds long runs of ids.
 Status DeltaBuilder::NumberTriangles() {
-  TB_ASSIGN_OR_RETURN(delta_.first_triangle, NextId(ctx_.store.db(), "triangles"));
+  TB_ASSIGN_OR_RETURN(delta_.first_triangle,
+                      MeshTables(ctx_.store.db(), ctx_.surface).NextTriangleId());
   block_.assign(tin_.triangles.size(), 0);
   std::vector<std::pair<int64_t, uint32_t>> keyed;  // (block, local triangle)
   for (size_t t = 0; t < tin_.triangles.size(); ++t) {

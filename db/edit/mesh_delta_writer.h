@@ -1,7 +1,8 @@
 // The one writer of an edit's mesh rows: applies a MeshDelta (db/edit/mesh_delta.h) to the
-// triangles, vertices and constraints tables of a store in seven steps, with the bulk statements
-// of db/sql/bulk_write.h and the connection's cached prepared statements. Every SQL string
-// that writes mesh rows for the edit path lives in this file.
+// triangles, vertices and constraints tables of a store in seven steps, each through the edit
+// writes of MeshTables (db/mesh/mesh_tables.h, which holds their SQL). This file decides what
+// goes in which step and in which statements (runs of ids, batches of one paint); the edit path
+// writes mesh rows nowhere else.
 //
 // Ownership: borrows the connection. Not thread-safe.
 #pragma once
@@ -14,6 +15,8 @@
 
 namespace tinbase {
 
+struct SurfaceInfo;  // db/surface_store.h
+
 // Called before each of the seven write steps with its number; a non-OK Status stops the write
 // with it.
 using WriteStepHook = std::function<Status(int step)>;
@@ -22,7 +25,9 @@ using WriteStepHook = std::function<Status(int step)>;
 // rows that did not have it already). Corruption when the rows deleted or numbered are not the
 // ones the delta names (another writer came between); any error of the store; the hook's Status.
 // On error some steps may have run: the caller's transaction rolls them back.
-// REQUIRES: inside a write transaction; the delta built in it from the rows as stored.
-Result<int64_t> WriteMeshDelta(Connection& db, const MeshDelta& delta, const WriteStepHook& step);
+// REQUIRES: inside a write transaction; the delta built in it from the rows as stored;
+// delta.surface == surface.id.
+Result<int64_t> WriteMeshDelta(Connection& db, const SurfaceInfo& surface, const MeshDelta& delta,
+                               const WriteStepHook& step);
 
 }  // namespace tinbase

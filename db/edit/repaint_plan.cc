@@ -7,6 +7,7 @@
 
 #include "core/tin/cell_cover.h"
 #include "core/tin/ring_blocks.h"
+#include "db/mesh/mesh_tables.h"
 
 namespace tinbase {
 namespace {
@@ -157,22 +158,15 @@ Result<std::vector<TriangleRepaint>> UniformBlockRepaints(
   };
   // The block index holds the ids (it covers the query). A run of consecutive blocks is one range
   // of the index; block k of it is blocks[k].
-  TB_ASSIGN_OR_RETURN(Statement * ids_of,
-                      ctx.store.db().Cached("SELECT id, block FROM triangles WHERE surface = ? "
-                                            "AND block BETWEEN ? AND ?"));
+  MeshTables tables(ctx.store.db(), ctx.surface);
   for (size_t first = 0; first < blocks.size();) {
     size_t last = first;
     while (last + 1 < blocks.size() && blocks[last + 1] == blocks[last] + 1) ++last;
-    ids_of->Bind(1, ctx.surface.id).Bind(2, blocks[first]).Bind(3, blocks[last]);
-    for (;;) {
-      TB_ASSIGN_OR_RETURN(bool row, ids_of->Step());
-      if (!row) break;
-      const int64_t id = ids_of->ColumnInt(0);
+    TB_ASSIGN_OR_RETURN(const auto rows, tables.TriangleIdsAndBlocks(blocks[first], blocks[last]));
+    for (const auto& [id, block] : rows) {
       if (deleted.count(id)) continue;
-      repaints.push_back(
-          paint(id, first + static_cast<size_t>(ids_of->ColumnInt(1) - blocks[first])));
+      repaints.push_back(paint(id, first + static_cast<size_t>(block - blocks[first])));
     }
-    ids_of->Reset();
     first = last + 1;
   }
   // The edit's new triangles whose block is uniform (their ids follow every stored one).

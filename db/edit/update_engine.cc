@@ -77,7 +77,8 @@ Result<EditResult> UpdateEngine::Apply(const LocalEdit& edit) {
   TB_ASSIGN_OR_RETURN(const MeshDelta delta, BuildMeshDelta(ctx, rules, edit, region, patch, plan));
   TB_RETURN_IF_ERROR(rules.status());
   // 5. The one writer, then the cache from the same delta.
-  TB_ASSIGN_OR_RETURN(const int64_t repainted, WriteMeshDelta(store_.db(), delta, TEST_FaultStep));
+  TB_ASSIGN_OR_RETURN(const int64_t repainted,
+                      WriteMeshDelta(store_.db(), surface_, delta, TEST_FaultStep));
   mesh->Apply(delta);
   return Summarize(region, patch, delta, repainted);
 }

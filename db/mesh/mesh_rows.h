@@ -31,6 +31,12 @@ struct TriangleRow {
 // type is the row type and a Tin's vertices go to the table without a copy into another form.
 using VertexRow = TinVertex;
 
+// Vertex `id` as it becomes when an edit changes its z (x, y and kind stay).
+struct VertexZ {
+  int64_t id = 0;
+  VertexRow vertex;
+};
+
 // One row of `constraints`: the edge (va, vb) with va < vb (the table's CHECK) and the feature
 // whose ring or line it belongs to; nullopt for a constraint of the surface itself (a builder's
 // breakline, written without feature).

@@ -335,6 +335,38 @@ Status WriteTriangleBatch(Connection& db, const SurfaceInfo& surface, const Tria
   return Status::Ok();
 }
 
+// An edit's triangle row: every column but the id, in this order.
+constexpr char kEditedTriangleRow[] =
+    "triangles(surface, v0, v1, v2, n0, n1, n2, visible, tag, block)";
+constexpr int kEditedTriangleRowValues = 10;
+
+// Binds the values of kEditedTriangleRow for `t` from parameter p on.
+void BindEditedTriangleRow(Statement& row, int p, int64_t surface, const TriangleRow& t) {
+  row.Bind(p, surface);
+  for (int i = 0; i < 3; ++i) {
+    row.Bind(p + 1 + i, t.v[i]);
+    if (t.n[i])
+      row.Bind(p + 4 + i, *t.n[i]);
+    else
+      row.BindNull(p + 4 + i);
+  }
+  row.Bind(p + 7, int64_t{t.visible ? 1 : 0});
+  if (t.tag)
+    row.Bind(p + 8, *t.tag);
+  else
+    row.BindNull(p + 8);
+  row.Bind(p + 9, t.block);
+}
+
+// Binds a paint to ?1 (visible) and ?2 (tag).
+void BindPaint(Statement& stmt, bool visible, const std::optional<int64_t>& tag) {
+  stmt.Bind(1, int64_t{visible ? 1 : 0});
+  if (tag)
+    stmt.Bind(2, *tag);
+  else
+    stmt.BindNull(2);
+}
+
 }  // namespace
 
 // ---- Cursors
@@ -492,6 +524,22 @@ Result<TriangleCursor> MeshTables::TrianglesInBlocks(int64_t first, int64_t last
   return TriangleCursor(stmt);
 }
 
+Result<std::vector<std::pair<int64_t, int64_t>>> MeshTables::TriangleIdsAndBlocks(int64_t first,
+                                                                                  int64_t last) {
+  TB_ASSIGN_OR_RETURN(Statement * stmt,
+                      db_.Cached("SELECT id, block FROM triangles WHERE surface = ? "
+                                 "AND block BETWEEN ? AND ?"));
+  stmt->Bind(1, surface_.id).Bind(2, first).Bind(3, last);
+  std::vector<std::pair<int64_t, int64_t>> rows;
+  for (;;) {
+    TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
+    if (!row) break;
+    rows.emplace_back(stmt->ColumnInt(0), stmt->ColumnInt(1));
+  }
+  stmt->Reset();
+  return rows;
+}
+
 // ---- Reads of the whole surface
 
 Result<TriangleCursor> MeshTables::Triangles() {
@@ -597,6 +645,14 @@ Result<int64_t> MeshTables::CountConstraints() {
   return count.value_or(0);
 }
 
+Result<int64_t> MeshTables::CountTriangles() {
+  TB_ASSIGN_OR_RETURN(Statement * stmt,
+                      db_.Cached("SELECT count(*) FROM triangles WHERE surface = ?"));
+  stmt->Bind(1, surface_.id);
+  TB_ASSIGN_OR_RETURN(std::optional<int64_t> count, FirstValue(*stmt));
+  return count.value_or(0);
+}
+
 // ---- Bulk writes
 
 Result<std::vector<int64_t>> MeshTables::InsertVertices(const std::vector<TinVertex>& vertices) {
@@ -637,6 +693,126 @@ Status MeshTables::DeleteConstraintsOfFeature(Connection& db, int64_t feature) {
   TB_ASSIGN_OR_RETURN(Statement * stmt, db.Cached("DELETE FROM constraints WHERE feature = ?"));
   stmt->Bind(1, feature);
   return stmt->Run();
+}
+
+// ---- Writes of one edit
+
+Result<int64_t> MeshTables::NextVertexId() { return NextId(db_, "vertices"); }
+
+Status MeshTables::AppendVertices(int64_t first_id, const std::vector<TinVertex>& vertices) {
+  return InsertNumberedRows(db_, "vertices(surface, x, y, z, kind)", 5, vertices.size(), first_id,
+                            [&](Statement& row, int p, size_t k) {
+                              const TinVertex& v = vertices[k];
+                              row.Bind(p, surface_.id).Bind(p + 1, v.x);
+                              row.Bind(p + 2, v.y).Bind(p + 3, v.z);
+                              row.BindStaticText(p + 4, VertexKindName(v.kind));
+                            });
+}
+
+Status MeshTables::SetVertexZ(const std::vector<VertexZ>& vertices) {
+  if (vertices.empty()) return Status::Ok();
+  TB_ASSIGN_OR_RETURN(Statement * set_z, db_.Cached("UPDATE vertices SET z = ? WHERE id = ?"));
+  for (const VertexZ& v : vertices)
+    TB_RETURN_IF_ERROR(set_z->Bind(1, v.vertex.z).Bind(2, v.id).Run());
+  return Status::Ok();
+}
+
+Status MeshTables::AppendTriangles(int64_t first_id, const std::vector<TriangleRow>& rows) {
+  return InsertNumberedRows(db_, kEditedTriangleRow, kEditedTriangleRowValues, rows.size(),
+                            first_id, [&](Statement& row, int p, size_t k) {
+                              BindEditedTriangleRow(row, p, surface_.id, rows[k]);
+                            });
+}
+
+Result<int64_t> MeshTables::DeleteTrianglesBelow(int64_t first_kept) {
+  TB_ASSIGN_OR_RETURN(Statement * del,
+                      db_.Cached("DELETE FROM triangles WHERE surface = ? AND id < ?"));
+  TB_RETURN_IF_ERROR(del->Bind(1, surface_.id).Bind(2, first_kept).Run());
+  return db_.Changes();
+}
+
+Status MeshTables::DeleteTriangles(std::vector<int64_t> ids) {
+  std::sort(ids.begin(), ids.end());
+  TB_ASSIGN_OR_RETURN(Statement * del,
+                      db_.Cached("DELETE FROM triangles WHERE id BETWEEN ? AND ?"));
+  for (size_t first = 0; first < ids.size();) {
+    size_t last = first;
+    while (last + 1 < ids.size() && ids[last + 1] == ids[last] + 1) ++last;
+    TB_RETURN_IF_ERROR(del->Bind(1, ids[first]).Bind(2, ids[last]).Run());
+    first = last + 1;
+  }
+  return Status::Ok();
+}
+
+Status MeshTables::DeleteVertices(const std::vector<int64_t>& ids) {
+  TB_ASSIGN_OR_RETURN(Statement * del_vertex, db_.Cached("DELETE FROM vertices WHERE id = ?"));
+  for (int64_t v : ids) TB_RETURN_IF_ERROR(del_vertex->Bind(1, v).Run());
+  return Status::Ok();
+}
+
+Status MeshTables::Relink(const std::vector<std::pair<int64_t, TriangleRow>>& rows) {
+  TB_ASSIGN_OR_RETURN(Statement * relink,
+                      db_.Cached("UPDATE triangles SET n0 = ?, n1 = ?, n2 = ? WHERE id = ?"));
+  for (const auto& [id, t] : rows) {
+    for (int i = 0; i < 3; ++i) {
+      if (t.n[i])
+        relink->Bind(1 + i, *t.n[i]);
+      else
+        relink->BindNull(1 + i);
+    }
+    TB_RETURN_IF_ERROR(relink->Bind(4, id).Run());
+  }
+  return Status::Ok();
+}
+
+Status MeshTables::DeleteConstraintsOfFeatures(const std::vector<int64_t>& features) {
+  TB_ASSIGN_OR_RETURN(Statement * del_feature,
+                      db_.Cached("DELETE FROM constraints WHERE surface = ? AND feature = ?"));
+  for (int64_t f : features) TB_RETURN_IF_ERROR(del_feature->Bind(1, surface_.id).Bind(2, f).Run());
+  return Status::Ok();
+}
+
+Status MeshTables::DeleteConstraints(const std::vector<MeshEdge>& edges) {
+  TB_ASSIGN_OR_RETURN(
+      Statement * del_edge,
+      db_.Cached("DELETE FROM constraints WHERE surface = ? AND va = ? AND vb = ?"));
+  for (const MeshEdge& e : edges)
+    TB_RETURN_IF_ERROR(del_edge->Bind(1, surface_.id).Bind(2, e.first).Bind(3, e.second).Run());
+  return Status::Ok();
+}
+
+Status MeshTables::InsertConstraints(const std::vector<std::pair<MeshEdge, int64_t>>& rows) {
+  return InsertRows(db_, "constraints(surface, va, vb, feature)", 4, rows.size(),
+                    [&](Statement& row, int p, size_t c) {
+                      const auto& [e, feature] = rows[c];
+                      row.Bind(p, surface_.id).Bind(p + 1, e.first);
+                      row.Bind(p + 2, e.second);
+                      if (feature != 0)
+                        row.Bind(p + 3, feature);
+                      else
+                        row.BindNull(p + 3);
+                    });
+}
+
+Result<int64_t> MeshTables::RepaintIds(bool visible, const std::optional<int64_t>& tag,
+                                       const std::vector<int64_t>& ids) {
+  int64_t repainted = 0;
+  TB_RETURN_IF_ERROR(RunOverIds(
+      db_, "UPDATE triangles SET visible = ?1, tag = ?2 WHERE id IN",
+      " AND (visible IS NOT ?1 OR tag IS NOT ?2)", 2, ids,
+      [&](Statement& stmt) { BindPaint(stmt, visible, tag); }, &repainted));
+  return repainted;
+}
+
+Result<int64_t> MeshTables::RepaintRange(int64_t first, int64_t last, bool visible,
+                                         const std::optional<int64_t>& tag) {
+  TB_ASSIGN_OR_RETURN(Statement * repaint_run,
+                      db_.Cached("UPDATE triangles SET visible = ?1, tag = ?2 WHERE "
+                                 "id BETWEEN ?3 AND ?4 AND "
+                                 "(visible IS NOT ?1 OR tag IS NOT ?2)"));
+  BindPaint(*repaint_run, visible, tag);
+  TB_RETURN_IF_ERROR(repaint_run->Bind(3, first).Bind(4, last).Run());
+  return db_.Changes();
 }
 
 }  // namespace tinbase

@@ -1,8 +1,9 @@
 // MeshTables: the one module that holds the SQL of the mesh tables, `triangles`, `vertices` and
 // `constraints` (and of `tags`, the dictionary the triangles' tag column points into), for one
 // surface: reads by id, by block, by id range and of the whole surface, and the bulk writes of a
-// surface's rows. Everything else that reads or writes mesh rows (SurfaceStore, MeshCache,
-// PointLocator, the integrity checker, feature exports) goes through it, with the row types of
+// surface's rows, and the writes of one edit. Everything else that reads or writes mesh rows
+// (SurfaceStore, MeshCache, PointLocator, the integrity checker, feature exports, the edit's
+// stages and its writer, db/edit/mesh_delta_writer.h) goes through it, with the row types of
 // db/mesh/mesh_rows.h.
 //
 // Reads run on the connection's cached prepared statements, so a lookup by id costs one step of
@@ -21,11 +22,13 @@
 #include <optional>
 #include <string>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include "core/base/status.h"
 #include "core/tin/tin.h"
 #include "core/tin/triangle_batch.h"
+#include "db/mesh/mesh_edge.h"
 #include "db/mesh/mesh_rows.h"
 #include "db/sql/connection.h"
 
@@ -132,6 +135,10 @@ class MeshTables {
   // The triangles whose packed block lies in [first, last] (BlockGrid::Pack: a run of blocks of
   // one grid row), by block, then id.
   Result<TriangleCursor> TrianglesInBlocks(int64_t first, int64_t last);
+  // (id, block) of the triangles whose packed block lies in [first, last], in the order of the
+  // (surface, block) index, which covers the query (no triangle row is read).
+  Result<std::vector<std::pair<int64_t, int64_t>>> TriangleIdsAndBlocks(int64_t first,
+                                                                        int64_t last);
 
   // ---- Reads of the whole surface, in id order (one scan of its rowid range each).
 
@@ -162,6 +169,8 @@ class MeshTables {
   // Row counts of the surface.
   Result<MeshCounts> Count();
   Result<int64_t> CountConstraints();
+  // The surface's triangle rows alone (one scan of the surface index, cheaper than Count()).
+  Result<int64_t> CountTriangles();
 
   // ---- Bulk writes. Each REQUIRES a WriteTransaction; an error leaves the rollback to it.
 
@@ -188,6 +197,52 @@ class MeshTables {
   Status DeleteAll();
   // Deletes the constraint rows of `feature` (of whatever surface).
   static Status DeleteConstraintsOfFeature(Connection& db, int64_t feature);
+
+  // ---- Writes of one edit, the steps of db/edit/mesh_delta_writer.h (its only caller), each on
+  // the connection's cached statements and the bulk statements of db/sql/bulk_write.h. Each
+  // REQUIRES a WriteTransaction; an error leaves the rollback to it.
+
+  // The id the next vertex row written gets: 1 + the largest in the table.
+  Result<int64_t> NextVertexId();
+  // Writes `vertices` as rows of the surface with ids first_id, first_id + 1, ... in order.
+  // REQUIRES: first_id == NextVertexId() in this transaction; Corruption, after the rows are
+  // written, when they were numbered otherwise.
+  Status AppendVertices(int64_t first_id, const std::vector<TinVertex>& vertices);
+  // Sets the z of vertex v.id to v.vertex.z for each v (other columns stay).
+  Status SetVertexZ(const std::vector<VertexZ>& vertices);
+  // Writes `rows` as triangles of the surface with ids first_id, first_id + 1, ... in order,
+  // paint and block as given. REQUIRES: first_id == NextTriangleId() in this transaction
+  // (Corruption as AppendVertices otherwise); with foreign keys unchecked by the caller
+  // (db/sql/unchecked_foreign_keys.h), every key the rows name exists.
+  Status AppendTriangles(int64_t first_id, const std::vector<TriangleRow>& rows);
+  // Deletes the surface's triangles with ids below `first_kept`; returns how many rows went.
+  Result<int64_t> DeleteTrianglesBelow(int64_t first_kept);
+  // Deletes the triangles `ids` (any order), one statement per run of consecutive ids: an edit's
+  // region was mostly written together, in block order, so a run is often dozens of rows, and an
+  // IN list of the ids of short runs cost more (SQLite builds a temporary table of it per
+  // statement). Ids name rows of whatever surface (they are unique in the table).
+  Status DeleteTriangles(std::vector<int64_t> ids);
+  // Deletes the vertex rows `ids`.
+  Status DeleteVertices(const std::vector<int64_t>& ids);
+  // Sets the neighbour columns of triangle `id` to row.n for each (id, row) (other columns stay).
+  // One UPDATE a row: cheaper than batches, whether REPLACE of whole rows or UPDATE ... FROM a
+  // VALUES list.
+  Status Relink(const std::vector<std::pair<int64_t, TriangleRow>>& rows);
+  // Deletes the surface's constraint rows of each feature of `features`.
+  Status DeleteConstraintsOfFeatures(const std::vector<int64_t>& features);
+  // Deletes the surface's constraint rows of each edge (va, vb) of `edges`, va < vb.
+  Status DeleteConstraints(const std::vector<MeshEdge>& edges);
+  // Writes constraint rows of the surface: (edge (va, vb) with va < vb, feature; 0 for a row
+  // without feature). Rows sorted by edge put the (surface, va, vb) index's entries in one sweep.
+  Status InsertConstraints(const std::vector<std::pair<MeshEdge, int64_t>>& rows);
+  // Gives the triangles `ids` the paint (visible, tag), up to 64 ids a statement; rows that have
+  // it already are not rewritten. Returns how many rows changed.
+  Result<int64_t> RepaintIds(bool visible, const std::optional<int64_t>& tag,
+                             const std::vector<int64_t>& ids);
+  // As RepaintIds for the triangles with ids in [first, last], in one statement walking the
+  // table in id order (ids of whatever surface, as DeleteTriangles).
+  Result<int64_t> RepaintRange(int64_t first, int64_t last, bool visible,
+                               const std::optional<int64_t>& tag);
 
  private:
   std::string Where() const;  // "surface 'name'"

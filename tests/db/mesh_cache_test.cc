@@ -8,6 +8,7 @@
 #include <set>
 
 #include "db/dem_store.h"
+#include "db/edit/mesh_delta.h"
 #include "db/feature_store.h"
 #include "db/polygon_editor.h"
 #include "db/surface_builder.h"
@@ -37,9 +38,9 @@ class MeshCacheTest : public ::testing::Test {
     ASSERT_TRUE(BuildSurfaceFromDem(*store_, build).ok());
     PolygonAddOptions add;
     add.surface = "terrain";
-    add.file = WritePolygons(dir_, "p.geojson",
-                             {{Ngon(kCx, kCy, 20 * kCell, 60)},
-                              {Ngon(kCx + 15 * kCell, kCy, 12 * kCell, 40, 0.4)}});
+    add.file = WritePolygons(
+        dir_, "p.geojson",
+        {{Ngon(kCx, kCy, 20 * kCell, 60)}, {Ngon(kCx + 15 * kCell, kCy, 12 * kCell, 40, 0.4)}});
     add.mode = FeatureMode::kFill;
     add.tag_field = "unit";
     auto added = AddPolygons(*store_, add);
@@ -106,7 +107,8 @@ TEST_F(MeshCacheTest, OwnersReadWithTheVerticesAnswerAsLookupsDo) {
 }
 
 // An edge from a vertex whose constraint rows were read is unconstrained when the cache does not
-// hold it: AddOwner must therefore record a new owner of such an edge, and SetUnconstrained drop it.
+// hold it: a delta adding a constraint row must therefore record a new owner of such an edge, and
+// one splitting the constraint drop it.
 TEST_F(MeshCacheTest, OwnersReadWithTheVerticesFollowTheCacheWrites) {
   MeshCache cache(*store_, surface_);
   ASSERT_TRUE(cache.ReadBlocks(ring_blocks_).ok());
@@ -119,9 +121,15 @@ TEST_F(MeshCacheTest, OwnersReadWithTheVerticesFollowTheCacheWrites) {
   }
   ASSERT_TRUE(free_edge.has_value());
   const auto [a, b] = *free_edge;
-  cache.AddOwner(a, b, 42);
+  MeshDelta added;
+  added.surface = surface_.id;
+  added.added_constraints = {{EdgeKey(a, b), 42}};
+  cache.Apply(added);
   EXPECT_EQ(**cache.Owners(b, a), std::vector<int64_t>{42});
-  cache.SetUnconstrained(a, b);
+  MeshDelta split;
+  split.surface = surface_.id;
+  split.split_constraints = {EdgeKey(a, b)};
+  cache.Apply(split);
   EXPECT_TRUE((*cache.Owners(a, b))->empty());
 }
 

@@ -81,7 +81,7 @@ TEST_F(MeshDeltaWriterTest, WritesExactlyTheDeltaAndTheCacheFollows) {
   EXPECT_TRUE(delta.added_constraints.empty());
   EXPECT_FALSE(delta.whole_surface);
   std::vector<int> steps;
-  auto repainted = WriteMeshDelta(store_->db(), delta, [&](int step) {
+  auto repainted = WriteMeshDelta(store_->db(), surface_, delta, [&](int step) {
     steps.push_back(step);
     return Status::Ok();
   });
@@ -130,7 +130,7 @@ TEST_F(MeshDeltaWriterTest, AFailureAtAnyStepRollsEverythingBack) {
       ASSERT_TRUE(tx.ok());
       const MeshDelta delta = RemovalDelta();
       int last = 0;
-      auto written = WriteMeshDelta(store_->db(), delta, [&](int step) {
+      auto written = WriteMeshDelta(store_->db(), surface_, delta, [&](int step) {
         last = step;
         return step == fail_at ? Status::IOError("injected") : Status::Ok();
       });

@@ -1,5 +1,6 @@
 // Edges of the stored mesh as pairs of store vertex ids, and a sorted table from edges to ids,
-// shared by the stages of the edit path (db/edit/update_engine.h). Plain data; not synchronised.
+// shared by the stages of the edit path (db/edit/update_engine.h) and the edit writes of
+// MeshTables (db/mesh/mesh_tables.h). Plain data; not synchronised.
 #pragma once
 
 #include <algorithm>
