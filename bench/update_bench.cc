@@ -176,8 +176,11 @@ void BM_Insert200(benchmark::State& state) { InsertAndUndo(state, state.range(0)
 void FixedIterationsIfAsked(benchmark::internal::Benchmark* b) {
   if (const char* n = std::getenv("TINBASE_BENCH_ITERATIONS")) b->Iterations(std::atoll(n));
 }
-BENCHMARK(BM_Insert200)->Arg(225)->Arg(708)->Unit(benchmark::kMillisecond)->Apply(
-    FixedIterationsIfAsked);
+BENCHMARK(BM_Insert200)
+    ->Arg(225)
+    ->Arg(708)
+    ->Unit(benchmark::kMillisecond)
+    ->Apply(FixedIterationsIfAsked);
 
 void BM_Insert200_1e7(benchmark::State& state) {
   if (!std::getenv("TINBASE_BENCH_1E7")) {

@@ -22,8 +22,14 @@ Result<int64_t> AppendChange(Store& store, const Change& change) {
                                         "removed, added, min_x, min_y, max_x, max_y) "
                                         "VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?)"));
   stmt->Bind(1, UtcNow());
-  if (change.surface) stmt->Bind(2, *change.surface); else stmt->BindNull(2);
-  if (change.feature) stmt->Bind(3, *change.feature); else stmt->BindNull(3);
+  if (change.surface)
+    stmt->Bind(2, *change.surface);
+  else
+    stmt->BindNull(2);
+  if (change.feature)
+    stmt->Bind(3, *change.feature);
+  else
+    stmt->BindNull(3);
   stmt->Bind(4, change.action).Bind(5, change.removed).Bind(6, change.added);
   stmt->Bind(7, change.min_x).Bind(8, change.min_y).Bind(9, change.max_x).Bind(10, change.max_y);
   TB_RETURN_IF_ERROR(stmt->Run());

@@ -14,13 +14,13 @@
 namespace tinbase {
 
 struct Change {
-  int64_t tx = 0;  // assigned by AppendChange
+  int64_t tx = 0;    // assigned by AppendChange
   std::string time;  // UTC, ISO 8601; assigned by AppendChange
   std::optional<int64_t> surface;
   std::optional<int64_t> feature;
-  std::string action;  // "build", "polygon add", ...
-  int64_t removed = 0;  // triangles removed
-  int64_t added = 0;    // triangles added
+  std::string action;                                 // "build", "polygon add", ...
+  int64_t removed = 0;                                // triangles removed
+  int64_t added = 0;                                  // triangles added
   double min_x = 0, min_y = 0, max_x = 0, max_y = 0;  // the changed region
 };
 

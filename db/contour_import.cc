@@ -50,8 +50,8 @@ Result<std::vector<ContourLine>> ToContours(const std::vector<LineFeature>& feat
     TB_ASSIGN_OR_RETURN(const double level, Level(feature, options.field));
     for (size_t k = 0; k < feature.lines.size(); ++k) {
       ContourLine line;
-      line.label = feature.lines.size() == 1 ? feature.label
-                                             : feature.label + ", line " + std::to_string(k);
+      line.label =
+          feature.lines.size() == 1 ? feature.label : feature.label + ", line " + std::to_string(k);
       line.level = level;
       line.points = feature.lines[k];
       lines.push_back(std::move(line));

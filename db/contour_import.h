@@ -20,12 +20,12 @@
 namespace tinbase {
 
 struct ContourImportOptions {
-  std::string path;       // any OGR vector source of LineString / MultiLineString features
-  std::string layer;      // empty: the source's only layer
-  std::string field;      // numeric field holding each line's elevation
-  double cell = 0;        // cell size in the units of the CRS the DEM is made in; > 0
-  std::string name;       // name of the new DEM
-  int block_size = 256;   // as DemImportOptions::block_size
+  std::string path;      // any OGR vector source of LineString / MultiLineString features
+  std::string layer;     // empty: the source's only layer
+  std::string field;     // numeric field holding each line's elevation
+  double cell = 0;       // cell size in the units of the CRS the DEM is made in; > 0
+  std::string name;      // name of the new DEM
+  int block_size = 256;  // as DemImportOptions::block_size
 };
 
 struct ContourImportReport {

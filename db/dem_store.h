@@ -7,12 +7,12 @@
 // reads and ForEachBlock read only the blocks they need, through the process-wide cache of decoded
 // blocks (db/dem_block_cache.h) with, for sampling, a per-thread front cache of the blocks used
 // last (direct-mapped by position), so a warm sample takes no lock and no SQL; a warm window read
-// finds its blocks in the cache without SQL, and a cold one decodes them on two threads. Every import gives the store a new cache
-// token (meta `dem_cache_token`), so no block it replaced is served again from the cache; a
-// DemStore picks up another process's import when it next looks a DEM up (Find, FindById, List).
-// Several files imported into one DEM are sheets of a mosaic on one grid.
-// Overview levels 1..levels-1 each halve the one below (a cell is the mean of the valid cells of
-// the 2 x 2 below it) until one block holds the level; Import keeps them up to date, recomputing
+// finds its blocks in the cache without SQL, and a cold one decodes them on two threads. Every
+// import gives the store a new cache token (meta `dem_cache_token`), so no block it replaced is
+// served again from the cache; a DemStore picks up another process's import when it next looks a
+// DEM up (Find, FindById, List). Several files imported into one DEM are sheets of a mosaic on one
+// grid. Overview levels 1..levels-1 each halve the one below (a cell is the mean of the valid cells
+// of the 2 x 2 below it) until one block holds the level; Import keeps them up to date, recomputing
 // only the overview blocks above the level-0 blocks it wrote.
 // Thread-safety: one DemStore per Store, one thread at a time; DemStores of several threads (each
 // with its own Store) share the block cache safely.

@@ -471,8 +471,8 @@ class SurfaceChecker {
   std::vector<Problem>* problems_;
   std::vector<int64_t> vertex_ids_;
   PagedIdMap<Point2> points_;
-  std::unordered_set<int64_t> tag_ids_;  // every id of tags
-  std::vector<Row> rows_;  // by id
+  std::unordered_set<int64_t> tag_ids_;                   // every id of tags
+  std::vector<Row> rows_;                                 // by id
   PagedIdMap<uint32_t> index_;                            // triangle id -> index into rows_
   std::vector<std::pair<int64_t, int64_t>> constraints_;  // (min, max), sorted
   std::vector<HalfEdge> half_edges_;                      // sorted by (a, b), then triangle

@@ -49,8 +49,8 @@ Result<PointImportReport> ImportPoints(Store& store, const PointImportOptions& o
       SurfaceStore(store).CreateWhileTriangulating(
           spec, points.vertices, [&](const TriangleOrder& order, const TriangleSink& finished) {
             return StreamPointTriangles(options.file, points.vertices,
-                                        TriangulationBands(points.vertices.size()), order,
-                                        finished, &report.points);
+                                        TriangulationBands(points.vertices.size()), order, finished,
+                                        &report.points);
           }));
   report.surface_id = created.id;
   TB_RETURN_IF_ERROR(tx->Commit());

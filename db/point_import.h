@@ -19,18 +19,18 @@
 namespace tinbase {
 
 struct PointImportOptions {
-  std::string file;             // .las, or a text file of x y z
-  std::string surface;          // name of the new surface
-  std::set<uint8_t> classes;    // empty: ground (class 2) when the file has any, else all points
+  std::string file;           // .las, or a text file of x y z
+  std::string surface;        // name of the new surface
+  std::set<uint8_t> classes;  // empty: ground (class 2) when the file has any, else all points
   bool thin = false;
-  ThinningOptions thresholds;   // used when `thin`
+  ThinningOptions thresholds;  // used when `thin`
 };
 
 struct PointImportReport {
   int64_t surface_id = 0;
-  std::string crs;              // label of the CRS the surface is in, empty when none
-  bool adopted_crs = false;     // the store took the file's CRS
-  PointTinReport points;        // points in, selected, duplicates, dropped, kept, triangles
+  std::string crs;           // label of the CRS the surface is in, empty when none
+  bool adopted_crs = false;  // the store took the file's CRS
+  PointTinReport points;     // points in, selected, duplicates, dropped, kept, triangles
 };
 
 // Imports options.file as surface options.surface. Returns the report on success. Errors:

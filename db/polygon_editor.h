@@ -25,8 +25,8 @@ namespace tinbase {
 struct PolygonAddOptions {
   std::string surface;
   std::string file;
-  std::string layer;            // OGR layer; empty: the only one
-  std::string where;            // OGR attribute filter
+  std::string layer;  // OGR layer; empty: the only one
+  std::string where;  // OGR attribute filter
   // Required by AddPolygons; UpdatePolygon keeps the old feature's mode when absent.
   std::optional<FeatureMode> mode;
   std::string tag_field;        // the field whose value tags the triangles (fill, replace)

@@ -51,7 +51,7 @@ Result<std::unique_ptr<Store>> Store::Create(const std::string& path, const std:
 Result<std::unique_ptr<Store>> Store::Open(const std::string& path, Access access) {
   TB_ASSIGN_OR_RETURN(
       auto db, Connection::Open(path, access == Access::kReadOnly ? Connection::Mode::kReadOnly
-                                                                : Connection::Mode::kReadWrite));
+                                                                  : Connection::Mode::kReadWrite));
   auto app_id = db->ApplicationId();
   if (!app_id.ok())
     return Status::InvalidArgument(path + " is not a tinbase store (not an SQLite database)");

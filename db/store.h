@@ -14,8 +14,8 @@
 
 #include "core/base/status.h"
 #include "core/geometry/crs.h"
-#include "db/sql/transaction.h"
 #include "db/sql/connection.h"
+#include "db/sql/transaction.h"
 
 namespace tinbase {
 

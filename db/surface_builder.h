@@ -31,8 +31,8 @@
 namespace tinbase {
 
 struct SurfaceBuildOptions {
-  std::string surface;            // new surface name
-  std::string dem;                // DEM name; empty: the store's only DEM
+  std::string surface;  // new surface name
+  std::string dem;      // DEM name; empty: the store's only DEM
   TerrainMethod method = TerrainMethod::kGreedy;
   GreedyOptions greedy;        // tolerance (greedy, rtin) and max_points (greedy, vip)
   double vip_threshold = 1.0;  // vip: the significance threshold in metres

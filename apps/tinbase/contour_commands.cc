@@ -24,8 +24,8 @@ int RunFromContours(const FromContoursArgs& args) {
   const DemInfo& d = report->dem.dem;
   std::cout << "DEM '" << d.name << "' from " << c.lines << " contour lines (" << c.contour_vertices
             << " vertices, " << c.flat_triangles_found << " flat triangles repaired with "
-            << c.steiner_points << " Steiner points, " << c.flat_triangles_left << " left): "
-            << d.geometry.width << " x " << d.geometry.height << " cells, "
+            << c.steiner_points << " Steiner points, " << c.flat_triangles_left
+            << " left): " << d.geometry.width << " x " << d.geometry.height << " cells, "
             << report->dem.blocks_written << " blocks"
             << (report->dem.warped ? ", warped onto the store's CRS" : "") << " in "
             << Num(watch.Seconds(), 3) << " s\n";

@@ -5,10 +5,9 @@
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "apps/tinbase/command.h"
 #include "apps/tinbase/output.h"
@@ -40,11 +39,10 @@ int RunImport(const ImportArgs& args) {
   auto report = dems.Import(args.files, options);
   if (!report.ok()) return ReportError(report.status());
   const DemInfo& d = report->dem;
-  std::cout << "imported " << args.files.size() << " file(s) into DEM '" << d.name << "': "
-            << d.geometry.width << " x " << d.geometry.height << " cells, "
-            << report->blocks_written << " blocks, "
-            << Num(report->bytes_stored / 1048576.0, 3) << " MiB stored"
-            << (report->warped ? ", warped onto the store's CRS" : "") << " in "
+  std::cout << "imported " << args.files.size() << " file(s) into DEM '" << d.name
+            << "': " << d.geometry.width << " x " << d.geometry.height << " cells, "
+            << report->blocks_written << " blocks, " << Num(report->bytes_stored / 1048576.0, 3)
+            << " MiB stored" << (report->warped ? ", warped onto the store's CRS" : "") << " in "
             << Num(watch.Seconds(), 3) << " s\n";
   return kExitOk;
 }
@@ -79,8 +77,9 @@ int SampleMany(DemStore& dems, const DemInfo& dem, const SampleArgs& args) {
   if (args.json) {
     nlohmann::json out = nlohmann::json::array();
     for (size_t i = 0; i < zs.size(); ++i)
-      out.push_back({{"x", xs[i]}, {"y", ys[i]}, {"z", std::isnan(zs[i]) ? nlohmann::json(nullptr)
-                                                                           : nlohmann::json(zs[i])}});
+      out.push_back({{"x", xs[i]},
+                     {"y", ys[i]},
+                     {"z", std::isnan(zs[i]) ? nlohmann::json(nullptr) : nlohmann::json(zs[i])}});
     std::cout << nlohmann::json{{"dem", dem.name}, {"points", out}}.dump() << "\n";
     return kExitOk;
   }
@@ -92,9 +91,9 @@ int SampleMany(DemStore& dems, const DemInfo& dem, const SampleArgs& args) {
 
 int RunSample(const SampleArgs& args) {
   if (args.points_file.empty() == args.xy.empty()) {
-    return ReportError(Status::InvalidArgument(
-        "dem sample: give either a point (X Y) or --points FILE, not " +
-        std::string(args.xy.empty() ? "neither" : "both")));
+    return ReportError(
+        Status::InvalidArgument("dem sample: give either a point (X Y) or --points FILE, not " +
+                                std::string(args.xy.empty() ? "neither" : "both")));
   }
   auto store = Store::Open(args.store, Store::Access::kReadOnly);
   if (!store.ok()) return ReportError(store.status());
@@ -158,9 +157,9 @@ int RunInfo(const InfoArgs& args) {
     std::cout << j->dump(2) << "\n";
     return kExitOk;
   }
-  std::cout << "DEM '" << dem->name << "': " << dem->geometry.width << " x "
-            << dem->geometry.height << " cells of " << Num(dem->geometry.cell_x) << ", blocks of "
-            << dem->block_size << ", " << Num((*j)["bytes_stored"].get<double>() / 1048576.0, 4)
+  std::cout << "DEM '" << dem->name << "': " << dem->geometry.width << " x " << dem->geometry.height
+            << " cells of " << Num(dem->geometry.cell_x) << ", blocks of " << dem->block_size
+            << ", " << Num((*j)["bytes_stored"].get<double>() / 1048576.0, 4)
             << " MiB stored, level 0 compressed " << Num((*j)["compression_ratio"].get<double>(), 3)
             << "x against raw float32\n";
   for (const auto& l : (*j)["levels"])
@@ -212,8 +211,8 @@ int RunClip(const ClipArgs& args) {
   auto clip = dems.Clip(*dem, *box, args.max_cells, args.output);
   if (!clip.ok()) return ReportError(clip.status());
   std::cout << "wrote " << args.output << ": " << clip->geometry.width << " x "
-            << clip->geometry.height << " cells of " << Num(clip->geometry.cell_x)
-            << " from level " << clip->level << " in " << Num(watch.Seconds(), 3) << " s\n";
+            << clip->geometry.height << " cells of " << Num(clip->geometry.cell_x) << " from level "
+            << clip->level << " in " << Num(watch.Seconds(), 3) << " s\n";
   return kExitOk;
 }
 
@@ -224,7 +223,8 @@ void RegisterDemCommands(CLI::App& app, int* exit_code) {
   dem->require_subcommand(1);
 
   auto import_args = std::make_shared<ImportArgs>();
-  CLI::App* import = dem->add_subcommand("import", "Import GDAL rasters (GeoTIFF, .hgt, ...) as a DEM");
+  CLI::App* import =
+      dem->add_subcommand("import", "Import GDAL rasters (GeoTIFF, .hgt, ...) as a DEM");
   import->add_option("store", import_args->store, "Store file")->required();
   import->add_option("files", import_args->files, "Raster files")->required();
   import->add_option("--name", import_args->name, "DEM name (default: the first file's stem)");
@@ -232,39 +232,38 @@ void RegisterDemCommands(CLI::App& app, int* exit_code) {
                      "Block edge in cells, a power of two (default 256)");
   import->add_flag("--keep-first", import_args->keep_first,
                    "Where sheets overlap, keep the earlier sheet's cells");
-  import->callback([=] { *exit_code = RunImport(*import_args); });
+  import->callback([=] { *exit_code = RunImport(*import_args);
+});
 
-  auto info_args = std::make_shared<InfoArgs>();
-  CLI::App* info = dem->add_subcommand("info", "Grid, levels, blocks and compression of a DEM");
-  info->add_option("store", info_args->store, "Store file")->required();
-  info->add_option("--name", info_args->dem, "DEM name (default: the only DEM)");
-  info->add_flag("--json", info_args->json, "Print JSON");
-  info->callback([=] { *exit_code = RunInfo(*info_args); });
+auto info_args = std::make_shared<InfoArgs>();
+CLI::App* info = dem->add_subcommand("info", "Grid, levels, blocks and compression of a DEM");
+info->add_option("store", info_args->store, "Store file")->required();
+info->add_option("--name", info_args->dem, "DEM name (default: the only DEM)");
+info->add_flag("--json", info_args->json, "Print JSON");
+info->callback([=] { *exit_code = RunInfo(*info_args); });
 
-  auto clip_args = std::make_shared<ClipArgs>();
-  CLI::App* clip = dem->add_subcommand("clip", "Write a window of a DEM as a GeoTIFF");
-  clip->add_option("store", clip_args->store, "Store file")->required();
-  clip->add_option("--name", clip_args->dem, "DEM name (default: the only DEM)");
-  clip->add_option("--bbox", clip_args->bbox, "MINX,MINY,MAXX,MAXY in the store's CRS")
-      ->required();
-  clip->add_option("--max-cells", clip_args->max_cells,
-                   "Read the finest overview whose window has at most this many cells");
-  clip->add_option("-o,--output", clip_args->output, "GeoTIFF to write")->required();
-  clip->callback([=] { *exit_code = RunClip(*clip_args); });
+auto clip_args = std::make_shared<ClipArgs>();
+CLI::App* clip = dem->add_subcommand("clip", "Write a window of a DEM as a GeoTIFF");
+clip->add_option("store", clip_args->store, "Store file")->required();
+clip->add_option("--name", clip_args->dem, "DEM name (default: the only DEM)");
+clip->add_option("--bbox", clip_args->bbox, "MINX,MINY,MAXX,MAXY in the store's CRS")->required();
+clip->add_option("--max-cells", clip_args->max_cells,
+                 "Read the finest overview whose window has at most this many cells");
+clip->add_option("-o,--output", clip_args->output, "GeoTIFF to write")->required();
+clip->callback([=] { *exit_code = RunClip(*clip_args); });
 
-  auto sample_args = std::make_shared<SampleArgs>();
-  CLI::App* sample = dem->add_subcommand(
-      "sample", "Bilinear elevation at a point or at many points (store CRS)");
-  sample->add_option("store", sample_args->store, "Store file")->required();
-  sample->add_option("xy", sample_args->xy, "X Y of one point in the store's CRS")
-      ->expected(2);
-  sample->add_option("--points", sample_args->points_file,
-                     "File of points, one 'x y' or 'x,y' per line ('-': standard input); prints "
-                     "'x y z' per point, z 'nodata' where there is none");
-  sample->add_option("--dem", sample_args->dem, "DEM name (default: the only DEM)");
-  sample->add_flag("--json", sample_args->json, "Print JSON");
-  sample->add_flag("--nearest", sample_args->nearest, "The cell's value instead of bilinear");
-  sample->callback([=] { *exit_code = RunSample(*sample_args); });
-}
+auto sample_args = std::make_shared<SampleArgs>();
+CLI::App* sample =
+    dem->add_subcommand("sample", "Bilinear elevation at a point or at many points (store CRS)");
+sample->add_option("store", sample_args->store, "Store file")->required();
+sample->add_option("xy", sample_args->xy, "X Y of one point in the store's CRS")->expected(2);
+sample->add_option("--points", sample_args->points_file,
+                   "File of points, one 'x y' or 'x,y' per line ('-': standard input); prints "
+                   "'x y z' per point, z 'nodata' where there is none");
+sample->add_option("--dem", sample_args->dem, "DEM name (default: the only DEM)");
+sample->add_flag("--json", sample_args->json, "Print JSON");
+sample->add_flag("--nearest", sample_args->nearest, "The cell's value instead of bilinear");
+sample->callback([=] { *exit_code = RunSample(*sample_args); });
+}  // namespace tinbase::cli
 
 }  // namespace tinbase::cli

@@ -69,90 +69,79 @@ int RunDemo(const DemoArgs& args) {
   SurfaceInfo surface;
   int64_t located = 0;
   DemoSteps steps;
-  const bool ok =
-      steps.Run("create store", [&]() -> Result<std::string> {
-        TB_ASSIGN_OR_RETURN(store, Store::Create(path, ""));
-        dem_store = std::make_unique<DemStore>(*store);
-        dems = dem_store.get();
-        return path;
-      }) &&
-      steps.Run("import DEM", [&]() -> Result<std::string> {
-        TB_ASSIGN_OR_RETURN(auto r, dems->Import({dem_file}, {}));
-        return "dtm_rp.tif: " + std::to_string(r.dem.geometry.width) + " x " +
-               std::to_string(r.dem.geometry.height) + " cells, " +
-               std::to_string(r.blocks_written) + " blocks, " + Num(r.bytes_stored / 1024.0, 4) +
-               " KiB";
-      }) &&
-      steps.Run("build TIN", [&]() -> Result<std::string> {
-        SurfaceBuildOptions o;
-        o.surface = "terrain";
-        o.greedy.tolerance = args.tolerance;
-        TB_ASSIGN_OR_RETURN(auto r, BuildSurfaceFromDem(*store, o));
-        surface = r.surface;
-        return "greedy to " + Num(args.tolerance) + " m: " + std::to_string(r.vertices) +
-               " vertices, " + std::to_string(r.triangles) + " triangles, max error " +
-               Num(r.quality.max_error, 3) + " m";
-      }) &&
-      steps.Run("add polygons", [&]() -> Result<std::string> {
-        PolygonAddOptions o;
-        o.surface = "terrain";
-        o.file = geology;
-        o.mode = FeatureMode::kFill;
-        o.tag_field = "unitname";
-        TB_ASSIGN_OR_RETURN(auto r, AddPolygons(*store, o));
-        return std::to_string(r.features) + " geological units (fill, tag = unitname), " +
-               std::to_string(r.ring_vertices) + " draped ring vertices, " +
-               std::to_string(r.added) + " triangles";
-      }) &&
-      steps.Run("locate", [&]() -> Result<std::string> {
-        SurfaceStore surfaces(*store);
-        TB_ASSIGN_OR_RETURN(surface, surfaces.Find("terrain"));
-        TB_ASSIGN_OR_RETURN(DemInfo dem, dems->FindById(*surface.dem));
-        const double x = (dem.geometry.MinX() + dem.geometry.MaxX()) / 2;
-        const double y = (dem.geometry.MinY() + dem.geometry.MaxY()) / 2;
-        TB_ASSIGN_OR_RETURN(Location where, LocatePoint(*store, surface, x, y));
-        TB_ASSIGN_OR_RETURN(double dem_z, dems->Sample(dem, x, y));
-        located = where.triangle;
-        return "centre (" + Num(x) + ", " + Num(y) + "): triangle " +
-               std::to_string(where.triangle) + ", z " + Num(where.z, 6) + " (DEM " +
-               Num(dem_z, 6) + "), " + where.tag.value_or("untagged") + ", " +
-               std::to_string(where.steps) + " steps";
-      }) &&
-      steps.Run("neighbours", [&]() -> Result<std::string> {
-        SurfaceStore surfaces(*store);
-        TB_ASSIGN_OR_RETURN(TriangleRow t, surfaces.Triangle(surface, located));
-        std::string out = "triangle " + std::to_string(located) + ":";
-        for (const auto& n : t.n) out += " " + (n ? std::to_string(*n) : std::string("-"));
-        return out;
-      }) &&
-      steps.Run("changes", [&]() -> Result<std::string> {
-        TB_ASSIGN_OR_RETURN(auto changes, ChangesSince(*store, 0));
-        std::string out = std::to_string(changes.size()) + " transactions:";
-        for (const Change& c : changes) out += " [" + std::to_string(c.tx) + " " + c.action + "]";
-        return out;
-      }) &&
-      steps.Run("export", [&]() -> Result<std::string> {
-        SurfaceStore surfaces(*store);
-        TB_ASSIGN_OR_RETURN(LoadedSurface loaded, surfaces.Load(surface));
-        TB_ASSIGN_OR_RETURN(auto crs, store->GetCrs());
-        std::string out;
-        for (ExportFormat format : {ExportFormat::kObj, ExportFormat::kGeoJson}) {
-          ExportOptions o;
-          o.format = format;
-          o.visible_only = true;
-          o.triangle_ids = loaded.triangle_ids;
-          const std::string file =
-              args.workdir + (format == ExportFormat::kObj ? "/terrain.obj" : "/terrain.geojson");
-          TB_ASSIGN_OR_RETURN(auto r, ExportTin(loaded.tin, crs ? &*crs : nullptr, file, o));
-          out += (out.empty() ? "" : ", ") + file + " (" + std::to_string(r.triangles) + ")";
-        }
-        return out;
-      }) &&
-      steps.Run("check", [&]() -> Result<std::string> {
-        TB_ASSIGN_OR_RETURN(auto problems, CheckStore(*store, {.surface = {}, .full = true}));
-        if (!problems.empty()) return Status::Corruption(problems.front().message);
-        return std::string("every invariant holds");
-      });
+  const bool ok = steps.Run("create store", [&]() -> Result<std::string> {
+    TB_ASSIGN_OR_RETURN(store, Store::Create(path, ""));
+    dem_store = std::make_unique<DemStore>(*store);
+    dems = dem_store.get();
+    return path;
+  }) && steps.Run("import DEM", [&]() -> Result<std::string> {
+    TB_ASSIGN_OR_RETURN(auto r, dems->Import({dem_file}, {}));
+    return "dtm_rp.tif: " + std::to_string(r.dem.geometry.width) + " x " +
+           std::to_string(r.dem.geometry.height) + " cells, " + std::to_string(r.blocks_written) +
+           " blocks, " + Num(r.bytes_stored / 1024.0, 4) + " KiB";
+  }) && steps.Run("build TIN", [&]() -> Result<std::string> {
+    SurfaceBuildOptions o;
+    o.surface = "terrain";
+    o.greedy.tolerance = args.tolerance;
+    TB_ASSIGN_OR_RETURN(auto r, BuildSurfaceFromDem(*store, o));
+    surface = r.surface;
+    return "greedy to " + Num(args.tolerance) + " m: " + std::to_string(r.vertices) +
+           " vertices, " + std::to_string(r.triangles) + " triangles, max error " +
+           Num(r.quality.max_error, 3) + " m";
+  }) && steps.Run("add polygons", [&]() -> Result<std::string> {
+    PolygonAddOptions o;
+    o.surface = "terrain";
+    o.file = geology;
+    o.mode = FeatureMode::kFill;
+    o.tag_field = "unitname";
+    TB_ASSIGN_OR_RETURN(auto r, AddPolygons(*store, o));
+    return std::to_string(r.features) + " geological units (fill, tag = unitname), " +
+           std::to_string(r.ring_vertices) + " draped ring vertices, " + std::to_string(r.added) +
+           " triangles";
+  }) && steps.Run("locate", [&]() -> Result<std::string> {
+    SurfaceStore surfaces(*store);
+    TB_ASSIGN_OR_RETURN(surface, surfaces.Find("terrain"));
+    TB_ASSIGN_OR_RETURN(DemInfo dem, dems->FindById(*surface.dem));
+    const double x = (dem.geometry.MinX() + dem.geometry.MaxX()) / 2;
+    const double y = (dem.geometry.MinY() + dem.geometry.MaxY()) / 2;
+    TB_ASSIGN_OR_RETURN(Location where, LocatePoint(*store, surface, x, y));
+    TB_ASSIGN_OR_RETURN(double dem_z, dems->Sample(dem, x, y));
+    located = where.triangle;
+    return "centre (" + Num(x) + ", " + Num(y) + "): triangle " + std::to_string(where.triangle) +
+           ", z " + Num(where.z, 6) + " (DEM " + Num(dem_z, 6) + "), " +
+           where.tag.value_or("untagged") + ", " + std::to_string(where.steps) + " steps";
+  }) && steps.Run("neighbours", [&]() -> Result<std::string> {
+    SurfaceStore surfaces(*store);
+    TB_ASSIGN_OR_RETURN(TriangleRow t, surfaces.Triangle(surface, located));
+    std::string out = "triangle " + std::to_string(located) + ":";
+    for (const auto& n : t.n) out += " " + (n ? std::to_string(*n) : std::string("-"));
+    return out;
+  }) && steps.Run("changes", [&]() -> Result<std::string> {
+    TB_ASSIGN_OR_RETURN(auto changes, ChangesSince(*store, 0));
+    std::string out = std::to_string(changes.size()) + " transactions:";
+    for (const Change& c : changes) out += " [" + std::to_string(c.tx) + " " + c.action + "]";
+    return out;
+  }) && steps.Run("export", [&]() -> Result<std::string> {
+    SurfaceStore surfaces(*store);
+    TB_ASSIGN_OR_RETURN(LoadedSurface loaded, surfaces.Load(surface));
+    TB_ASSIGN_OR_RETURN(auto crs, store->GetCrs());
+    std::string out;
+    for (ExportFormat format : {ExportFormat::kObj, ExportFormat::kGeoJson}) {
+      ExportOptions o;
+      o.format = format;
+      o.visible_only = true;
+      o.triangle_ids = loaded.triangle_ids;
+      const std::string file =
+          args.workdir + (format == ExportFormat::kObj ? "/terrain.obj" : "/terrain.geojson");
+      TB_ASSIGN_OR_RETURN(auto r, ExportTin(loaded.tin, crs ? &*crs : nullptr, file, o));
+      out += (out.empty() ? "" : ", ") + file + " (" + std::to_string(r.triangles) + ")";
+    }
+    return out;
+  }) && steps.Run("check", [&]() -> Result<std::string> {
+    TB_ASSIGN_OR_RETURN(auto problems, CheckStore(*store, {.surface = {}, .full = true}));
+    if (!problems.empty()) return Status::Corruption(problems.front().message);
+    return std::string("every invariant holds");
+  });
   if (!ok) return kExitFailure;
   std::cout << "  total           " << std::fixed << std::setprecision(3) << std::setw(9)
             << steps.total() << " s\n"

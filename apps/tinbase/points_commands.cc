@@ -68,10 +68,10 @@ int RunImport(ImportArgs args) {
   auto report = ImportPoints(**store, args.options);
   if (!report.ok()) return ReportError(report.status());
   const PointTinReport& p = report->points;
-  std::cout << "surface '" << args.options.surface << "' from " << p.format << ": "
-            << p.points_in << " points in, " << p.selected << " selected (" << p.classes << "), "
-            << p.duplicates << " duplicates, " << p.dropped << " thinned out, " << p.kept
-            << " kept, " << p.triangles << " triangles";
+  std::cout << "surface '" << args.options.surface << "' from " << p.format << ": " << p.points_in
+            << " points in, " << p.selected << " selected (" << p.classes << "), " << p.duplicates
+            << " duplicates, " << p.dropped << " thinned out, " << p.kept << " kept, "
+            << p.triangles << " triangles";
   if (!p.reprojected_from.empty()) std::cout << "; reprojected from " << p.reprojected_from;
   if (report->adopted_crs) std::cout << "; the store takes its CRS " << report->crs;
   std::cout << " (" << Num(watch.Seconds(), 3) << " s)\n";
@@ -89,8 +89,9 @@ void RegisterPointsCommands(CLI::App& app, int* exit_code) {
   import->add_option("file", args->options.file, "LAS 1.0-1.4 (uncompressed) or XYZ text")
       ->required();
   import->add_option("--surface", args->options.surface, "Name of the new surface")->required();
-  import->add_option("--class", args->classes,
-                     "LAS classes to keep (repeatable; default: ground = 2 when present, else all)");
+  import->add_option(
+      "--class", args->classes,
+      "LAS classes to keep (repeatable; default: ground = 2 when present, else all)");
   import->add_flag("--thin", args->options.thin, "Voronoi density thinning (paper 003)");
   import->add_option("--vertical-threshold", args->options.thresholds.vertical_threshold,
                      "--thin: drop a dense point within this z of its Voronoi neighbours");
@@ -99,7 +100,8 @@ void RegisterPointsCommands(CLI::App& app, int* exit_code) {
   import->add_option("--density", args->density,
                      "--thin: dense where more than COUNT points lie in the disc of AREA around "
                      "a point, as COUNT/AREA (paper 003: 10/150 in square feet)");
-  import->callback([=] { *exit_code = RunImport(*args); });
-}
+  import->callback([=] { *exit_code = RunImport(*args);
+});
+}  // namespace tinbase::cli
 
 }  // namespace tinbase::cli

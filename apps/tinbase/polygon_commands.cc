@@ -97,13 +97,14 @@ void RegisterPolygonCommands(CLI::App& app, int* exit_code) {
   add->add_option("--tag", args->options.tag, "One tag for every feature");
   CLI::Option* level = add->add_option("--level", args->level, "replace: the flat z in metres");
   add->add_flag("--repair", args->options.repair,
-                 "Repair invalid polygons with GEOS MakeValid before validating them");
+                "Repair invalid polygons with GEOS MakeValid before validating them");
   add->add_flag("--each", args->options.each,
-                 "Commit feature by feature; report the features that failed and why");
+                "Commit feature by feature; report the features that failed and why");
   add->callback([=] { *exit_code = RunAdd(*args, level->count() > 0); });
 
   auto remove_args = std::make_shared<EditArgs>();
-  CLI::App* remove = polygon->add_subcommand("remove", "Remove a feature, re-triangulating locally");
+  CLI::App* remove =
+      polygon->add_subcommand("remove", "Remove a feature, re-triangulating locally");
   remove->add_option("store", remove_args->store, "Store file")->required();
   remove->add_option("id", remove_args->id, "Feature id")->required();
   remove->callback([=] { *exit_code = RunRemove(*remove_args); });

@@ -1,7 +1,6 @@
 // Kernels: `locate` (triangle and z at a point), `neighbours` (a triangle's row and its three
 // neighbours), `changes` (the change log since a transaction).
 #include <iostream>
-
 #include <nlohmann/json.hpp>
 
 #include "apps/tinbase/command.h"
@@ -39,9 +38,13 @@ int RunLocate(const LocateArgs& args) {
   auto where = LocatePoint(**store, *surface, args.x, args.y);
   if (!where.ok()) return ReportError(where.status());
   if (args.json) {
-    std::cout << nlohmann::json{{"surface", surface->name}, {"x", args.x}, {"y", args.y},
-                                {"triangle", where->triangle}, {"z", where->z},
-                                {"visible", where->visible}, {"tag", OptionalJson(where->tag)},
+    std::cout << nlohmann::json{{"surface", surface->name},
+                                {"x", args.x},
+                                {"y", args.y},
+                                {"triangle", where->triangle},
+                                {"z", where->z},
+                                {"visible", where->visible},
+                                {"tag", OptionalJson(where->tag)},
                                 {"steps", where->steps}}
                      .dump()
               << "\n";
@@ -104,14 +107,18 @@ int RunChanges(const ChangesArgs& args) {
   nlohmann::json j = nlohmann::json::array();
   for (const Change& c : *changes) {
     if (!args.json) {
-      std::cout << "tx " << c.tx << " " << c.time << " " << c.action << ": -" << c.removed
-                << " +" << c.added << " triangles in [" << Num(c.min_x) << ", " << Num(c.min_y)
-                << ", " << Num(c.max_x) << ", " << Num(c.max_y) << "]\n";
+      std::cout << "tx " << c.tx << " " << c.time << " " << c.action << ": -" << c.removed << " +"
+                << c.added << " triangles in [" << Num(c.min_x) << ", " << Num(c.min_y) << ", "
+                << Num(c.max_x) << ", " << Num(c.max_y) << "]\n";
       continue;
     }
-    j.push_back({{"tx", c.tx}, {"time", c.time}, {"surface", OptionalJson(c.surface)},
-                 {"feature", OptionalJson(c.feature)}, {"action", c.action},
-                 {"removed", c.removed}, {"added", c.added},
+    j.push_back({{"tx", c.tx},
+                 {"time", c.time},
+                 {"surface", OptionalJson(c.surface)},
+                 {"feature", OptionalJson(c.feature)},
+                 {"action", c.action},
+                 {"removed", c.removed},
+                 {"added", c.added},
                  {"bbox", {c.min_x, c.min_y, c.max_x, c.max_y}}});
   }
   if (args.json) std::cout << j.dump(2) << "\n";

@@ -1,6 +1,5 @@
 // Kernels: `init` (create a store), `info` (what a store holds), `check` (the integrity checker).
 #include <iostream>
-
 #include <nlohmann/json.hpp>
 
 #include "apps/tinbase/command.h"
@@ -24,7 +23,8 @@ int RunInit(const InitArgs& args) {
   if (!store.ok()) return ReportError(store.status());
   auto crs = (*store)->GetCrs();
   std::cout << "created " << args.store << " (schema version " << (*store)->SchemaVersion()
-            << ", CRS " << (crs.ok() && crs->has_value() ? (*crs)->Label() : "set by the first import")
+            << ", CRS "
+            << (crs.ok() && crs->has_value() ? (*crs)->Label() : "set by the first import")
             << ")\n";
   return kExitOk;
 }
@@ -41,15 +41,15 @@ Result<nlohmann::json> DescribeStore(Store& store) {
   for (const DemInfo& d : dem_list) {
     TB_ASSIGN_OR_RETURN(std::vector<DemLevelStats> stats, dems.LevelStats(d));
     const int64_t blocks = stats[0].blocks;
-    out["dems"].push_back({{"name", d.name},
-                           {"width", d.geometry.width},
-                           {"height", d.geometry.height},
-                           {"cell_size", {d.geometry.cell_x, -d.geometry.cell_y}},
-                           {"bbox", {d.geometry.MinX(), d.geometry.MinY(), d.geometry.MaxX(),
-                                     d.geometry.MaxY()}},
-                           {"block_size", d.block_size},
-                           {"blocks", blocks},
-                           {"levels", d.levels}});
+    out["dems"].push_back(
+        {{"name", d.name},
+         {"width", d.geometry.width},
+         {"height", d.geometry.height},
+         {"cell_size", {d.geometry.cell_x, -d.geometry.cell_y}},
+         {"bbox", {d.geometry.MinX(), d.geometry.MinY(), d.geometry.MaxX(), d.geometry.MaxY()}},
+         {"block_size", d.block_size},
+         {"blocks", blocks},
+         {"levels", d.levels}});
   }
   SurfaceStore surfaces(store);
   TB_ASSIGN_OR_RETURN(auto surface_list, surfaces.List());
@@ -76,17 +76,16 @@ void PrintStore(const nlohmann::json& j) {
             << (j["crs"].is_null() ? "not set" : j["crs"].get<std::string>()) << ")\n";
   std::cout << "DEMs: " << j["dems"].size() << "\n";
   for (const auto& d : j["dems"])
-    std::cout << "  " << d["name"].get<std::string>() << ": " << d["width"] << " x "
-              << d["height"] << " cells of " << d["cell_size"][0] << " x " << d["cell_size"][1]
-              << ", " << d["blocks"] << " blocks of " << d["block_size"] << ", " << d["levels"]
+    std::cout << "  " << d["name"].get<std::string>() << ": " << d["width"] << " x " << d["height"]
+              << " cells of " << d["cell_size"][0] << " x " << d["cell_size"][1] << ", "
+              << d["blocks"] << " blocks of " << d["block_size"] << ", " << d["levels"]
               << " level(s)\n";
   std::cout << "surfaces: " << j["surfaces"].size() << "\n";
   for (const auto& s : j["surfaces"])
     std::cout << "  " << s["name"].get<std::string>() << " (" << s["kind"].get<std::string>()
-              << ", " << s["method"].get<std::string>() << "): " << s["vertices"]
-              << " vertices, " << s["triangles"] << " triangles (" << s["visible_triangles"]
-              << " visible), " << s["constraints"] << " constraints, " << s["features"]
-              << " features\n";
+              << ", " << s["method"].get<std::string>() << "): " << s["vertices"] << " vertices, "
+              << s["triangles"] << " triangles (" << s["visible_triangles"] << " visible), "
+              << s["constraints"] << " constraints, " << s["features"] << " features\n";
 }
 
 struct CheckArgs {
@@ -116,8 +115,7 @@ int RunCheck(const CheckArgs& args) {
     std::cout << "ok: " << args.store << " keeps every checked invariant"
               << (args.full ? " (full: 1-8)" : " (1-5, 8)") << "\n";
   } else {
-    std::cerr << "tinbase: " << problems->front().message << " [" << problems->front().code
-              << "]";
+    std::cerr << "tinbase: " << problems->front().message << " [" << problems->front().code << "]";
     if (problems->size() > 1) std::cerr << " (and " << problems->size() - 1 << " more)";
     std::cerr << "\n";
   }
@@ -149,12 +147,16 @@ void RegisterStoreCommands(CLI::App& app, int* exit_code) {
       *exit_code = ReportError(j.status());
       return;
     }
-    if (info_args->json) std::cout << j->dump(2) << "\n"; else PrintStore(*j);
+    if (info_args->json)
+      std::cout << j->dump(2) << "\n";
+    else
+      PrintStore(*j);
     *exit_code = kExitOk;
   });
 
   auto check_args = std::make_shared<CheckArgs>();
-  CLI::App* check = app.add_subcommand("check", "Verify the store's invariants (docs/design.md, Invariants 1-5, 8; --full: all 8)");
+  CLI::App* check = app.add_subcommand(
+      "check", "Verify the store's invariants (docs/design.md, Invariants 1-5, 8; --full: all 8)");
   check->add_option("store", check_args->store, "Store file")->required();
   check->add_option("--surface", check_args->surface, "Check only this surface");
   check->add_flag("--json", check_args->json, "Print every problem as JSON");

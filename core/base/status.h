@@ -57,13 +57,20 @@ inline Status Status::WithContext(const std::string& context) const {
 
 inline const char* StatusCodeName(StatusCode code) {
   switch (code) {
-    case StatusCode::kOk: return "ok";
-    case StatusCode::kNotFound: return "not found";
-    case StatusCode::kInvalidArgument: return "invalid argument";
-    case StatusCode::kCorruption: return "corruption";
-    case StatusCode::kIOError: return "I/O error";
-    case StatusCode::kConflict: return "conflict";
-    case StatusCode::kBusy: return "busy";
+    case StatusCode::kOk:
+      return "ok";
+    case StatusCode::kNotFound:
+      return "not found";
+    case StatusCode::kInvalidArgument:
+      return "invalid argument";
+    case StatusCode::kCorruption:
+      return "corruption";
+    case StatusCode::kIOError:
+      return "I/O error";
+    case StatusCode::kConflict:
+      return "conflict";
+    case StatusCode::kBusy:
+      return "busy";
   }
   return "unknown";
 }
@@ -73,8 +80,8 @@ inline const char* StatusCodeName(StatusCode code) {
 template <typename T>
 class [[nodiscard]] Result {
  public:
-  Result(T value) : value_(std::move(value)) {}             // NOLINT: implicit by design
-  Result(Status status) : value_(std::move(status)) {}      // NOLINT: implicit by design
+  Result(T value) : value_(std::move(value)) {}         // NOLINT: implicit by design
+  Result(Status status) : value_(std::move(status)) {}  // NOLINT: implicit by design
 
   bool ok() const { return std::holds_alternative<T>(value_); }
   const Status& status() const {
@@ -99,14 +106,15 @@ class [[nodiscard]] Result {
 #define TB_CONCAT_(a, b) TB_CONCAT_INNER_(a, b)
 
 // Returns the Status from the enclosing function when `expr` is not ok.
-#define TB_RETURN_IF_ERROR(expr)                   \
-  do {                                             \
-    ::tinbase::Status tb_status_ = (expr);         \
-    if (!tb_status_.ok()) return tb_status_;       \
+#define TB_RETURN_IF_ERROR(expr)             \
+  do {                                       \
+    ::tinbase::Status tb_status_ = (expr);   \
+    if (!tb_status_.ok()) return tb_status_; \
   } while (0)
 
 // `TB_ASSIGN_OR_RETURN(auto x, MakeX());` binds the value or returns the error.
-#define TB_ASSIGN_OR_RETURN(lhs, expr) TB_ASSIGN_OR_RETURN_IMPL_(TB_CONCAT_(tb_result_, __LINE__), lhs, expr)
+#define TB_ASSIGN_OR_RETURN(lhs, expr) \
+  TB_ASSIGN_OR_RETURN_IMPL_(TB_CONCAT_(tb_result_, __LINE__), lhs, expr)
 #define TB_ASSIGN_OR_RETURN_IMPL_(tmp, lhs, expr) \
   auto tmp = (expr);                              \
   if (!tmp.ok()) return tmp.status();             \

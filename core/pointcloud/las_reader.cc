@@ -13,7 +13,8 @@ namespace tinbase {
 namespace {
 
 // LAS is little-endian; fields are copied with memcpy, which is only right on such a host.
-static_assert(std::endian::native == std::endian::little, "LAS reader assumes a little-endian host");
+static_assert(std::endian::native == std::endian::little,
+              "LAS reader assumes a little-endian host");
 
 constexpr size_t kLegacyHeaderSize = 227;  // LAS 1.0-1.2
 constexpr size_t kVlrHeaderSize = 54;
@@ -127,8 +128,8 @@ Result<LasHeader> DecodeHeader(LasSource& source, const std::vector<char>& bytes
                                    " bytes " + version + " requires");
   }
   if (bytes.size() < min_header) {
-    return Status::Corruption(path + ": file ends inside the " + version + " header (truncated: " +
-                              std::to_string(bytes.size()) + " bytes)");
+    return Status::Corruption(path + ": file ends inside the " + version +
+                              " header (truncated: " + std::to_string(bytes.size()) + " bytes)");
   }
   if (h.point_format > 10) {
     return Status::InvalidArgument(path + ": unknown point data format " +
@@ -143,8 +144,7 @@ Result<LasHeader> DecodeHeader(LasSource& source, const std::vector<char>& bytes
   }
   if (h.point_offset < h.header_size) {
     return Status::Corruption(path + ": offset to point data " + std::to_string(h.point_offset) +
-                              " lies inside the " + std::to_string(h.header_size) +
-                              "-byte header");
+                              " lies inside the " + std::to_string(h.header_size) + "-byte header");
   }
 
   h.point_count = Get<uint32_t>(bytes, 107);
@@ -172,8 +172,7 @@ Result<LasHeader> DecodeHeader(LasSource& source, const std::vector<char>& bytes
     return Status::Corruption(
         path + ": header promises " + std::to_string(h.point_count) + " points of " +
         std::to_string(h.record_length) + " bytes from offset " + std::to_string(h.point_offset) +
-        ", but the file holds only " + std::to_string(room / h.record_length) +
-        " (truncated)");
+        ", but the file holds only " + std::to_string(room / h.record_length) + " (truncated)");
   }
   return h;
 }
@@ -274,8 +273,8 @@ Result<std::vector<CloudPoint>> ReadPoints(LasSource& source, const LasHeader& h
   for (uint64_t first = 0; first < h.point_count; first += kChunk) {
     const uint64_t n = std::min(kChunk, h.point_count - first);
     TB_ASSIGN_OR_RETURN(std::vector<char> bytes,
-                        source.Read(h.point_offset + first * h.record_length,
-                                    n * h.record_length, "point records"));
+                        source.Read(h.point_offset + first * h.record_length, n * h.record_length,
+                                    "point records"));
     for (uint64_t i = 0; i < n; ++i) {
       const size_t at = i * h.record_length;
       CloudPoint p;
@@ -302,9 +301,8 @@ Result<std::vector<CloudPoint>> ReadPoints(LasSource& source, const LasHeader& h
 
 bool HasLazExtension(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) {
-    return static_cast<char>(std::tolower(c));
-  });
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   return ext == ".laz";
 }
 

@@ -23,14 +23,14 @@ struct LasHeader {
   uint16_t header_size = 0;
   uint32_t point_offset = 0;  // offset to point data
   uint32_t vlr_count = 0;
-  uint8_t point_format = 0;   // 0-10, compression bits cleared
+  uint8_t point_format = 0;  // 0-10, compression bits cleared
   uint16_t record_length = 0;
-  uint64_t point_count = 0;   // the 1.4 64-bit count when set, else the legacy 32-bit one
+  uint64_t point_count = 0;  // the 1.4 64-bit count when set, else the legacy 32-bit one
   std::array<double, 3> scale{};
   std::array<double, 3> offset{};
   std::array<double, 3> min{};  // x, y, z bounds as the header states them
   std::array<double, 3> max{};
-  uint64_t evlr_offset = 0;     // 1.4 only
+  uint64_t evlr_offset = 0;  // 1.4 only
   uint32_t evlr_count = 0;
 };
 

@@ -16,10 +16,9 @@ ClassSelection ChooseClasses(const PointCloud& cloud, const std::set<uint8_t>& r
     }
     return selection;
   }
-  const bool has_ground = std::any_of(cloud.points.begin(), cloud.points.end(),
-                                      [](const CloudPoint& p) {
-                                        return p.classification == kLasClassGround;
-                                      });
+  const bool has_ground =
+      std::any_of(cloud.points.begin(), cloud.points.end(),
+                  [](const CloudPoint& p) { return p.classification == kLasClassGround; });
   if (has_ground) {
     selection.classes = {kLasClassGround};
     selection.description = "ground (class 2)";

@@ -30,13 +30,13 @@ struct PointTinOptions {
 };
 
 struct PointTinReport {
-  std::string format;          // "LAS 1.2, point format 3" or "XYZ"
-  std::string classes;         // what the class filter kept (ClassSelection::description)
-  size_t points_in = 0;        // points in the file
-  size_t selected = 0;         // points of the kept classes
-  size_t duplicates = 0;       // selected points at the x, y of an earlier one, left out
-  size_t dropped = 0;          // thinned out
-  size_t kept = 0;             // vertices of the TIN
+  std::string format;     // "LAS 1.2, point format 3" or "XYZ"
+  std::string classes;    // what the class filter kept (ClassSelection::description)
+  size_t points_in = 0;   // points in the file
+  size_t selected = 0;    // points of the kept classes
+  size_t duplicates = 0;  // selected points at the x, y of an earlier one, left out
+  size_t dropped = 0;     // thinned out
+  size_t kept = 0;        // vertices of the TIN
   size_t triangles = 0;
   double cell_area_threshold = 0;  // when thinned
   std::string reprojected_from;    // the file's CRS label when it was reprojected, else empty
@@ -50,8 +50,8 @@ struct PointSet {
 };
 
 struct PointTin {
-  Tin tin;                  // every vertex kind kLidar; neighbours linked
-  std::optional<Crs> crs;   // the TIN's CRS: the target when given, else the file's
+  Tin tin;                 // every vertex kind kLidar; neighbours linked
+  std::optional<Crs> crs;  // the TIN's CRS: the target when given, else the file's
   PointTinReport report;
 };
 

@@ -101,8 +101,8 @@ std::vector<char> DenseVertices(const std::vector<TinVertex>& vertices,
 // One pass over `vertices` (distinct x, y): returns the positions to drop, no two of them
 // Voronoi neighbours, and counts the dense vertices into *dense_count.
 std::vector<uint32_t> ThinOnePass(const std::vector<TinVertex>& vertices,
-                                  const ThinningOptions& options,
-                                  std::optional<double>* threshold, size_t* dense_count) {
+                                  const ThinningOptions& options, std::optional<double>* threshold,
+                                  size_t* dense_count) {
   Cdt cdt;
   cdt.InsertVertices(vertices);
   const std::vector<VoronoiCell> cells = cdt.VoronoiCells();

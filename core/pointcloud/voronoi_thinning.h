@@ -66,12 +66,12 @@ struct ThinningOptions {
 
 struct ThinningReport {
   size_t points_in = 0;
-  size_t duplicates = 0;  // points at the x, y of an earlier point, left out
-  size_t dropped = 0;     // thinned out, duplicates not counted
-  size_t kept = 0;        // points_in - duplicates - dropped
+  size_t duplicates = 0;           // points at the x, y of an earlier point, left out
+  size_t dropped = 0;              // thinned out, duplicates not counted
+  size_t kept = 0;                 // points_in - duplicates - dropped
   double cell_area_threshold = 0;  // 0 when density was judged by a window
-  size_t dense = 0;                 // points judged dense in the first pass
-  int passes_run = 0;     // passes that dropped something
+  size_t dense = 0;                // points judged dense in the first pass
+  int passes_run = 0;              // passes that dropped something
 };
 
 struct ThinningResult {

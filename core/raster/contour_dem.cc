@@ -99,7 +99,8 @@ class SteinerPlanner {
     if (longest >= 0) {
       const uint32_t a = tri.v[(longest + 1) % 3], b = tri.v[(longest + 2) % 3];
       if (!planned_edges_.insert(EdgeKey(a, b)).second) return;
-      m = {(tin_.vertices[a].x + tin_.vertices[b].x) / 2, (tin_.vertices[a].y + tin_.vertices[b].y) / 2};
+      m = {(tin_.vertices[a].x + tin_.vertices[b].x) / 2,
+           (tin_.vertices[a].y + tin_.vertices[b].y) / 2};
       d1 = longest_length / 2;
     } else {
       m = {0, 0};
@@ -225,8 +226,8 @@ Status CheckContoursDoNotCross(const std::vector<ContourLine>& lines) {
     const Segment& g = segments[s];
     for (int64_t by = bucket_y(std::min(g.a.y, g.b.y)); by <= bucket_y(std::max(g.a.y, g.b.y));
          ++by) {
-      for (int64_t bx = bucket_x(std::min(g.a.x, g.b.x));
-           bx <= bucket_x(std::max(g.a.x, g.b.x)); ++bx) {
+      for (int64_t bx = bucket_x(std::min(g.a.x, g.b.x)); bx <= bucket_x(std::max(g.a.x, g.b.x));
+           ++bx) {
         buckets[static_cast<size_t>(by * per_axis + bx)].push_back(static_cast<uint32_t>(s));
       }
     }
@@ -242,10 +243,9 @@ Status CheckContoursDoNotCross(const std::vector<ContourLine>& lines) {
         if (!contact) continue;
         if (s.line == t.line)
           return Status::InvalidArgument(Describe(ls) + " crosses itself at " + At(*contact));
-        const bool cross = ls.level == lt.level || (Orientation(s.a, s.b, t.a) *
-                                                       Orientation(s.a, s.b, t.b) < 0 &&
-                                                   Orientation(t.a, t.b, s.a) *
-                                                       Orientation(t.a, t.b, s.b) < 0);
+        const bool cross =
+            ls.level == lt.level || (Orientation(s.a, s.b, t.a) * Orientation(s.a, s.b, t.b) < 0 &&
+                                     Orientation(t.a, t.b, s.a) * Orientation(t.a, t.b, s.b) < 0);
         return Status::InvalidArgument(Describe(ls) + " and " + Describe(lt) +
                                        (cross ? " cross at " : " touch at ") + At(*contact));
       }
@@ -270,11 +270,13 @@ Result<Tin> BuildContourTin(const std::vector<ContourLine>& lines, ContourDemRep
   const std::vector<uint32_t> index = cdt.InsertVertices(points);
   rep.contour_vertices = static_cast<int64_t>(cdt.vertices().size());
   if (cdt.FaceCount() == 0)
-    return Status::InvalidArgument("the contour vertices all lie on one line: nothing to triangulate");
+    return Status::InvalidArgument(
+        "the contour vertices all lie on one line: nothing to triangulate");
   size_t at = 0;
   for (const ContourLine& line : lines) {
     for (size_t k = 0; k + 1 < line.points.size(); ++k) {
-      if (index[at + k] != index[at + k + 1]) cdt.InsertConstraint(index[at + k], index[at + k + 1]);
+      if (index[at + k] != index[at + k + 1])
+        cdt.InsertConstraint(index[at + k], index[at + k + 1]);
     }
     at += line.points.size();
   }
@@ -319,7 +321,8 @@ GridGeometry SnappedGridGeometry(double min_x, double min_y, double max_x, doubl
   g.origin_y = std::ceil(max_y / cell) * cell;
   g.cell_x = cell;
   g.cell_y = -cell;
-  g.width = std::max<int64_t>(1, std::llround((std::ceil(max_x / cell) * cell - g.origin_x) / cell));
+  g.width =
+      std::max<int64_t>(1, std::llround((std::ceil(max_x / cell) * cell - g.origin_x) / cell));
   g.height =
       std::max<int64_t>(1, std::llround((g.origin_y - std::floor(min_y / cell) * cell) / cell));
   return g;
@@ -338,7 +341,8 @@ Result<Grid> DemFromContours(const std::vector<ContourLine>& lines, double cell,
       min_y = std::min(min_y, p.y), max_y = std::max(max_y, p.y);
     }
   }
-  const double cells = std::ceil((max_x - min_x) / cell + 2) * std::ceil((max_y - min_y) / cell + 2);
+  const double cells =
+      std::ceil((max_x - min_x) / cell + 2) * std::ceil((max_y - min_y) / cell + 2);
   if (cells > static_cast<double>(int64_t{1} << 31)) {
     std::ostringstream msg;
     msg << "cell size " << cell << " would make " << cells << " cells (at most 2^31)";

@@ -41,7 +41,7 @@ struct ContourDemReport {
   int64_t lines = 0;
   int64_t contour_vertices = 0;  // distinct contour vertices in the triangulation
   int64_t steiner_points = 0;
-  int64_t rounds = 0;            // Steiner rounds run
+  int64_t rounds = 0;                // Steiner rounds run
   int64_t flat_triangles_found = 0;  // before repair
   int64_t flat_triangles_left = 0;   // after repair (0 unless a single level stands alone)
   int64_t triangles = 0;

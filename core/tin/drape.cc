@@ -23,7 +23,8 @@ struct Drape {
     mid.z = *z;
     if (!std::isfinite(mid.z))
       return Status::InvalidArgument("vertex " + std::to_string(vertex) + ": no elevation at " +
-                                     FormatPoint({mid.x, mid.y}) + " on the way to the next vertex");
+                                     FormatPoint({mid.x, mid.y}) +
+                                     " on the way to the next vertex");
     if (std::abs(mid.z - (a.z + b.z) / 2) <= options.tolerance) return Status::Ok();
     TB_RETURN_IF_ERROR(Refine(a, mid, vertex, depth + 1));
     out.push_back(mid);
@@ -53,7 +54,8 @@ Result<std::vector<TinVertex>> DrapePolyline(const std::vector<Point2>& points,
   const size_t segments = options.closed ? lifted.size() : lifted.size() - 1;
   for (size_t i = 0; i < lifted.size(); ++i) {
     drape.out.push_back(lifted[i]);
-    if (i < segments) TB_RETURN_IF_ERROR(drape.Refine(lifted[i], lifted[(i + 1) % lifted.size()], i, 0));
+    if (i < segments)
+      TB_RETURN_IF_ERROR(drape.Refine(lifted[i], lifted[(i + 1) % lifted.size()], i, 0));
   }
   return std::move(drape.out);
 }

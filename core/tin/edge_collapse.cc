@@ -133,8 +133,8 @@ class OutlinePlacement {
     if (!wanted || FansStayUnfolded(ctx_->mesh, profile, *wanted)) return wanted;
     const bool v0_first = CGAL::squared_distance(*wanted, profile.p0()) <=
                           CGAL::squared_distance(*wanted, profile.p1());
-    for (const Point3& end : {v0_first ? profile.p0() : profile.p1(),
-                              v0_first ? profile.p1() : profile.p0()}) {
+    for (const Point3& end :
+         {v0_first ? profile.p0() : profile.p1(), v0_first ? profile.p1() : profile.p0()}) {
       if (FansStayUnfolded(ctx_->mesh, profile, end)) return end;
     }
     return wanted;
@@ -220,8 +220,8 @@ class ShortFlatLowDegreeCost {
     const Point3& q = profile.p1();
     const double length = std::hypot(p.x() - q.x(), p.y() - q.y());
     const double slope = std::fabs(p.z() - q.z()) / mean_length_;
-    const double degrees = static_cast<double>(mesh_->degree(profile.v0()) +
-                                               mesh_->degree(profile.v1()));
+    const double degrees =
+        static_cast<double>(mesh_->degree(profile.v0()) + mesh_->degree(profile.v1()));
     return length * (1 + slope) * degrees / 12.0;
   }
 
@@ -274,8 +274,9 @@ Status BuildMesh(const Tin& input, Context* ctx) {
     if (mesh.add_face(VertexIndex(v[0]), VertexIndex(v[1]), VertexIndex(v[2])) ==
         Mesh::null_face()) {
       return Status::InvalidArgument(
-          where + ": the triangles do not form a manifold surface (an edge used twice in one "
-                  "direction or by three triangles, or a vertex where two fans meet)");
+          where +
+          ": the triangles do not form a manifold surface (an edge used twice in one "
+          "direction or by three triangles, or a vertex where two fans meet)");
     }
   }
   ctx->rank = mesh.add_property_map<VertexIndex, uint8_t>("v:tinbase_rank", kFree).first;
@@ -283,10 +284,9 @@ Status BuildMesh(const Tin& input, Context* ctx) {
       mesh.add_property_map<EdgeIndex, bool>("e:tinbase_constrained", false).first;
   for (size_t k = 0; k < input.constraints.size(); ++k) {
     const auto [a, b] = input.constraints[k];
-    const HalfedgeIndex h =
-        a < input.vertices.size() && b < input.vertices.size()
-            ? mesh.halfedge(VertexIndex(a), VertexIndex(b))
-            : Mesh::null_halfedge();
+    const HalfedgeIndex h = a < input.vertices.size() && b < input.vertices.size()
+                                ? mesh.halfedge(VertexIndex(a), VertexIndex(b))
+                                : Mesh::null_halfedge();
     if (h == Mesh::null_halfedge())
       return Status::InvalidArgument("constraint " + std::to_string(k) + ": not an edge");
     ctx->constrained_input[mesh.edge(h)] = true;
@@ -317,9 +317,8 @@ void RankBoundary(Context* ctx) {
     const Point3& p = mesh.point(mesh.source(in));
     const Point3& q = mesh.point(v);
     const Point3& r = mesh.point(mesh.target(mesh.next(in)));
-    const bool straight =
-        Orientation({p.x(), p.y()}, {q.x(), q.y()}, {r.x(), r.y()}) == 0 &&
-        (p.x() - q.x()) * (r.x() - q.x()) + (p.y() - q.y()) * (r.y() - q.y()) < 0;
+    const bool straight = Orientation({p.x(), p.y()}, {q.x(), q.y()}, {r.x(), r.y()}) == 0 &&
+                          (p.x() - q.x()) * (r.x() - q.x()) + (p.y() - q.y()) * (r.y() - q.y()) < 0;
     ctx->rank[v] = straight ? kOutline : kFixed;
   }
 }
@@ -393,15 +392,17 @@ void Collapse(Context* ctx, int64_t budget, const Cost& cost, const Placement& p
 
 const char* CollapseStrategyName(CollapseStrategy strategy) {
   switch (strategy) {
-    case CollapseStrategy::kGarlandHeckbert: return "quadric";
-    case CollapseStrategy::kShortFlatLowDegree: return "paper";
+    case CollapseStrategy::kGarlandHeckbert:
+      return "quadric";
+    case CollapseStrategy::kShortFlatLowDegree:
+      return "paper";
   }
   return "quadric";
 }
 
 bool ParseCollapseStrategy(const std::string& name, CollapseStrategy* strategy) {
-  for (CollapseStrategy s : {CollapseStrategy::kGarlandHeckbert,
-                             CollapseStrategy::kShortFlatLowDegree}) {
+  for (CollapseStrategy s :
+       {CollapseStrategy::kGarlandHeckbert, CollapseStrategy::kShortFlatLowDegree}) {
     if (name == CollapseStrategyName(s)) {
       *strategy = s;
       return true;

@@ -69,7 +69,6 @@ struct CollapseReport {
 // to a missing vertex or is not counter-clockwise in plan view, or triangles that do not form a
 // manifold surface ("triangle t: ..."). REQUIRES: finite coordinates.
 Result<Tin> CollapseToFaceBudget(const Tin& input, const CollapseOptions& options,
-                                 CollapseReport* report = nullptr,
-                                 const Grid* reference = nullptr);
+                                 CollapseReport* report = nullptr, const Grid* reference = nullptr);
 
 }  // namespace tinbase

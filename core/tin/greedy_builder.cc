@@ -275,8 +275,7 @@ void Measure(CellSource& dem, const Tin& tin, const std::vector<size_t>& order,
     sums = MeasureRows(dem, tin, order, 0, g.height - 1, seen);
   }
   report->max_error = sums.max_error;
-  report->rms_error =
-      sums.count > 0 ? std::sqrt(sums.sum_sq / static_cast<double>(sums.count)) : 0;
+  report->rms_error = sums.count > 0 ? std::sqrt(sums.sum_sq / static_cast<double>(sums.count)) : 0;
   report->points = static_cast<int64_t>(tin.vertices.size());
 }
 

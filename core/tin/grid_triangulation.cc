@@ -18,7 +18,8 @@ namespace {
 class SquareSet {
  public:
   explicit SquareSet(const Grid& grid)
-      : w_(grid.geometry.width - 1), h_(grid.geometry.height - 1),
+      : w_(grid.geometry.width - 1),
+        h_(grid.geometry.height - 1),
         kept_(static_cast<size_t>(std::max<int64_t>(0, w_) * std::max<int64_t>(0, h_)), false) {
     for (int64_t r = 0; r < h_; ++r) {
       for (int64_t c = 0; c < w_; ++c) {

@@ -9,8 +9,7 @@ namespace tinbase {
 namespace {
 
 // Liang-Barsky: does segment ab meet the closed box [x0, x1] x [y0, y1]?
-bool SegmentMeetsBox(const Point2& a, const Point2& b, double x0, double y0, double x1,
-                     double y1) {
+bool SegmentMeetsBox(const Point2& a, const Point2& b, double x0, double y0, double x1, double y1) {
   double t0 = 0, t1 = 1;
   const double dx = b.x - a.x, dy = b.y - a.y;
   const double p[4] = {-dx, dx, -dy, dy};

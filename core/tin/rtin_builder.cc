@@ -87,7 +87,8 @@ void RunBoth(bool parallel, const First& first, const Second& second) {
 // work(0) and work(1), as RunBoth.
 template <typename Work>
 void RunHalves(bool parallel, const Work& work) {
-  RunBoth(parallel, [&work] { work(0); }, [&work] { work(1); });
+  RunBoth(
+      parallel, [&work] { work(0); }, [&work] { work(1); });
 }
 
 // Every RTIN edge is axis-aligned or diagonal, so a vertex starts at most one half-edge in each
@@ -109,8 +110,8 @@ class RtinBuilder {
         width_(static_cast<int32_t>(dem.geometry.width)),
         height_(static_cast<int32_t>(dem.geometry.height)),
         tolerance_(tolerance),
-        has_nodata_(std::any_of(dem.cells.begin(), dem.cells.end(),
-                                [](float v) { return std::isnan(v); })),
+        has_nodata_(
+            std::any_of(dem.cells.begin(), dem.cells.end(), [](float v) { return std::isnan(v); })),
         elevation_(dem) {
     span_ = 1;
     while (span_ < std::max(width_, height_) - 1) span_ *= 2;
@@ -182,7 +183,8 @@ class RtinBuilder {
     const int32_t middle = span_ / 2;
     RunHalves(true, [&](int half) {
       ComputeLevels([&](int32_t reach) {
-        return half == 0 ? ColumnRange{0, middle - 1 - reach} : ColumnRange{middle + 1 + reach, all};
+        return half == 0 ? ColumnRange{0, middle - 1 - reach}
+                         : ColumnRange{middle + 1 + reach, all};
       });
     });
     ComputeLevels([&](int32_t reach) { return ColumnRange{middle - reach, middle + reach}; });
@@ -271,8 +273,7 @@ class RtinBuilder {
   // SetBorderDiamondError's rules where nothing is missing: the two triangles share the
   // hypotenuse, hence the deviation d of the DEM at its midpoint from their planes; a finest
   // triangle's own error is d itself (its other cells are its corners).
-  void SetInteriorDiamondError(Cell centre, const std::array<TreeTriangle, 2>& pair,
-                               bool finest) {
+  void SetInteriorDiamondError(Cell centre, const std::array<TreeTriangle, 2>& pair, bool finest) {
     const double z_mid = Height(centre);
     const double d = std::fabs((Height(pair[0].a) + Height(pair[0].b)) / 2 - z_mid);
     if (finest) {
@@ -478,8 +479,8 @@ class RtinBuilder {
   // Vertices in row order on one thread while the other allocates the triangles and the edge
   // slots, whose sizes pass 1 fixed.
   void AllocateAndNumberVertices(Tin& tin) {
-    const auto vertices = static_cast<size_t>(
-        std::count(vertex_used_.begin(), vertex_used_.end(), uint8_t{1}));
+    const auto vertices =
+        static_cast<size_t>(std::count(vertex_used_.begin(), vertex_used_.end(), uint8_t{1}));
     RunBoth(
         parallel_, [&] { NumberVertices(vertices, tin); },
         [&] {
@@ -510,9 +511,8 @@ class RtinBuilder {
     std::array<std::vector<EdgeSide>, 2> seam;
     RunHalves(parallel_, [&](int half) {
       auto index = static_cast<uint32_t>(half == 0 ? 0 : triangle_count_[0]);
-      ForEachOutputTriangle(half, [&](const TreeTriangle& t, int k) {
-        Emit(t, k, index++, tin, seam[half]);
-      });
+      ForEachOutputTriangle(
+          half, [&](const TreeTriangle& t, int k) { Emit(t, k, index++, tin, seam[half]); });
     });
     for (const auto& edges : seam) {
       for (const EdgeSide& e : edges) Pair(e, tin);
@@ -525,8 +525,7 @@ class RtinBuilder {
     uint32_t side;
   };
 
-  void Emit(const TreeTriangle& t, int k, uint32_t index, Tin& tin,
-            std::vector<EdgeSide>& seam) {
+  void Emit(const TreeTriangle& t, int k, uint32_t index, Tin& tin, std::vector<EdgeSide>& seam) {
     assert(int64_t{t.b.col - t.a.col} * (t.apex.row - t.a.row) -
                int64_t{t.apex.col - t.a.col} * (t.b.row - t.a.row) <
            0);
@@ -549,8 +548,8 @@ class RtinBuilder {
       // Edge i, opposite v[i], runs from corner i + 1 to corner i + 2.
       const int from = (i + 1) % 3, to = (i + 2) % 3;
       const EdgeSide e{EdgeSlot(tri.v[from], tri.v[to], directions[from]), (index << 2) | i};
-      const bool on_seam = corners[from].col == corners[from].row &&
-                           corners[to].col == corners[to].row;
+      const bool on_seam =
+          corners[from].col == corners[from].row && corners[to].col == corners[to].row;
       if (on_seam) {
         seam.push_back(e);
       } else {
@@ -586,12 +585,12 @@ class RtinBuilder {
   const double tolerance_;
   const bool has_nodata_;
   NodataElevation elevation_;
-  int32_t span_ = 1;               // 2^k >= max(width, height) - 1
-  int32_t side_ = 2;               // span_ + 1
-  bool parallel_ = false;          // the lattice is large enough for two threads to pay
-  bool padded_ = false;            // the grid is smaller than the lattice
-  std::unique_ptr<float[]> errors_;      // by diamond centre on the padded lattice
-  std::unique_ptr<float[]> own_bounds_;  // likewise: bounds on its own triangles' errors only
+  int32_t span_ = 1;                         // 2^k >= max(width, height) - 1
+  int32_t side_ = 2;                         // span_ + 1
+  bool parallel_ = false;                    // the lattice is large enough for two threads to pay
+  bool padded_ = false;                      // the grid is smaller than the lattice
+  std::unique_ptr<float[]> errors_;          // by diamond centre on the padded lattice
+  std::unique_ptr<float[]> own_bounds_;      // likewise: bounds on its own triangles' errors only
   std::array<int64_t, 2> triangle_count_{};  // output triangles by root
   std::vector<uint8_t> vertex_used_;         // by cell: 1 where a triangle has a corner
   std::unique_ptr<uint32_t[]> vertex_of_;    // by cell: its vertex, where used

@@ -178,8 +178,7 @@ size_t MinSeamVertices(const GridGeometry& g) {
 }
 
 std::optional<Cdt> RefineInHalves(const Grid& dem, double tolerance,
-                                  const BoundaryElevationFn& boundary_z,
-                                  size_t min_seam_vertices) {
+                                  const BoundaryElevationFn& boundary_z, size_t min_seam_vertices) {
   const GridGeometry& g = dem.geometry;
   const auto found = ShortestSeamNearBalance(dem, tolerance, boundary_z);
   const Seam& seam = found.first;

@@ -22,10 +22,10 @@ namespace tinbase {
 std::vector<float> RasteriseTin(const Tin& tin, const GridGeometry& geometry);
 
 struct TinGridError {
-  double max_error = 0;       // largest |TIN - DEM| over compared cells
-  double rms_error = 0;       // root mean square of TIN - DEM over compared cells
-  int64_t cells = 0;          // valid DEM cells covered by the TIN (compared)
-  int64_t uncovered = 0;      // valid DEM cells no triangle covers (not compared)
+  double max_error = 0;   // largest |TIN - DEM| over compared cells
+  double rms_error = 0;   // root mean square of TIN - DEM over compared cells
+  int64_t cells = 0;      // valid DEM cells covered by the TIN (compared)
+  int64_t uncovered = 0;  // valid DEM cells no triangle covers (not compared)
 };
 
 // |TIN - grid| at every valid cell centre of `grid`.

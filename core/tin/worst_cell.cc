@@ -67,15 +67,15 @@ template <typename Source>
 inline void ScanRows(Source& dem, const CellTriangle& t, const CellPlane& plane, int64_t row_min,
                      int64_t row_max, WorstCell* worst) {
   const GridGeometry& g = dem.geometry();
-  ForEachCellSpanInRows(
-      t, g.width, g.height, row_min, row_max, [&](int64_t row, int64_t first, int64_t last) {
-        for (int64_t col = first; col <= last;) {
-          int64_t end = last;
-          const float* cells = dem.Span(row, col, &end);
-          RaiseToRunWorst(plane, row, col, cells, end - col + 1, worst);
-          col = end + 1;
-        }
-      });
+  ForEachCellSpanInRows(t, g.width, g.height, row_min, row_max,
+                        [&](int64_t row, int64_t first, int64_t last) {
+                          for (int64_t col = first; col <= last;) {
+                            int64_t end = last;
+                            const float* cells = dem.Span(row, col, &end);
+                            RaiseToRunWorst(plane, row, col, cells, end - col + 1, worst);
+                            col = end + 1;
+                          }
+                        });
 }
 
 }  // namespace

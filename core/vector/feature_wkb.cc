@@ -55,8 +55,7 @@ std::vector<uint8_t> PolygonsToWkb(const std::vector<Polygon>& polygons) {
 
 Result<std::vector<Polygon>> PolygonsFromWkb(const std::vector<uint8_t>& wkb) {
   TB_ASSIGN_OR_RETURN(auto geometry, FromWkb(wkb));
-  std::unique_ptr<OGRGeometry> multi(
-      OGRGeometryFactory::forceToMultiPolygon(geometry.release()));
+  std::unique_ptr<OGRGeometry> multi(OGRGeometryFactory::forceToMultiPolygon(geometry.release()));
   if (multi == nullptr || wkbFlatten(multi->getGeometryType()) != wkbMultiPolygon)
     return Status::Corruption("feature geometry is not a polygon");
   std::vector<Polygon> out;

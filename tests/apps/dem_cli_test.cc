@@ -1,7 +1,7 @@
-// `tinbase dem info|clip|sample [--nearest] [--points]|import --keep-first` end to end on a real SRTM tile.
-#include <gtest/gtest.h>
-
+// `tinbase dem info|clip|sample [--nearest] [--points]|import --keep-first` end to end on a real
+// SRTM tile.
 #include <gdal_priv.h>
+#include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
@@ -78,9 +78,8 @@ TEST_F(DemCliTest, ClipWritesTheWindowCellForCell) {
   ASSERT_EQ(ds->GetRasterYSize(), window->geometry.height);
   std::vector<float> cells(static_cast<size_t>(window->geometry.CellCount()));
   ASSERT_EQ(ds->GetRasterBand(1)->RasterIO(GF_Read, 0, 0, ds->GetRasterXSize(),
-                                           ds->GetRasterYSize(), cells.data(),
-                                           ds->GetRasterXSize(), ds->GetRasterYSize(),
-                                           GDT_Float32, 0, 0),
+                                           ds->GetRasterYSize(), cells.data(), ds->GetRasterXSize(),
+                                           ds->GetRasterYSize(), GDT_Float32, 0, 0),
             CE_None);
   for (size_t i = 0; i < cells.size(); ++i) {
     if (!std::isnan(window->cells[i])) {
@@ -90,10 +89,10 @@ TEST_F(DemCliTest, ClipWritesTheWindowCellForCell) {
 
   // A large window with a small cell budget comes from an overview.
   const std::string coarse = dir_.Path("c.tif");
-  auto r = RunCli("dem clip " + Quote(store_) + " --bbox " + std::to_string(b[0].get<double>()) +
-                  "," + std::to_string(b[1].get<double>()) + "," +
-                  std::to_string(b[2].get<double>()) + "," + std::to_string(b[3].get<double>()) +
-                  " --max-cells 20000 -o " + Quote(coarse));
+  auto r =
+      RunCli("dem clip " + Quote(store_) + " --bbox " + std::to_string(b[0].get<double>()) + "," +
+             std::to_string(b[1].get<double>()) + "," + std::to_string(b[2].get<double>()) + "," +
+             std::to_string(b[3].get<double>()) + " --max-cells 20000 -o " + Quote(coarse));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(r.out.find("from level 0"), std::string::npos) << r.out;
   GDALDatasetUniquePtr small(GDALDataset::Open(coarse.c_str(), GDAL_OF_RASTER));

@@ -3,7 +3,6 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
-
 #include <nlohmann/json.hpp>
 
 #include "tests/support/cli_support.h"
@@ -64,8 +63,8 @@ TEST(PointsCli, DensityWindowThinsAndBadWindowsAreRefusedUnchanged) {
        {std::pair{"10", "no '/'"}, std::pair{"ten/150", "not a number"},
         std::pair{"10/0", "the area must be positive"}, std::pair{"10/15x", "area is not"},
         std::pair{"-1/150", "the count must be >= 0"}}) {
-    auto r = RunCli("points import " + Quote(store) + " " + las + " --surface bad --thin --density " +
-                    density);
+    auto r = RunCli("points import " + Quote(store) + " " + las +
+                    " --surface bad --thin --density " + density);
     EXPECT_NE(r.exit_code, 0) << density;
     EXPECT_NE(r.err.find(std::string("--density '") + density + "'"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find(expected), std::string::npos) << r.err;

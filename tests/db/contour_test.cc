@@ -1,13 +1,12 @@
 // dem from-contours in the store: GDAL's contours of a real DEM rebuilt into a blocked DEM that
 // matches the original, and every bad input refused with a message naming the thing and the
 // place, leaving the store exactly as it was.
-#include "db/contour_import.h"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <fstream>
 
+#include "db/contour_import.h"
 #include "db/dem_store.h"
 #include "tests/support/make_contours.h"
 #include "tests/support/read_grid.h"
@@ -116,11 +115,11 @@ TEST_F(ContourImportTest, RebuildsTheVinschgauDemFromItsContours) {
 }
 
 TEST_F(ContourImportTest, CrossingContoursNameBothFeaturesAndThePoint) {
-  const std::string path = WriteLines(
-      dir_, "crossing.geojson",
-      {{"[[600000,5170000],[601000,5171000]]", R"({"ELEV":1500})"},
-       {"[[600000,5171000],[600400,5170600],[601000,5170000]]", R"({"ELEV":1550})"},
-       {"[[602000,5170000],[603000,5170000]]", R"({"ELEV":1600})"}});
+  const std::string path =
+      WriteLines(dir_, "crossing.geojson",
+                 {{"[[600000,5170000],[601000,5171000]]", R"({"ELEV":1500})"},
+                  {"[[600000,5171000],[600400,5170600],[601000,5170000]]", R"({"ELEV":1550})"},
+                  {"[[602000,5170000],[603000,5170000]]", R"({"ELEV":1600})"}});
   ExpectRefused(path, "ELEV", "x", StatusCode::kInvalidArgument,
                 "crossing.geojson feature 0 (level 1500) and crossing.geojson feature 1 (level "
                 "1550) cross at (600500, 5170500)");

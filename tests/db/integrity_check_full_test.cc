@@ -6,12 +6,12 @@
 #include <fstream>
 #include <string>
 
+#include "core/tin/greedy_builder.h"
+#include "core/tin/split_refinement.h"
 #include "db/dem_store.h"
 #include "db/integrity_check.h"
 #include "db/polygon_editor.h"
 #include "db/surface_builder.h"
-#include "core/tin/greedy_builder.h"
-#include "core/tin/split_refinement.h"
 #include "tests/support/read_grid.h"
 #include "tests/support/test_support.h"
 #include "tests/support/tin_fixtures.h"

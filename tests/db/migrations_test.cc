@@ -65,7 +65,8 @@ TEST(Store, OlderStoreIsMigratedForward) {
   {
     auto db = Connection::Open(path, Connection::Mode::kCreate);
     ASSERT_TRUE(db.ok());
-    ASSERT_TRUE((*db)->Exec("PRAGMA application_id = " + std::to_string(kTinbaseApplicationId)).ok());
+    ASSERT_TRUE(
+        (*db)->Exec("PRAGMA application_id = " + std::to_string(kTinbaseApplicationId)).ok());
     ASSERT_TRUE(MigrateSqlite(**db, 1).ok());
     ASSERT_TRUE((*db)->Exec("INSERT INTO meta(key, value) VALUES ('note', 'kept')").ok());
   }
@@ -145,7 +146,10 @@ TEST(Store, ForeignFilesAreNotStores) {
   EXPECT_NE(a.status().message().find("not a tinbase store"), std::string::npos);
 
   const std::string other = dir.Path("other.sqlite");
-  { ASSERT_TRUE((*Connection::Open(other, Connection::Mode::kCreate))->Exec("CREATE TABLE t(x)").ok()); }
+  {
+    ASSERT_TRUE(
+        (*Connection::Open(other, Connection::Mode::kCreate))->Exec("CREATE TABLE t(x)").ok());
+  }
   auto b = Store::Open(other);
   ASSERT_FALSE(b.ok());
   EXPECT_NE(b.status().message().find("not a tinbase store"), std::string::npos);

@@ -386,8 +386,7 @@ std::vector<TriangleBatch> InBatches(const Tin& tin, const TriangleOrder& order,
         const int32_t n = tri.n[i];
         if (n == kNoNeighbour || static_cast<size_t>(n) < end) continue;
         tri.n[i] = kNoNeighbour;
-        batches[static_cast<size_t>(n) / size].links.push_back(
-            {static_cast<uint32_t>(t), i, n});
+        batches[static_cast<size_t>(n) / size].links.push_back({static_cast<uint32_t>(t), i, n});
       }
       batch.triangles.push_back(tri);
       batch.keys.push_back(order(tri));
@@ -454,8 +453,7 @@ TEST_F(SurfaceStoreTest, CreateWhileTriangulatingPassesErrorsOnAndChecksBatches)
                                     Tin sorted;
                                     auto batches = InBatches(tin, order, 2, &sorted);
                                     spoil(batches);
-                                    for (TriangleBatch& batch : batches)
-                                      finished(std::move(batch));
+                                    for (TriangleBatch& batch : batches) finished(std::move(batch));
                                     return Status::Ok();
                                   })
         .status();

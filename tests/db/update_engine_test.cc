@@ -772,8 +772,8 @@ TEST_F(UpdateEngineTest, EachLoadOverMuchOfTheSurfaceReadsItOnce) {
   const int per_ring = static_cast<int>(*triangles / (4 * kFeatures)) + 10;  // that many points
   std::vector<std::vector<PointList>> rings;
   for (int k = 0; k < kFeatures; ++k)
-    rings.push_back({Ngon(kCx + (k % 8 - 4) * 7 * kCell, kCy + (k / 8 - 2) * 7 * kCell,
-                          3 * kCell, per_ring)});
+    rings.push_back(
+        {Ngon(kCx + (k % 8 - 4) * 7 * kCell, kCy + (k / 8 - 2) * 7 * kCell, 3 * kCell, per_ring)});
   PolygonAddOptions o = EachFillOptions("forty.geojson", rings);
   auto report = AddVerifyingMesh(o);
   ASSERT_TRUE(report.ok()) << report.status().ToString();

@@ -37,8 +37,8 @@ inline Status MakeContours(const std::string& raster, const std::string& out, do
   GDALRasterBandH band = GDALGetRasterBand(src, 1);
   int has_nodata = 0;
   const double nodata = GDALGetRasterNoDataValue(band, &has_nodata);
-  const CPLErr err = GDALContourGenerate(band, interval, 0.0, 0, nullptr, has_nodata, nodata,
-                                         layer, 0, 1, nullptr, nullptr);
+  const CPLErr err = GDALContourGenerate(band, interval, 0.0, 0, nullptr, has_nodata, nodata, layer,
+                                         0, 1, nullptr, nullptr);
   GDALClose(dst);
   GDALClose(src);
   if (err != CE_None) return Status::IOError(out + ": contour generation failed");

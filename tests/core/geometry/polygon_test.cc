@@ -81,7 +81,8 @@ TEST(LocateInRing, TellsInsideBoundaryAndOutside) {
   EXPECT_EQ(LocateInRing(ring, {3, 3}), PointInPolygon::kBoundary);  // on an edge
   EXPECT_EQ(LocateInRing(ring, {2, 0}), PointInPolygon::kBoundary);  // horizontal edge
   EXPECT_EQ(LocateInRing(ring, {5, 0}), PointInPolygon::kOutside);   // on the edge's line, beyond
-  EXPECT_EQ(LocateInRing(ring, {-1, 2}), PointInPolygon::kOutside);  // ray through the vertex (2, 2)
+  EXPECT_EQ(LocateInRing(ring, {-1, 2}),
+            PointInPolygon::kOutside);  // ray through the vertex (2, 2)
   EXPECT_EQ(LocateInRing(ring, {1, 2}), PointInPolygon::kInside);
 }
 
@@ -124,7 +125,8 @@ RC_GTEST_PROP(PolygonLocator, AgreesWithTheLinearScanAndGeos, ()) {
       RC_ASSERT(got == LocateInRing(polygon->shell, p));
       OGRPoint point(p.x, p.y);
       RC_ASSERT((got == PointInPolygon::kInside) == ogr.Contains(&point));
-      RC_ASSERT((got == PointInPolygon::kBoundary) == (point.Intersects(&ogr) && !ogr.Contains(&point)));
+      RC_ASSERT((got == PointInPolygon::kBoundary) ==
+                (point.Intersects(&ogr) && !ogr.Contains(&point)));
     }
   }
 }

@@ -10,8 +10,8 @@
 #include <fstream>
 #include <iostream>
 #include <iterator>
-#include <random>
 #include <map>
+#include <random>
 #include <vector>
 
 #include "core/geometry/reproject.h"
@@ -235,8 +235,9 @@ TEST_F(BrokenLas, UnknownPointFormat) {
   EXPECT_TRUE(Says(Read("format.las"), "unknown point data format 11"));
 }
 
-const char kLazAdvice[] = "is LAZ (compressed); tinbase reads uncompressed LAS: decompress it "
-                          "with laszip or pdal translate first";
+const char kLazAdvice[] =
+    "is LAZ (compressed); tinbase reads uncompressed LAS: decompress it "
+    "with laszip or pdal translate first";
 
 TEST_F(BrokenLas, CompressedFormatBit) {
   Put<uint8_t>(bytes_, 104, 1 | 0x80);

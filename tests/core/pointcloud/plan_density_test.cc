@@ -31,8 +31,7 @@ TEST(PlanDensity, MatchesBruteForceOnRandomCloudsFarFromTheOrigin) {
       points.push_back({500000 + coord(rng), 6200000 + coord(rng), z(rng), VertexKind::kLidar});
     }
     for (int i = 0; i < 500; ++i) {  // a dense patch, as where two passes overlap
-      points.push_back(
-          {500100 + cluster(rng), 6200050 + cluster(rng), z(rng), VertexKind::kLidar});
+      points.push_back({500100 + cluster(rng), 6200050 + cluster(rng), z(rng), VertexKind::kLidar});
     }
     for (double radius : {0.5, 2.0, 7.0, 40.0}) {
       EXPECT_EQ(CountPointsWithinPlanRadius(points, radius), BruteForceCounts(points, radius))
@@ -45,7 +44,8 @@ TEST(PlanDensity, PointsExactlyAtTheRadiusCount) {
   // A unit grid: an inner point has itself and its four edge neighbours at distance exactly 1.
   std::vector<TinVertex> grid;
   for (int i = 0; i < 5; ++i) {
-    for (int j = 0; j < 5; ++j) grid.push_back({300000.0 + i, 4000000.0 + j, 0, VertexKind::kLidar});
+    for (int j = 0; j < 5; ++j)
+      grid.push_back({300000.0 + i, 4000000.0 + j, 0, VertexKind::kLidar});
   }
   const std::vector<uint32_t> counts = CountPointsWithinPlanRadius(grid, 1.0);
   EXPECT_EQ(counts[2 * 5 + 2], 5u);  // centre

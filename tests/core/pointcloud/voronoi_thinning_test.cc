@@ -5,8 +5,8 @@
 #include "core/pointcloud/voronoi_thinning.h"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/convex_hull_2.h>
 #include <CGAL/Polygon_2_algorithms.h>
+#include <CGAL/convex_hull_2.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -239,9 +239,8 @@ TEST(VoronoiThinning, DensityWindowFindsTheClusterAndCountsPointsNotCells) {
 }
 
 TEST(VoronoiThinning, BadDensityWindowIsRejected) {
-  const std::vector<TinVertex> points = {{0, 0, 0, VertexKind::kLidar},
-                                         {1, 0, 0, VertexKind::kLidar},
-                                         {0, 1, 0, VertexKind::kLidar}};
+  const std::vector<TinVertex> points = {
+      {0, 0, 0, VertexKind::kLidar}, {1, 0, 0, VertexKind::kLidar}, {0, 1, 0, VertexKind::kLidar}};
   ThinningOptions o;
   o.window = DensityWindow{10, 0};
   EXPECT_EQ(ThinByVoronoiDensity(points, o).status().message(),
@@ -269,8 +268,7 @@ TEST(VoronoiThinning, HullPointsAreNeverDropped) {
   EXPECT_GT(r->report.passes_run, 1);
   EXPECT_LT(r->report.kept, points.size() / 4) << "six passes over a flat cloud thin it hard";
   // Flat input: the thinned TIN is exact at every dropped point however many passes ran.
-  EXPECT_NEAR(WorstInterpolationError(TinOf(points, r->kept), Pick(points, r->dropped)), 0,
-              1e-9);
+  EXPECT_NEAR(WorstInterpolationError(TinOf(points, r->kept), Pick(points, r->dropped)), 0, 1e-9);
 }
 
 TEST(VoronoiThinning, MorePassesDropMore) {
@@ -293,7 +291,8 @@ TEST(VoronoiThinning, MeanTestAcceptsWhatAllNeighboursRejects) {
   std::mt19937 rng(9);
   const auto points = SparseWithCluster(
       [](double x, double y) {
-        const int parity = (static_cast<int>(std::lround(x)) + static_cast<int>(std::lround(y))) & 1;
+        const int parity =
+            (static_cast<int>(std::lround(x)) + static_cast<int>(std::lround(y))) & 1;
         return 10 + (parity ? 0.1 : -0.1);
       },
       rng);
@@ -380,10 +379,10 @@ TEST(VoronoiThinning, PaperExperimentOnAutzenGround) {
 
   // Square windows on a 20 ft lattice, each grown until it holds 590 points; keep the one with
   // the least relief.
-  const auto [xlo, xhi] = std::minmax_element(ground.begin(), ground.end(),
-                                              [](auto& a, auto& b) { return a.x < b.x; });
-  const auto [ylo, yhi] = std::minmax_element(ground.begin(), ground.end(),
-                                              [](auto& a, auto& b) { return a.y < b.y; });
+  const auto [xlo, xhi] =
+      std::minmax_element(ground.begin(), ground.end(), [](auto& a, auto& b) { return a.x < b.x; });
+  const auto [ylo, yhi] =
+      std::minmax_element(ground.begin(), ground.end(), [](auto& a, auto& b) { return a.y < b.y; });
   std::vector<TinVertex> best;
   double best_relief = INFINITY;
   for (double cx = xlo->x + 60; cx < xhi->x - 60; cx += 20) {

@@ -150,7 +150,8 @@ TEST(ContourDem, VinschgauRoundTripThroughGdalContours) {
   ASSERT_TRUE(features.ok()) << features.status().ToString();
   std::vector<ContourLine> lines;
   for (const LineFeature& f : *features) {
-    for (const auto& part : f.lines) lines.push_back({f.label, f.attributes["ELEV"].get<double>(), part});
+    for (const auto& part : f.lines)
+      lines.push_back({f.label, f.attributes["ELEV"].get<double>(), part});
   }
   auto original = testing::ReadGridWithGdal(source);
   ASSERT_TRUE(original.ok());
@@ -168,8 +169,8 @@ TEST(ContourDem, VinschgauRoundTripThroughGdalContours) {
   for (int64_t r = 0; r < grid->geometry.height; ++r) {
     for (int64_t c = 0; c < grid->geometry.width; ++c) {
       if (!grid->IsValid(c, r)) continue;
-      const double want = original->SampleBilinear(grid->geometry.CellCenterX(c),
-                                                   grid->geometry.CellCenterY(r));
+      const double want =
+          original->SampleBilinear(grid->geometry.CellCenterX(c), grid->geometry.CellCenterY(r));
       if (std::isnan(want)) continue;
       const double d = grid->At(c, r) - want;
       sum_sq += d * d;
@@ -178,9 +179,9 @@ TEST(ContourDem, VinschgauRoundTripThroughGdalContours) {
     }
   }
   const double rms = std::sqrt(sum_sq / static_cast<double>(compared));
-  std::cout << "Vinschgau from 50 m contours: " << compared << " cells, RMS " << rms
-            << " m, max " << max_diff << " m, " << report.steiner_points << " Steiner points in "
-            << report.rounds << " rounds\n";
+  std::cout << "Vinschgau from 50 m contours: " << compared << " cells, RMS " << rms << " m, max "
+            << max_diff << " m, " << report.steiner_points << " Steiner points in " << report.rounds
+            << " rounds\n";
   EXPECT_GT(compared, 35000);
   // Bounds: the RMS stays below a quarter of the 50 m interval and no cell is off by two
   // intervals (the contours pin the surface to within one interval wherever they are dense).

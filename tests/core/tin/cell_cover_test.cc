@@ -46,9 +46,8 @@ TEST(HoldsCellCentreTest, TheMarginAdmitsACentreTheTriangleDoesNotHold) {
   ASSERT_EQ(g.CellCenterX(0), 5.0);
   ASSERT_EQ(g.CellCenterY(2), 15.0);
   bool spanned = false;
-  ForEachCellSpan(ToCellSpace(g, a, b, c), 4, 4, [&](int64_t row, int64_t first, int64_t) {
-    spanned |= row == 2 && first == 0;
-  });
+  ForEachCellSpan(ToCellSpace(g, a, b, c), 4, 4,
+                  [&](int64_t row, int64_t first, int64_t) { spanned |= row == 2 && first == 0; });
   EXPECT_TRUE(spanned);
   EXPECT_FALSE(HoldsCellCentre(g, a, b, c, 0, 2));
   EXPECT_TRUE(HoldsCellCentre(g, a, b, c, 1, 2));

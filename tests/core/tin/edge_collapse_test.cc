@@ -197,8 +197,8 @@ TEST(EdgeCollapse, SrtmWindowToThePapersBudgets) {
   double previous_rms = std::numeric_limits<double>::infinity();
   for (int64_t budget : {60, 6000, 12000}) {
     CollapseReport report;
-    auto out = CollapseToFaceBudget(input, {budget, CollapseStrategy::kGarlandHeckbert}, &report,
-                                    &grid);
+    auto out =
+        CollapseToFaceBudget(input, {budget, CollapseStrategy::kGarlandHeckbert}, &report, &grid);
     ASSERT_TRUE(out.ok()) << out.status().ToString();
     ExpectValidCollapse(input, *out, report, budget);
     EXPECT_LT(report.rms_error, previous_rms);
@@ -242,8 +242,7 @@ TEST(EdgeCollapse, NodataHoleKeepsItsOutline) {
   }
   const Tin input = GridTriangulation(grid);
   CollapseReport report;
-  auto out = CollapseToFaceBudget(input, {300, CollapseStrategy::kGarlandHeckbert}, &report,
-                                  &grid);
+  auto out = CollapseToFaceBudget(input, {300, CollapseStrategy::kGarlandHeckbert}, &report, &grid);
   ASSERT_TRUE(out.ok()) << out.status().ToString();
   ExpectValidCollapse(input, *out, report, 300);
   EXPECT_EQ(report.cells_compared, static_cast<int64_t>(50 * 40 - 7 * 11));
@@ -296,12 +295,12 @@ TEST(EdgeCollapse, RejectsBadInput) {
 // the same domain; the budget is met or the report says it was not. RapidCheck prints the seed.
 RC_GTEST_PROP(EdgeCollapseProperty, AnyBudgetKeepsAValidTilingOfTheDomain, ()) {
   const auto seed = *rc::gen::arbitrary<uint32_t>();
-  const Tin input = testing::PerturbedGridTin(*rc::gen::inRange(2, 24), *rc::gen::inRange(2, 24),
-                                              seed, 30, 0.5);
+  const Tin input =
+      testing::PerturbedGridTin(*rc::gen::inRange(2, 24), *rc::gen::inRange(2, 24), seed, 30, 0.5);
   const int64_t faces = static_cast<int64_t>(input.triangles.size());
   const int64_t budget = *rc::gen::inRange<int64_t>(2, faces + 2);
-  const CollapseStrategy strategy = *rc::gen::element(CollapseStrategy::kGarlandHeckbert,
-                                                      CollapseStrategy::kShortFlatLowDegree);
+  const CollapseStrategy strategy =
+      *rc::gen::element(CollapseStrategy::kGarlandHeckbert, CollapseStrategy::kShortFlatLowDegree);
   CollapseReport report;
   auto out = CollapseToFaceBudget(input, {budget, strategy}, &report);
   RC_ASSERT(out.ok());

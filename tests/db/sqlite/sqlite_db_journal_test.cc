@@ -1,7 +1,8 @@
-// SqliteConnection's journals through SQLite's own VFS: in WAL mode every committed byte is with the OS
-// when COMMIT returns (another connection sees each commit at once, a process killed right after
-// its commits loses none of them), a transaction that spilled frames and rolled back leaves the
-// log consistent, and a statement journal larger than SqliteConnection keeps in memory spills to a file.
+// SqliteConnection's journals through SQLite's own VFS: in WAL mode every committed byte is with
+// the OS when COMMIT returns (another connection sees each commit at once, a process killed right
+// after its commits loses none of them), a transaction that spilled frames and rolled back leaves
+// the log consistent, and a statement journal larger than SqliteConnection keeps in memory spills
+// to a file.
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sqlite3.h>
@@ -140,8 +141,8 @@ TEST(SqliteDbJournalTest, SpilledFramesOfARolledBackTransactionLeaveTheLogConsis
   EXPECT_EQ(after.Int("SELECT count(*) FROM t"), 24 * kRowsPerCommit);
 }
 
-// A statement journal far larger than what SqliteConnection keeps in memory spills to a temporary file
-// without failing: SQLite writes the spill one in-memory chunk a call, and the unix VFS would
+// A statement journal far larger than what SqliteConnection keeps in memory spills to a temporary
+// file without failing: SQLite writes the spill one in-memory chunk a call, and the unix VFS would
 // write at most 128 KiB - 1 bytes of a larger chunk and report a full disk.
 TEST(SqliteDbJournalTest, AStatementJournalLargerThanTheInMemoryLimitSpills) {
   TempDir dir;
