@@ -65,6 +65,7 @@ struct TriangleRecord {
   std::array<std::optional<TriangleKey>, 3> neighbours;
   bool visible;
   std::string tag;
+  // NOLINTNEXTLINE(modernize-use-nullptr): clang-tidy 14 misreads the synthesized comparison.
   auto operator<=>(const TriangleRecord&) const = default;
 };
 

@@ -749,9 +749,10 @@ TEST_F(UpdateEngineTest, EachForgetsTheFeatureOfAFailedTransaction) {
 // compares every kept row with the store before using it.
 TEST_F(UpdateEngineTest, EachKeepsTheMeshRowsBetweenTransactions) {
   std::vector<std::vector<PointList>> rings;
-  for (int k = 0; k < 8; ++k)
-    rings.push_back(
-        {Ngon(kCx + (k % 4) * 3 * kCell, kCy + (k / 4) * 3 * kCell, 4 * kCell, 13 + k)});
+  for (int k = 0; k < 8; ++k) {
+    const int column = k % 4, row = k / 4;  // a 4 x 2 array of polygons
+    rings.push_back({Ngon(kCx + column * 3 * kCell, kCy + row * 3 * kCell, 4 * kCell, 13 + k)});
+  }
   PolygonAddOptions o = EachFillOptions("eight.geojson", rings);
   auto report = AddVerifyingMesh(o);
   ASSERT_TRUE(report.ok()) << report.status().ToString();
@@ -771,9 +772,10 @@ TEST_F(UpdateEngineTest, EachLoadOverMuchOfTheSurfaceReadsItOnce) {
   constexpr int kFeatures = 40;
   const int per_ring = static_cast<int>(*triangles / (4 * kFeatures)) + 10;  // that many points
   std::vector<std::vector<PointList>> rings;
-  for (int k = 0; k < kFeatures; ++k)
-    rings.push_back(
-        {Ngon(kCx + (k % 8 - 4) * 7 * kCell, kCy + (k / 8 - 2) * 7 * kCell, 3 * kCell, per_ring)});
+  for (int k = 0; k < kFeatures; ++k) {
+    const int column = k % 8 - 4, row = k / 8 - 2;  // an 8 x 5 array of polygons
+    rings.push_back({Ngon(kCx + column * 7 * kCell, kCy + row * 7 * kCell, 3 * kCell, per_ring)});
+  }
   PolygonAddOptions o = EachFillOptions("forty.geojson", rings);
   auto report = AddVerifyingMesh(o);
   ASSERT_TRUE(report.ok()) << report.status().ToString();

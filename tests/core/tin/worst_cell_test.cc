@@ -25,10 +25,11 @@ using testing::Sines;
 Grid TerrainWithHoles(int64_t width, int64_t height) {
   Grid grid = MakeGrid(width, height, [](double x, double y) { return std::round(Sines(x, y)); });
   const float nan = std::numeric_limits<float>::quiet_NaN();
+  const int64_t hole_column = width / 3, hole_row = height / 2;
   for (int64_t r = 0; r < height; ++r) {
     for (int64_t c = 0; c < width; ++c) {
-      const double dc = static_cast<double>(c - width / 3),
-                   dr = static_cast<double>(r - height / 2);
+      const double dc = static_cast<double>(c - hole_column),
+                   dr = static_cast<double>(r - hole_row);
       if (dc * dc + dr * dr < 40 || (r % 5 == 0 && c % 13 == 0))
         grid.cells[static_cast<size_t>(r * width + c)] = nan;
     }
