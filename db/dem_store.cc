@@ -1,5 +1,7 @@
 #include "db/dem_store.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -11,7 +13,6 @@
 #include <random>
 #include <set>
 #include <span>
-#include <thread>
 
 #include "core/raster/bilinear.h"
 #include "core/raster/block_codec.h"
@@ -938,18 +939,13 @@ Status DemStore::Impl::LoadCells(const DemInfo& dem, int level, std::span<Stored
     misses.push_back(std::move(miss));
   }
   const size_t cells = static_cast<size_t>(dem.block_size) * dem.block_size;
-  const auto decode = [&](size_t first) {
-    for (size_t i = first; i < misses.size(); i += 2) {
-      auto out = std::make_shared<std::vector<float>>(cells);
-      misses[i].status = DecodeBlockInto(misses[i].codec, misses[i].bytes, *out);
-      misses[i].block->cells = std::move(out);
-    }
-  };
-  // Decoding dominates a cold read: the second core takes every other block.
-  std::thread helper;
-  if (misses.size() >= 2) helper = std::thread(decode, 1);
-  decode(0);
-  if (helper.joinable()) helper.join();
+  // Decoding dominates a cold read: the blocks are decoded in parallel, each into its own
+  // buffer, so the result does not depend on the thread count.
+  tbb::parallel_for(size_t{0}, misses.size(), [&](size_t i) {
+    auto out = std::make_shared<std::vector<float>>(cells);
+    misses[i].status = DecodeBlockInto(misses[i].codec, misses[i].bytes, *out);
+    misses[i].block->cells = std::move(out);
+  });
   for (size_t i = 0; i < misses.size(); ++i) {
     StoredBlock& block = *misses[i].block;
     if (!misses[i].status.ok())
