@@ -91,6 +91,7 @@ int main(int argc, char** argv) {
   tinbase::cli::RegisterPolygonCommands(app, &exit_code);
   tinbase::cli::RegisterPointsCommands(app, &exit_code);
   tinbase::cli::RegisterDemoCommand(app, &exit_code);
+  tinbase::cli::RegisterMeasureCommands(app, &exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
