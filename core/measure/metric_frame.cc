@@ -11,6 +11,13 @@
 
 namespace tinbase {
 
+MetricFrame::MetricFrame(double xy, double z, std::optional<Ellipsoid> e)
+    : xy_metres_(xy), z_metres_(z), ellipsoid_(e) {
+  if (!e) return;
+  earth_ = std::make_shared<const GeographicLib::Geocentric>(e->a, e->f);
+  geodesic_ = std::make_shared<const GeographicLib::Geodesic>(e->a, e->f);
+}
+
 MetricFrame MetricFrame::Projected(double metres_per_unit, double z_metres_per_unit) {
   return MetricFrame(metres_per_unit, z_metres_per_unit, std::nullopt);
 }
@@ -28,11 +35,10 @@ std::array<Vec3, 3> MetricFrame::Local(const std::array<Vec3, 3>& c) const {
     }
     return out;
   }
-  const GeographicLib::Geocentric earth(ellipsoid_->a, ellipsoid_->f);
   // Plan positions on the tangent plane at corner 0, heights as heights: taking ENU's own up
   // axis would tilt every triangle by its distance from corner 0 over the earth's radius (the
   // curvature drop), which shows in the slope of gentle ground.
-  const GeographicLib::LocalCartesian enu(c[0].y, c[0].x, 0, earth);
+  const GeographicLib::LocalCartesian enu(c[0].y, c[0].x, 0, *earth_);
   for (int i = 0; i < 3; ++i) {
     double up = 0;
     enu.Forward(c[i].y, c[i].x, 0, out[i].x, out[i].y, up);
@@ -47,8 +53,7 @@ double MetricFrame::PlanArea(const std::array<Vec3, 3>& c) const {
         (c[1].x - c[0].x) * (c[2].y - c[0].y) - (c[1].y - c[0].y) * (c[2].x - c[0].x);
     return 0.5 * std::abs(cross) * xy_metres_ * xy_metres_;
   }
-  const GeographicLib::Geodesic geodesic(ellipsoid_->a, ellipsoid_->f);
-  GeographicLib::PolygonArea polygon(geodesic);
+  GeographicLib::PolygonArea polygon(*geodesic_);
   for (const Vec3& p : c) polygon.AddPoint(p.y, p.x);
   double perimeter = 0;
   double area = 0;

@@ -15,10 +15,16 @@
 #pragma once
 
 #include <array>
+#include <memory>
 #include <optional>
 
 #include "core/base/status.h"
 #include "core/geometry/crs.h"
+
+namespace GeographicLib {
+class Geocentric;
+class Geodesic;
+}  // namespace GeographicLib
 
 namespace tinbase {
 
@@ -54,11 +60,13 @@ class MetricFrame {
   double PlanArea(const std::array<Vec3, 3>& corners) const;
 
  private:
-  MetricFrame(double xy, double z, std::optional<Ellipsoid> e)
-      : xy_metres_(xy), z_metres_(z), ellipsoid_(e) {}
+  MetricFrame(double xy, double z, std::optional<Ellipsoid> e);
   double xy_metres_ = 1;
   double z_metres_ = 1;
   std::optional<Ellipsoid> ellipsoid_;
+  // Built once per frame: their constructors expand series in the flattening.
+  std::shared_ptr<const GeographicLib::Geocentric> earth_;
+  std::shared_ptr<const GeographicLib::Geodesic> geodesic_;
 };
 
 // The frame of a store's CRS: geographic on its ellipsoid, or projected in its linear unit; the

@@ -4,6 +4,8 @@
 // each bad input rejected with one line, no output file and the store unchanged.
 #include <gtest/gtest.h>
 
+#include <GeographicLib/Geodesic.hpp>
+#include <GeographicLib/PolygonArea.hpp>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -87,6 +89,7 @@ class MeasureCliTest : public ::testing::Test {
     s_ = Quote(store_);
   }
 
+ public:
   static void Add(Store& store, const std::string& name, const Tin& tin) {
     auto tx = store.BeginWrite();
     ASSERT_TRUE(tx.ok());
@@ -98,6 +101,7 @@ class MeasureCliTest : public ::testing::Test {
     ASSERT_TRUE((*tx)->Commit().ok());
   }
 
+ protected:
   TempDir dir_;
   std::string store_;
   std::string s_;
@@ -282,6 +286,48 @@ TEST_F(MeasureCliTest, ContoursBadInputLeavesNoFile) {
   for (const auto& entry : std::filesystem::directory_iterator(dir_.dir())) {
     const std::string file = entry.path().filename().string();
     EXPECT_TRUE(file.rfind("m.tinbase", 0) == 0) << "left behind: " << file;
+  }
+}
+
+// A store in longitude / latitude (EPSG:4326): plan areas are geodesic on WGS 84. The grid's
+// triangles have geodesic edges, so their areas add up to the geodesic polygon through the
+// grid's boundary vertices, which GeographicLib computes here directly. A surface rising 1 m
+// per 100 m northwards has slope atan(0.01) facing south.
+TEST(MeasureCliGeographicTest, AreasAreGeodesic) {
+  TempDir dir;
+  const std::string store = dir.Path("g.tinbase");
+  const int n = 4;
+  const double lon0 = 10, lat0 = 45, step = 0.0025;
+  const double metres_per_degree_lat = 111132.0;  // near 45 N; the slope is checked loosely
+  {
+    auto s = Store::Create(store, "EPSG:4326");
+    ASSERT_TRUE(s.ok()) << s.status().ToString();
+    MeasureCliTest::Add(**s, "g",
+                        testing::GridTin(n, n, lon0, lat0, lon0 + n * step, lat0 + n * step,
+                                         [&](double, double lat) {
+                                           return (lat - lat0) * metres_per_degree_lat / 100;
+                                         }));
+  }
+  const GeographicLib::Geodesic& wgs84 = GeographicLib::Geodesic::WGS84();
+  GeographicLib::PolygonArea boundary(wgs84);
+  for (int i = 0; i < n; ++i) boundary.AddPoint(lat0, lon0 + i * step);
+  for (int j = 0; j < n; ++j) boundary.AddPoint(lat0 + j * step, lon0 + n * step);
+  for (int i = n; i > 0; --i) boundary.AddPoint(lat0 + n * step, lon0 + i * step);
+  for (int j = n; j > 0; --j) boundary.AddPoint(lat0 + j * step, lon0);
+  double perimeter = 0, want = 0;
+  boundary.Compute(false, true, perimeter, want);
+  const auto j = Json(RunCli("measure area --json " + Quote(store) + " --surface g"));
+  EXPECT_EQ(j["plan_area"], "geodesic");
+  EXPECT_NEAR(j["total"]["plan_m2"].get<double>(), want, 1e-9 * want);
+  EXPECT_NEAR(j["total"]["surface_m2"].get<double>(), want * std::sqrt(1 + 1e-4), 1e-4 * want);
+  CliResult slope = RunCli("measure slope --json " + Quote(store) + " --surface g");
+  ASSERT_EQ(slope.exit_code, 0) << slope.err;
+  std::istringstream lines(slope.out);
+  std::string line;
+  while (std::getline(lines, line)) {
+    const auto t = nlohmann::json::parse(line);
+    EXPECT_NEAR(t["slope_deg"].get<double>(), std::atan(0.01) * 180 / M_PI, 2e-3);
+    EXPECT_NEAR(t["aspect_deg"].get<double>(), 180, 0.5);
   }
 }
 

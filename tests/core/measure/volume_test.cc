@@ -5,12 +5,14 @@
 #include "core/measure/volume.h"
 
 #include <gtest/gtest.h>
+#include <rapidcheck/gtest.h>
 
 #include <cmath>
 #include <limits>
 #include <numbers>
 
 #include "tests/core/measure/analytic_tins.h"
+#include "tests/support/tin_fixtures.h"
 
 namespace tinbase {
 namespace {
@@ -175,6 +177,41 @@ TEST(VolumeTest, SurfacesThatDoNotOverlapAreAnError) {
   for (TinTriangle& t : hidden.triangles) t.visible = false;
   EXPECT_FALSE(VolumeBetween(a, hidden, kMetres).ok());
   EXPECT_FALSE(VolumeAgainstLevel(hidden, 0, kMetres).ok());
+}
+
+// The signed volume of a surface over a region, from VolumeAgainstLevel.
+double Integral(const Tin& tin, const PlanRegion* region) {
+  auto v = VolumeAgainstLevel(tin, 0, kMetres, region);
+  RC_ASSERT(v.ok());
+  return v->split.above_volume - v->split.below_volume;
+}
+
+// Two differently triangulated, randomly perturbed grids over the same 600 m square, the second
+// raised by a random offset: fill - cut between them is the difference of their own integrals
+// (over the square, and inside a random rectangle), so the overlay loses and doubles nothing.
+RC_GTEST_PROP(VolumeProperty, BetweenIsTheDifferenceOfIntegrals, ()) {
+  const auto seed = *rc::gen::arbitrary<uint32_t>();
+  Tin a = testing::PerturbedGridTin(31, 31, seed, 20, 0.3);
+  Tin b = testing::PerturbedGridTin(21, 21, seed + 1, 30, 0.3);
+  const double offset = *rc::gen::inRange(-50, 50);
+  for (TinVertex& v : b.vertices) v.z += offset;
+  auto v = VolumeBetween(a, b, kMetres);
+  RC_ASSERT(v.ok());
+  RC_ASSERT(std::abs(v->plan_area - 360000) < 1e-6);
+  const double want = Integral(b, nullptr) - Integral(a, nullptr);
+  const double net = v->split.above_volume - v->split.below_volume;
+  RC_ASSERT(std::abs(net - want) <= 1e-9 * (v->split.above_volume + v->split.below_volume) + 1e-6);
+  const double x0 = 600000 + *rc::gen::inRange(0, 300), y0 = 5100000 + *rc::gen::inRange(0, 300);
+  const double w = *rc::gen::inRange(1, 300), h = *rc::gen::inRange(1, 300);
+  auto region = PlanRegion::FromPolygons({Square(x0, y0, x0 + w, y0 + h)});
+  RC_ASSERT(region.ok());
+  auto inside = VolumeBetween(a, b, kMetres, &*region);
+  RC_ASSERT(inside.ok());
+  RC_ASSERT(std::abs(inside->plan_area - w * h) < 1e-6);
+  const double want_inside = Integral(b, &*region) - Integral(a, &*region);
+  const double net_inside = inside->split.above_volume - inside->split.below_volume;
+  RC_ASSERT(std::abs(net_inside - want_inside) <=
+            1e-9 * (inside->split.above_volume + inside->split.below_volume) + 1e-6);
 }
 
 TEST(PlanRegionTest, NoPolygonIsAnError) {
