@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <cstdio>
 #include <limits>
@@ -35,91 +36,76 @@ Point2 Crossing(const Tin& tin, uint32_t a, uint32_t b, double level) {
   return {p.x + (q.x - p.x) * f, p.y + (q.y - p.y) * f};
 }
 
-// The segments of one level: from -> to by crossed edge.
-struct LevelSegments {
-  std::unordered_map<uint64_t, uint64_t> next;  // edge where a segment starts -> where it ends
-  std::unordered_map<uint64_t, uint64_t> prev;
-  std::unordered_map<uint64_t, Point2> point;
+// One triangle's piece of one level's line: from the crossing on edge `from` to the one on
+// edge `to` (edge keys), with their points.
+struct Segment {
+  int64_t k = 0;  // the level is base + k * interval
+  uint64_t from = 0, to = 0;
+  Point2 p, q;
 };
 
-LevelSegments Segments(const Tin& tin, const std::vector<uint32_t>& triangles, double level) {
-  LevelSegments s;
-  for (uint32_t index : triangles) {
-    const TinTriangle& t = tin.triangles[index];
-    // Edge i runs from v[i] to v[i+1] (counter-clockwise). Going round, the edge from below to
-    // above has the low ground on its start side; the segment runs from that edge to the one from
-    // above to below, with low ground on its left, high on its right.
-    int64_t up = -1, down = -1;
-    for (int i = 0; i < 3; ++i) {
-      const bool a_above = tin.vertices[t.v[i]].z >= level;
-      const bool b_above = tin.vertices[t.v[(i + 1) % 3]].z >= level;
-      if (!a_above && b_above) up = i;
-      if (a_above && !b_above) down = i;
-    }
-    if (up < 0 || down < 0) continue;
-    const auto key = [&](int64_t i) {
-      return EdgeKey(t.v[static_cast<size_t>(i)], t.v[static_cast<size_t>((i + 1) % 3)]);
-    };
-    const uint64_t from = key(up), to = key(down);
-    for (int64_t i : {up, down}) {
-      const uint64_t k = key(i);
-      if (!s.point.count(k))
-        s.point[k] = Crossing(tin, t.v[static_cast<size_t>(i)],
-                              t.v[static_cast<size_t>((i + 1) % 3)], level);
-    }
-    s.next[from] = to;
-    s.prev[to] = from;
+// The segment of triangle t at `level`, if the level crosses it. Edge i runs from v[i] to v[i+1]
+// (counter-clockwise); going round, the edge from below to above has the low ground on its
+// start side, so a segment from that edge to the one from above to below has the low ground on
+// its left and the high ground on its right.
+bool SegmentAt(const Tin& tin, const TinTriangle& t, double level, Segment* out) {
+  int up = -1, down = -1;
+  for (int i = 0; i < 3; ++i) {
+    const bool a_above = tin.vertices[t.v[i]].z >= level;
+    const bool b_above = tin.vertices[t.v[(i + 1) % 3]].z >= level;
+    if (!a_above && b_above) up = i;
+    if (a_above && !b_above) down = i;
   }
-  return s;
+  if (up < 0 || down < 0) return false;
+  const auto a = [&](int i) { return t.v[static_cast<size_t>(i)]; };
+  const auto b = [&](int i) { return t.v[static_cast<size_t>((i + 1) % 3)]; };
+  out->from = EdgeKey(a(up), b(up));
+  out->to = EdgeKey(a(down), b(down));
+  out->p = Crossing(tin, a(up), b(up), level);
+  out->q = Crossing(tin, a(down), b(down), level);
+  return true;
 }
 
 void Append(std::vector<Point2>& line, const Point2& p) {
   if (line.empty() || line.back().x != p.x || line.back().y != p.y) line.push_back(p);
 }
 
-// Walks from `start` along next until the chain ends or comes back, erasing what it uses.
-ContourLine Walk(LevelSegments& s, uint64_t start, double level) {
-  ContourLine line;
-  line.level = level;
-  uint64_t at = start;
-  Append(line.points, s.point[at]);
-  while (true) {
-    auto it = s.next.find(at);
-    if (it == s.next.end()) break;
-    const uint64_t to = it->second;
-    s.next.erase(it);
-    if (to == start) {
-      line.closed = true;
-      break;
-    }
-    Append(line.points, s.point[to]);
-    at = to;
-  }
-  if (line.closed && line.points.size() > 1 && line.points.back().x == line.points.front().x &&
-      line.points.back().y == line.points.front().y)
-    line.points.pop_back();
-  return line;
-}
-
-void TraceLevel(const Tin& tin, const std::vector<uint32_t>& triangles, double level,
-                std::vector<ContourLine>& out) {
-  LevelSegments s = Segments(tin, triangles, level);
-  // Open lines start at a crossing no segment ends at; sorted keys keep the output stable.
-  std::vector<uint64_t> starts;
-  for (const auto& [from, to] : s.next) {
-    if (!s.prev.count(from)) starts.push_back(from);
-  }
-  std::sort(starts.begin(), starts.end());
+// Joins one level's segments (each crossing starts at most one and ends at most one) into
+// polylines: open ones from the crossings no segment ends at, in key order, then the rings.
+void JoinLevel(const std::vector<Segment>& segments, double level, std::vector<ContourLine>& out) {
+  std::unordered_map<uint64_t, const Segment*> starting;
+  std::unordered_map<uint64_t, bool> ends;
+  starting.reserve(segments.size());
+  for (const Segment& s : segments) starting[s.from] = &s, ends[s.to] = true;
   const auto keep = [&](ContourLine line) {
-    const size_t needed = line.closed ? 3 : 2;
-    if (line.points.size() >= needed) out.push_back(std::move(line));
+    if (line.closed && line.points.size() > 1 && line.points.back().x == line.points[0].x &&
+        line.points.back().y == line.points[0].y)
+      line.points.pop_back();
+    if (line.points.size() >= (line.closed ? 3u : 2u)) out.push_back(std::move(line));
   };
-  for (uint64_t start : starts) keep(Walk(s, start, level));
-  std::vector<uint64_t> rest;
-  for (const auto& [from, to] : s.next) rest.push_back(from);
-  std::sort(rest.begin(), rest.end());
-  for (uint64_t start : rest) {
-    if (s.next.count(start)) keep(Walk(s, start, level));
+  const auto walk = [&](uint64_t start) {
+    ContourLine line;
+    line.level = level;
+    for (uint64_t at = start;;) {
+      auto it = starting.find(at);
+      if (it == starting.end()) break;
+      const Segment& s = *it->second;
+      starting.erase(it);
+      Append(line.points, s.p);
+      if (s.to == start) {
+        line.closed = true;
+        break;
+      }
+      if (!starting.count(s.to)) Append(line.points, s.q);
+      at = s.to;
+    }
+    keep(std::move(line));
+  };
+  for (const Segment& s : segments) {
+    if (!ends.count(s.from)) walk(s.from);
+  }
+  for (const Segment& s : segments) {
+    if (starting.count(s.from)) walk(s.from);
   }
 }
 
@@ -151,8 +137,34 @@ Result<std::vector<ContourLine>> TraceContours(const Tin& tin, const ContourOpti
                                    Text(last - first + 1) + " levels between z " + Text(lo) +
                                    " and " + Text(hi) + " (at most " + std::to_string(kMaxLevels) +
                                    ")");
-  for (double k = first; k <= last; k += 1) {
-    TraceLevel(tin, triangles, options.base + k * options.interval, out);
+  // Each triangle adds its segment at each level between its lowest and highest corner, so the
+  // work is the size of the answer, not levels times triangles. Sorted by (level, start edge),
+  // the output does not depend on hash order.
+  std::vector<Segment> segments;
+  for (uint32_t index : triangles) {
+    const TinTriangle& t = tin.triangles[index];
+    double t_lo = tin.vertices[t.v[0]].z, t_hi = t_lo;
+    for (uint32_t v : t.v)
+      t_lo = std::min(t_lo, tin.vertices[v].z), t_hi = std::max(t_hi, tin.vertices[v].z);
+    // One level of margin either side; SegmentAt decides exactly.
+    const double k_lo = std::max(first, std::floor((t_lo - options.base) / options.interval));
+    const double k_hi = std::min(last, std::floor((t_hi - options.base) / options.interval) + 1);
+    for (double k = k_lo; k <= k_hi; k += 1) {
+      Segment s;
+      s.k = static_cast<int64_t>(k);
+      if (SegmentAt(tin, t, options.base + k * options.interval, &s)) segments.push_back(s);
+    }
+  }
+  std::sort(segments.begin(), segments.end(), [](const Segment& a, const Segment& b) {
+    return a.k != b.k ? a.k < b.k : a.from < b.from;
+  });
+  for (size_t begin = 0; begin < segments.size();) {
+    size_t end = begin;
+    while (end < segments.size() && segments[end].k == segments[begin].k) ++end;
+    const std::vector<Segment> level(segments.begin() + static_cast<std::ptrdiff_t>(begin),
+                                     segments.begin() + static_cast<std::ptrdiff_t>(end));
+    JoinLevel(level, options.base + static_cast<double>(segments[begin].k) * options.interval, out);
+    begin = end;
   }
   if (out.empty())
     return Status::InvalidArgument("no contour line at interval " + Text(options.interval) +
