@@ -2,12 +2,12 @@
 //
 // In each triangle the plane crosses a level along one straight segment between two edges. A
 // vertex exactly on the level counts as above it, so each triangle has zero or two crossed edges
-// and no segment runs along an edge; the crossing point of an edge is computed once per edge
-// (from its lower-indexed vertex), so the two triangles that share it meet bit for bit and
-// segments are joined by edge, not by comparing coordinates. Segments are directed with higher
-// ground on the right, which makes each crossing the end of at most one segment and the start of
-// at most one, so polylines are walked without ambiguity: open ones from the boundary of the
-// visible part, then closed rings. Thread-safety: pure function.
+// and no segment runs along an edge. An edge's crossing is computed from its lower-indexed
+// vertex whichever triangle asks, so the two triangles that share it get the same point bit for
+// bit, and segments are joined by edge, not by comparing coordinates. Segments are directed with
+// higher ground on the right, which makes each crossing the end of at most one segment and the
+// start of at most one, so polylines are walked without ambiguity: open ones from the boundary
+// of the visible part, then closed rings. Thread-safety: pure function.
 #pragma once
 
 #include <vector>
