@@ -58,10 +58,13 @@ Result<double> VoxelSize(const PlanBox& box, const VdbOptions& options) {
 Result<Columns> MakeColumns(const PlanBox& box, double h, double layers, int64_t max_voxels) {
   Columns c;
   c.h = h;
-  c.ox = std::floor(box.min_x / h) * h;
-  c.oy = std::floor(box.min_y / h) * h;
-  const double nx = std::floor((box.max_x - c.ox) / h) + 1;
-  const double ny = std::floor((box.max_y - c.oy) / h) + 1;
+  // Columns tile [base, base + n h) from a multiple of h, centred half a voxel in, so a surface
+  // whose edges lie on multiples of h is covered exactly (no half columns hanging over).
+  const double base_x = std::floor(box.min_x / h) * h, base_y = std::floor(box.min_y / h) * h;
+  c.ox = base_x + h / 2;
+  c.oy = base_y + h / 2;
+  const double nx = std::max(1.0, std::ceil((box.max_x - base_x) / h));
+  const double ny = std::max(1.0, std::ceil((box.max_y - base_y) / h));
   const double voxels = nx * ny * std::max(layers, 1.0);
   if (!(voxels <= static_cast<double>(max_voxels)))
     return Status::InvalidArgument("voxel size " + std::to_string(h) + " gives about " +

@@ -3,10 +3,10 @@
 // vdb_writer.cc; callers see plain values.
 //
 // Both grids are sampled on voxel columns: voxel (i, j, k) is centred at (origin_x + i*h,
-// origin_y + j*h, k*h), h the voxel size, origin the surface's plan-view corner snapped to a
-// multiple of h. The grid's transform carries that origin, so world coordinates are the store's
-// while OpenVDB's single-precision mesh input only ever sees coordinates near zero. Only visible
-// triangles count: hidden ones are not part of the surface.
+// origin_y + j*h, k*h), h the voxel size, origin half a voxel in from the surface's plan-view
+// corner snapped down to a multiple of h. The grid's transform carries that origin, so world
+// coordinates are the store's while OpenVDB's single-precision mesh input only ever sees
+// coordinates near zero. Only visible triangles count: hidden ones are not part of the surface.
 //
 // - Level set (GRID_LEVEL_SET, "surface"): the narrow-band signed distance to the solid between
 //   the surface and a flat floor below it (the surface's triangles, the floor and vertical walls
