@@ -26,8 +26,10 @@ struct ExportArgs {
 
 int RunExport(const ExportArgs& args) {
   if (args.format == "landxml" || args.format == "vdb") {
-    const LandXmlVdbExportArgs a{args.store,        args.surface, args.output, args.feature,
-                                 args.visible_only, args.base,    args.voxel,  args.floor};
+    LandXmlVdbExportArgs a{args.store, args.surface, args.output, {},
+                           args.base,  args.voxel,   args.floor};
+    a.filter.feature = args.feature;
+    a.filter.visible_only = args.visible_only;
     return args.format == "landxml" ? RunLandXmlExport(a) : RunVdbExport(a);
   }
   auto format = ParseExportFormat(args.format);

@@ -15,13 +15,6 @@ namespace tinbase::cli {
 
 namespace {
 
-SurfaceFilter FilterOf(const LandXmlVdbExportArgs& args) {
-  SurfaceFilter filter;
-  filter.feature = args.feature;
-  filter.visible_only = args.visible_only;
-  return filter;
-}
-
 bool Selects(const SurfaceFilter& filter) {
   return filter.bbox || filter.feature != 0 || filter.visible_only || filter.tag;
 }
@@ -29,7 +22,7 @@ bool Selects(const SurfaceFilter& filter) {
 Result<LandXmlSurface> LandXmlOf(Store& store, const LandXmlVdbExportArgs& args) {
   SurfaceStore surfaces(store);
   TB_ASSIGN_OR_RETURN(SurfaceInfo surface, surfaces.Find(args.surface));
-  const SurfaceFilter filter = FilterOf(args);
+  const SurfaceFilter& filter = args.filter;
   if (!Selects(filter)) return LoadLandXmlSurface(store, surface);
   TB_ASSIGN_OR_RETURN(std::optional<Crs> crs, store.GetCrs());
   TB_ASSIGN_OR_RETURN(LoadedSurface selected, SelectSurface(store, surface, filter));
@@ -53,7 +46,7 @@ Result<VdbReport> WriteVdb(Store& store, const LandXmlVdbExportArgs& args) {
   options.floor = args.floor;
   TB_ASSIGN_OR_RETURN(std::optional<Crs> crs, store.GetCrs());
   if (crs) options.crs_wkt = crs->Wkt();
-  const SurfaceFilter filter = FilterOf(args);
+  const SurfaceFilter& filter = args.filter;
   TB_ASSIGN_OR_RETURN(Tin top, SelectedTin(store, args.surface, filter));
   TB_ASSIGN_OR_RETURN(OutputFile file, OutputFile::Create(args.output));
   Result<VdbReport> report = Status::Ok();

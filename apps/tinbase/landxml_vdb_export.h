@@ -6,14 +6,15 @@
 #include <optional>
 #include <string>
 
+#include "db/query/surface_selection.h"
+
 namespace tinbase::cli {
 
 struct LandXmlVdbExportArgs {
   std::string store;
   std::string surface;
   std::string output;
-  int64_t feature = 0;          // the inside of this polygon feature only (0: all)
-  bool visible_only = false;    // leave out invisible triangles
+  SurfaceFilter filter;         // --bbox, --feature, --visible-only, --tag
   std::string base;             // vdb: the lower surface of a thickness (fog volume)
   double voxel = 0;             // vdb: voxel size (0: the longer side / 512)
   std::optional<double> floor;  // vdb level set: the floor's z

@@ -233,6 +233,49 @@ TEST_F(LandXmlCliTest, RoundTripGivesAnIdenticalCheckedSurface) {
     ASSERT_TRUE(a.triangles[i] == b.triangles[i]) << "triangle " << i << " differs";
   EXPECT_TRUE(a.constraints == b.constraints) << "constraint rows or owners differ";
   EXPECT_TRUE(a.features == b.features) << "features differ";
+
+  // A selection holds the selected triangles alone, without features.
+  const std::string visible = dir_.Path("visible.xml");
+  RunWrite(store_, "export " + Quote(store_) + " --surface t --visible-only --format landxml -o " +
+                       Quote(visible));
+  EXPECT_EQ(XPathNumber(visible, "count(" + def + "/l:Faces/l:F)"),
+            t["visible_triangles"].get<double>());
+  EXPECT_EQ(XPathNumber(visible, "count(" + def + "/l:Faces/l:F[@i='1'])"), 0);
+  EXPECT_EQ(XPathNumber(visible, "count(//l:SourceData)"), 0);
+}
+
+// Another program's TIN: arbitrary point ids, clockwise faces, no neighbours, no CRS, no tinbase
+// attributes. It becomes a `free` surface that passes the full check.
+TEST(LandXmlForeignCliTest, ImportsAnotherProgramsTin) {
+  TempDir dir;
+  const std::string store = dir.Path("s.tinbase"), xml = dir.Path("foreign.xml");
+  RunWrite(store, "init " + Quote(store));
+  std::ostringstream text;
+  text << "<?xml version=\"1.0\"?>\n<LandXML xmlns=\"http://www.landxml.org/schema/LandXML-1.2\" "
+          "version=\"1.2\" date=\"2026-01-01\" time=\"00:00:00\">\n"
+          "<Surfaces><Surface name=\"EG\"><Definition surfType=\"TIN\"><Pnts>\n";
+  // A 3 x 3 grid of points with ids 101.., z a tilted plane.
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i)
+      text << "<P id=\"" << 101 + 3 * j + i << "\">" << 5000 + 10 * j << " " << 2000 + 10 * i << " "
+           << 100 + i + 2 * j << "</P>\n";
+  text << "</Pnts><Faces>\n";
+  for (int j = 0; j < 2; ++j) {
+    for (int i = 0; i < 2; ++i) {
+      const int a = 101 + 3 * j + i, b = a + 1, c = a + 4, d = a + 3;
+      text << "<F>" << a << " " << c << " " << b << "</F>\n";  // clockwise
+      text << "<F>" << a << " " << d << " " << c << "</F>\n";
+    }
+  }
+  text << "</Faces></Definition></Surface></Surfaces></LandXML>\n";
+  Spit(xml, text.str());
+  const nlohmann::json r =
+      Json(RunWrite(store, "import landxml " + Quote(store) + " " + Quote(xml) + " --json"));
+  EXPECT_EQ(r["surface"], "EG");
+  EXPECT_EQ(r["kind"], "free");
+  EXPECT_EQ(r["vertices"], 9);
+  EXPECT_EQ(r["triangles"], 8);
+  EXPECT_EQ(r["features"], 0);
 }
 
 TEST_F(LandXmlCliTest, ImportIntoAnotherStoreNeedsTheDemThatHidTriangles) {
