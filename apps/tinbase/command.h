@@ -24,6 +24,7 @@ void RegisterDemCommands(CLI::App& app, int* exit_code);      // dem import, dem
 void RegisterTinCommands(CLI::App& app, int* exit_code);      // tin build
 void RegisterQueryCommands(CLI::App& app, int* exit_code);    // locate, neighbours
 void RegisterExportCommands(CLI::App& app, int* exit_code);   // export
+void RegisterImportCommands(CLI::App& app, int* exit_code);   // import landxml
 void RegisterPolygonCommands(CLI::App& app, int* exit_code);  // polygon add
 void RegisterPointsCommands(CLI::App& app, int* exit_code);   // points import
 void RegisterDemoCommand(CLI::App& app, int* exit_code);      // demo

@@ -2,6 +2,7 @@
 #include <iostream>
 
 #include "apps/tinbase/command.h"
+#include "apps/tinbase/landxml_vdb_export.h"
 #include "apps/tinbase/output.h"
 #include "core/export/tin_export.h"
 #include "db/feature_store.h"
@@ -18,9 +19,19 @@ struct ExportArgs {
   std::string output;
   bool visible_only = false;
   int64_t feature = 0;
+  std::string base;             // vdb
+  double voxel = 0;             // vdb
+  std::optional<double> floor;  // vdb
 };
 
 int RunExport(const ExportArgs& args) {
+  if (args.format == "landxml" || args.format == "vdb") {
+    LandXmlVdbExportArgs a{args.store, args.surface, args.output, {},
+                           args.base,  args.voxel,   args.floor};
+    a.filter.feature = args.feature;
+    a.filter.visible_only = args.visible_only;
+    return args.format == "landxml" ? RunLandXmlExport(a) : RunVdbExport(a);
+  }
   auto format = ParseExportFormat(args.format);
   if (!format.ok()) return ReportError(format.status());
   if (args.surface.empty() == (args.feature == 0))
@@ -57,9 +68,12 @@ void RegisterExportCommands(CLI::App& app, int* exit_code) {
   cmd->add_option("--surface", args->surface, "Surface name");
   cmd->add_option("--feature", args->feature,
                   "Only the inside of this polygon feature, clipped to it, holes left out");
-  cmd->add_option("--format", args->format, "obj or geojson (default obj)");
+  cmd->add_option("--format", args->format, "obj, geojson, landxml or vdb (default obj)");
   cmd->add_option("-o,--output", args->output, "Output file")->required();
   cmd->add_flag("--visible-only", args->visible_only, "Leave out invisible triangles");
+  cmd->add_option("--base", args->base, "vdb: lower surface; writes the thickness as a fog volume");
+  cmd->add_option("--voxel", args->voxel, "vdb: voxel size (default: the longer side / 512)");
+  cmd->add_option("--floor", args->floor, "vdb level set: z of the floor under the surface");
   cmd->callback([=] { *exit_code = RunExport(*args); });
 }
 

@@ -88,6 +88,7 @@ int main(int argc, char** argv) {
   tinbase::cli::RegisterTinCommands(app, &exit_code);
   tinbase::cli::RegisterQueryCommands(app, &exit_code);
   tinbase::cli::RegisterExportCommands(app, &exit_code);
+  tinbase::cli::RegisterImportCommands(app, &exit_code);
   tinbase::cli::RegisterPolygonCommands(app, &exit_code);
   tinbase::cli::RegisterPointsCommands(app, &exit_code);
   tinbase::cli::RegisterDemoCommand(app, &exit_code);
