@@ -1,0 +1,121 @@
+#!/usr/bin/env bash
+# Issue 24's bulk point location benchmark: tinbase's PointLocator against CGAL's in-memory
+# locate() (bench/locate_bench.cc) and PostGIS ST_Intersects on a GiST-indexed triangle table, on
+# the ~1e6-triangle generated store. Each round runs every tinbase and CGAL case, then PostGIS on
+# the first SAMPLE random points (and the same points in Hilbert order): one SQL join (one client,
+# no parallel workers) and one query per point through pgbench (one client, prepared statements).
+# PostgreSQL 15 + PostGIS 3 (Debian postgresql-15, postgresql-15-postgis-3) run from a temporary
+# cluster on a free loopback port, stopped and removed at the end. The server runs without JIT
+# (it spends ~0.35 s compiling each join) and without parallel workers (one client, one core).
+#
+# Usage: scripts/bench-locate.sh [OUTDIR] [POINTS] [ROUNDS]
+#   (defaults build-bench/locate, 10000000, 2; SAMPLE=100000 and BUILD_DIR=build-bench in the env)
+# Writes OUTDIR/runs.csv (every case of every round) and prints the summary.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+out=$(realpath -m "${1:-build-bench/locate}")
+points=${2:-10000000}
+rounds=${3:-2}
+sample=${SAMPLE:-100000}
+build=${BUILD_DIR:-build-bench}
+pgbin=/usr/lib/postgresql/15/bin
+[ -x "$pgbin/initdb" ] || { echo "PostgreSQL 15 is missing: apt-get install postgresql-15 postgresql-15-postgis-3" >&2; exit 1; }
+[ -f /usr/share/postgresql/15/extension/postgis.control ] || { echo "PostGIS for PostgreSQL 15 is missing: apt-get install postgresql-15-postgis-3" >&2; exit 1; }
+
+mkdir -p "$out"
+if [ ! -f "$build/build.ninja" ]; then
+  cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DTINBASE_BUILD_BENCH=ON >/dev/null
+fi
+ninja -C "$build" locate_bench >/dev/null
+bench=$build/bench/locate_bench
+"$bench" store --dir "$out"
+"$bench" postgis-files --dir "$out" --sample "$sample"
+
+# A throwaway cluster. initdb refuses to run as root, so the server runs as the postgres user.
+pgdata=$(mktemp -d /tmp/tinbase-pg.XXXXXX)
+as_pg=()
+if [ "$(id -u)" = 0 ]; then chown postgres "$pgdata"; as_pg=(runuser -u postgres --); fi
+port=$(python3 -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
+stop_server() {
+  "${as_pg[@]}" "$pgbin/pg_ctl" -D "$pgdata" -m fast stop >/dev/null 2>&1 || true
+  rm -rf "$pgdata"
+}
+trap stop_server EXIT
+"${as_pg[@]}" "$pgbin/initdb" -D "$pgdata" -U bench --auth=trust >/dev/null
+"${as_pg[@]}" "$pgbin/pg_ctl" -D "$pgdata" -l "$pgdata/server.log" -w \
+  -o "-p $port -c listen_addresses=127.0.0.1 -k $pgdata -c shared_buffers=1GB -c fsync=off \
+      -c max_parallel_workers_per_gather=0 -c jit=off" start >/dev/null
+psql=("$pgbin/psql" -h 127.0.0.1 -p "$port" -U bench -d postgres -v ON_ERROR_STOP=1 -qAt)
+
+now() { date +%s.%N; }
+t0=$(now)
+"${psql[@]}" <<SQL
+CREATE EXTENSION postgis;
+CREATE TABLE tri (id bigint PRIMARY KEY, geom geometry(Polygon, 32632) NOT NULL);
+\copy tri FROM '$out/triangles.tsv'
+CREATE INDEX tri_geom ON tri USING gist (geom);
+CREATE TABLE pts_random (i int PRIMARY KEY, x float8, y float8);
+CREATE TABLE pts_sorted (i int PRIMARY KEY, x float8, y float8);
+\copy pts_random FROM '$out/points_random.tsv'
+\copy pts_sorted FROM '$out/points_sorted.tsv'
+VACUUM ANALYZE;
+SQL
+echo "PostGIS: triangles loaded and indexed in $(echo "$(now) - $t0" | bc) s"
+# One statement per point, the point drawn at random from the sample by pgbench.
+cat >"$out/pgbench_locate.sql" <<'SQL'
+\set i random(0, :n - 1)
+SELECT t.id FROM pts_random p JOIN tri t ON ST_Intersects(t.geom, ST_SetSRID(ST_MakePoint(p.x, p.y), 32632)) WHERE p.i = :i;
+SQL
+
+# round,method,order,points,seconds,ns_per_point,mean_steps,checksum
+runs=$out/runs.csv
+echo "round,method,order,points,seconds,ns_per_point,mean_steps,checksum" >"$runs"
+postgis_join() {  # round, order
+  local t r
+  t=$(now)
+  r=$("${psql[@]}" -F, -c "SELECT count(*), sum(t.id) FROM pts_$2 p JOIN tri t
+        ON ST_Intersects(t.geom, ST_SetSRID(ST_MakePoint(p.x, p.y), 32632))")
+  t=$(echo "$(now) - $t" | bc)
+  echo "$1,postgis-join,$2,${r%%,*},$t,$(echo "$t * 1000000000 / ${r%%,*}" | bc),,${r##*,}" >>"$runs"
+}
+postgis_pgbench() {  # round
+  local tps
+  tps=$(PGPASSWORD= "$pgbin/pgbench" -h 127.0.0.1 -p "$port" -U bench -n -c 1 -T 15 -M prepared \
+        -D n="$sample" -f "$out/pgbench_locate.sql" postgres 2>/dev/null |
+        sed -n 's/^tps = \([0-9.]*\).*/\1/p')
+  echo "$1,postgis-pgbench,random,$(printf '%.0f' "$(echo "$tps * 15" | bc)"),15,$(echo "1000000000 / $tps" | bc),," >>"$runs"
+}
+for round in $(seq 1 "$rounds"); do
+  "$bench" run --dir "$out" --points "$points" --sample "$sample" --rounds 1 |
+    grep '^1,' | sed "s/^1,/$round,/" >>"$runs"
+  postgis_join "$round" random
+  postgis_join "$round" sorted
+  postgis_pgbench "$round"
+  tail -n +2 "$runs" | grep "^$round,"
+done
+
+python3 - "$runs" <<'PY'
+import csv, statistics, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+ns = {}
+for r in rows:
+    ns.setdefault((r["method"], r["order"]), {})[r["round"]] = float(r["ns_per_point"])
+def ratios(a, b):  # a / b within each round
+    return [ns[a][k] / ns[b][k] for k in ns.get(a, {}) if k in ns.get(b, {})]
+print("\nmethod,order,points,median ns/point,points/s")
+for (m, o), v in sorted(ns.items()):
+    pts = next(r["points"] for r in rows if r["method"] == m and r["order"] == o)
+    med = statistics.median(v.values())
+    print(f"{m},{o},{pts},{med:.0f},{1e9 / med:.0f}")
+print("\nratio (per round; goal in brackets)")
+for a, b, goal in [(("tinbase", "sorted"), ("cgal-walk", "sorted"), "<= 2"),
+                   (("tinbase+cache", "sorted"), ("cgal-walk", "sorted"), "<= 2"),
+                   (("tinbase-jump", "random"), ("cgal-hierarchy", "random"), "<= 2"),
+                   (("tinbase", "random"), ("cgal-walk", "random"), ""),
+                   (("postgis-join", "random"), ("tinbase-jump", "random"), ">= 20"),
+                   (("postgis-join", "sorted"), ("tinbase", "sorted"), ">= 20"),
+                   (("postgis-pgbench", "random"), ("tinbase-jump", "random"), ">= 20")]:
+    v = ratios(a, b)
+    if v:
+        print(f"{a[0]} {a[1]} / {b[0]} {b[1]}: " + ", ".join(f"{x:.2f}" for x in v) + f" [{goal}]")
+PY
