@@ -3,7 +3,7 @@
 // through, against CGAL's in-memory locate() on the same triangulation (the ceiling); PostGIS is
 // measured by scripts/bench-locate.sh on the files `postgis-files` writes.
 //
-//   locate_bench store --dir DIR              builds DIR/locate_1e6.tinbase once (else reuses it)
+//   locate_bench store --dir DIR              builds the store once (bench/store_1e6.h)
 //   locate_bench postgis-files --dir DIR --sample N
 //                                             triangles.tsv (id, EWKT) and N points of each order
 //   locate_bench run --dir DIR --points N --rounds R [--sample M] [--methods a,b]
@@ -49,21 +49,13 @@
 #include <string>
 #include <vector>
 
-#include "bench/generated_terrain.h"
-#include "core/geometry/crs.h"
-#include "core/raster/gdal_raster.h"
-#include "db/dem_store.h"
+#include "bench/store_1e6.h"
 #include "db/mesh_cache.h"
 #include "db/point_locator.h"
-#include "db/surface_builder.h"
 #include "db/surface_store.h"
 
 namespace tinbase {
 namespace {
-
-// The generated terrain at 1 m, every DEM point kept: 2 * 708^2 = 1 002 528 triangles.
-constexpr int64_t kSide = 709;
-constexpr const char* kSurface = "terrain";
 
 double Seconds(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -78,32 +70,6 @@ template <typename T>
 T Check(Result<T> result, const std::string& what) {
   if (!result.ok()) Die(what, result.status());
   return std::move(*result);
-}
-
-std::string StorePath(const std::string& dir) { return dir + "/locate_1e6.tinbase"; }
-
-// The store, built once: the generated terrain imported as a DEM and a greedy surface at 1 mm,
-// which keeps every point.
-std::string BuildStore(const std::string& dir) {
-  const std::string path = StorePath(dir);
-  if (std::filesystem::exists(path)) return path;
-  std::filesystem::create_directories(dir);
-  Grid grid = GeneratedTerrain(kSide);
-  grid.crs_wkt = Check(Crs::FromUserInput("EPSG:32632"), "EPSG:32632").Wkt();
-  const std::string tif = dir + "/locate_dem.tif";
-  if (Status s = WriteGeoTiff(grid, tif); !s.ok()) Die(tif, s);
-  auto store = Check(Store::Create(path + ".building", ""), path);
-  DemStore dems(*store);
-  Check(dems.Import({tif}, {}), "dem import");
-  SurfaceBuildOptions o;
-  o.surface = kSurface;
-  o.greedy.tolerance = 1e-3;
-  const auto built = Check(BuildSurfaceFromDem(*store, o), "tin build");
-  store.reset();
-  std::filesystem::rename(path + ".building", path);
-  std::filesystem::remove(tif);
-  std::printf("built %s: %" PRId64 " triangles\n", path.c_str(), built.triangles);
-  return path;
 }
 
 struct Pt {
@@ -327,9 +293,9 @@ void LabelHierarchy(Hierarchy& h, const Ct& ct) {
 
 int RunAll(const RunArgs& args) {
   Bench b;
-  b.store = Check(Store::Open(BuildStore(args.dir), Store::Access::kReadOnly), "open store");
+  b.store = Check(Store::Open(Store1e6(args.dir), Store::Access::kReadOnly), "open store");
   SurfaceStore surfaces(*b.store);
-  b.surface = Check(surfaces.Find(kSurface), "surface");
+  b.surface = Check(surfaces.Find(kStore1e6Surface), "surface");
   const LoadedSurface loaded = Check(surfaces.Load(b.surface), "load");
   const Extent extent = ExtentOf(loaded.tin);
   std::printf("store: %zu triangles, %zu vertices\n", loaded.tin.triangles.size(),
@@ -430,10 +396,10 @@ int RunAll(const RunArgs& args) {
 // triangles.tsv: "id<TAB>SRID=32632;POLYGON((...))" for COPY; points_{random,sorted}.tsv:
 // "i<TAB>x<TAB>y", the first `sample` random points and the same points in Hilbert order.
 int PostgisFiles(const std::string& dir, int64_t sample) {
-  auto store = Check(Store::Open(BuildStore(dir), Store::Access::kReadOnly), "open store");
+  auto store = Check(Store::Open(Store1e6(dir), Store::Access::kReadOnly), "open store");
   SurfaceStore surfaces(*store);
   const LoadedSurface loaded =
-      Check(surfaces.Load(Check(surfaces.Find(kSurface), "surface")), "load");
+      Check(surfaces.Load(Check(surfaces.Find(kStore1e6Surface), "surface")), "load");
   {
     std::ofstream out(dir + "/triangles.tsv");
     char line[512];
@@ -490,7 +456,7 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   GDALAllRegister();
   if (*store) {
-    tinbase::BuildStore(dir);
+    tinbase::Store1e6(dir);
     return 0;
   }
   if (*files) return tinbase::PostgisFiles(dir, sample);

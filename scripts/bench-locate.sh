@@ -6,7 +6,8 @@
 # no parallel workers) and one query per point through pgbench (one client, prepared statements).
 # PostgreSQL 15 + PostGIS 3 (Debian postgresql-15, postgresql-15-postgis-3) run from a temporary
 # cluster on a free loopback port, stopped and removed at the end. The server runs without JIT
-# (it spends ~0.35 s compiling each join) and without parallel workers (one client, one core).
+# (compiling a join costs more than a 100k-point join takes) and without parallel workers (one
+# client, one core).
 #
 # Usage: scripts/bench-locate.sh [OUTDIR] [POINTS] [ROUNDS]
 #   (defaults build-bench/locate, 10000000, 2; SAMPLE=100000 and BUILD_DIR=build-bench in the env)
