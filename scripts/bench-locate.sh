@@ -6,7 +6,7 @@
 # no parallel workers) and one query per point through pgbench (one client, prepared statements).
 # PostgreSQL 15 + PostGIS 3 (Debian postgresql-15, postgresql-15-postgis-3) run from a temporary
 # cluster on a free loopback port, stopped and removed at the end. The server runs without JIT
-# (compiling a join costs more than a 100k-point join takes) and without parallel workers (one
+# (its compile time is per statement, not per point) and without parallel workers (one
 # client, one core).
 #
 # Usage: scripts/bench-locate.sh [OUTDIR] [POINTS] [ROUNDS]
