@@ -57,6 +57,7 @@ Export RunExport(const std::string& store, const std::string& format, const std:
   const std::string output = dir + "/export." + Extension(format);
   const std::string errors = dir + "/export.stderr";
   std::filesystem::remove(output);
+  std::fflush(stdout);  // or the child's freopen writes our buffered lines a second time
   const auto start = std::chrono::steady_clock::now();
   const pid_t pid = fork();
   if (pid == 0) {

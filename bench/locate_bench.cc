@@ -6,7 +6,8 @@
 //   locate_bench store --dir DIR              builds the store once (bench/store_1e6.h)
 //   locate_bench postgis-files --dir DIR --sample N
 //                                             triangles.tsv (id, EWKT) and N points of each order
-//   locate_bench run --dir DIR --points N --rounds R [--sample M] [--methods a,b]
+//   locate_bench run --dir DIR --points N --rounds R [--walk-sample W] [--jump-points J]
+//                    [--sample M] [--methods a,b]
 //
 // The points are uniform random over the surface's extent (seeded, the same every run), and the
 // same points sorted along a Hilbert curve. Each round times every method on every order in turn
@@ -24,8 +25,9 @@
 //                  structure for scattered queries; co-circular grid quads may take the other
 //                  diagonal, so its triangles differ from the store's there)
 // On random points a walk from the last answer crosses O(sqrt n) triangles, so the walking methods
-// run on random points only over the first --sample points (the points PostGIS gets), and so does
-// tinbase-jump on sorted points.
+// run on random points only over the first --walk-sample points; tinbase-jump runs over the first
+// --jump-points random points and the first --sample sorted ones (where it only shows what the
+// walk from the last answer saves). Every other case runs over all --points.
 #include <CGAL/Constrained_triangulation_2.h>
 #include <CGAL/Delaunay_triangulation_2.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -275,6 +277,8 @@ struct RunArgs {
   std::string dir;
   int64_t points = 10000000;
   int64_t sample = 100000;
+  int64_t walk_sample = 2000;
+  int64_t jump_points = 1000000;
   int rounds = 2;
   std::string methods = "tinbase,tinbase+cache,tinbase-jump,cgal-walk,cgal-hierarchy";
 };
@@ -341,12 +345,12 @@ int RunAll(const RunArgs& args) {
     at = comma + 1;
   }
 
-  // Walks from the last answer on random points, and a jump per point on sorted points (which
-  // only shows what the walk from the last answer saves), get the sample; the rest every point.
   const auto count_for = [&](const std::string& method, bool is_random) {
     const bool walks = method == "tinbase" || method == "tinbase+cache" || method == "cgal-walk";
-    const bool sampled = is_random ? walks : method == "tinbase-jump";
-    return sampled ? std::min(args.sample, args.points) : args.points;
+    int64_t n = args.points;
+    if (is_random && walks) n = args.walk_sample;
+    if (method == "tinbase-jump") n = is_random ? args.jump_points : args.sample;
+    return std::min(n, args.points);
   };
   // key "method/order" -> ns per point, one per round
   std::map<std::string, std::vector<double>> ns;
@@ -449,8 +453,9 @@ int main(int argc, char** argv) {
   CLI::App* run = app.add_subcommand("run", "Time every method on sorted and random points");
   run->add_option("--dir", args.dir)->required();
   run->add_option("--points", args.points);
-  run->add_option("--sample", args.sample,
-                  "Points for the slow cases (see the header); the first of the random points");
+  run->add_option("--walk-sample", args.walk_sample, "Random points for the walks from the last");
+  run->add_option("--jump-points", args.jump_points, "Random points for tinbase-jump");
+  run->add_option("--sample", args.sample, "Sorted points for tinbase-jump");
   run->add_option("--rounds", args.rounds);
   run->add_option("--methods", args.methods);
   CLI11_PARSE(app, argc, argv);

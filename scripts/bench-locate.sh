@@ -10,7 +10,9 @@
 # client, one core).
 #
 # Usage: scripts/bench-locate.sh [OUTDIR] [POINTS] [ROUNDS]
-#   (defaults build-bench/locate, 10000000, 2; SAMPLE=100000 and BUILD_DIR=build-bench in the env)
+#   (defaults build-bench/locate, 10000000, 2). In the environment: SAMPLE (PostGIS's points,
+#   100000), WALK_SAMPLE (random points for the walks from the last answer, 2000), JUMP_POINTS
+#   (random points for tinbase-jump, 1000000), BUILD_DIR (build-bench).
 # Writes OUTDIR/runs.csv (every case of every round) and prints the summary.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -18,6 +20,8 @@ out=$(realpath -m "${1:-build-bench/locate}")
 points=${2:-10000000}
 rounds=${3:-2}
 sample=${SAMPLE:-100000}
+walk_sample=${WALK_SAMPLE:-2000}
+jump_points=${JUMP_POINTS:-1000000}
 build=${BUILD_DIR:-build-bench}
 pgbin=/usr/lib/postgresql/15/bin
 [ -x "$pgbin/initdb" ] || { echo "PostgreSQL 15 is missing: apt-get install postgresql-15 postgresql-15-postgis-3" >&2; exit 1; }
@@ -87,7 +91,8 @@ postgis_pgbench() {  # round
   echo "$1,postgis-pgbench,random,$(printf '%.0f' "$(echo "$tps * 15" | bc)"),15,$(echo "1000000000 / $tps" | bc),," >>"$runs"
 }
 for round in $(seq 1 "$rounds"); do
-  "$bench" run --dir "$out" --points "$points" --sample "$sample" --rounds 1 |
+  "$bench" run --dir "$out" --points "$points" --sample "$sample" --walk-sample "$walk_sample" \
+    --jump-points "$jump_points" --rounds 1 |
     grep '^1,' | sed "s/^1,/$round,/" >>"$runs"
   postgis_join "$round" random
   postgis_join "$round" sorted
