@@ -42,6 +42,7 @@
 #include <chrono>
 #include <cinttypes>
 #include <cstdio>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -61,6 +62,13 @@ namespace {
 
 double Seconds(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// CPU time of this process (every method runs on the calling thread alone).
+double CpuSeconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + static_cast<double>(t.tv_nsec) * 1e-9;
 }
 
 [[noreturn]] void Die(const std::string& what, const Status& status) {
@@ -352,11 +360,14 @@ int RunAll(const RunArgs& args) {
     if (method == "tinbase-jump") n = is_random ? args.jump_points : args.sample;
     return std::min(n, args.points);
   };
-  // key "method/order" -> ns per point, one per round
+  // key "method/order" -> CPU ns per point, one per round. CPU time, because on a machine shared
+  // with other work the wall time measures the scheduler as much as the method.
   std::map<std::string, std::vector<double>> ns;
   std::map<std::string, std::vector<double>> steps;
   std::map<std::string, int64_t> checksums;
-  std::printf("round,method,order,points,seconds,ns_per_point,mean_steps,checksum\n");
+  std::printf(
+      "round,method,order,points,seconds,cpu_seconds,ns_per_point,wall_ns_per_point,mean_steps,"
+      "checksum\n");
   for (int round = 1; round <= args.rounds; ++round) {
     for (const char* order : {"sorted", "random"}) {
       const bool is_random = std::string(order) == "random";
@@ -364,10 +375,13 @@ int RunAll(const RunArgs& args) {
       // Rotate the method order from round to round so no method always runs first.
       for (size_t k = 0; k < methods.size(); ++k) {
         const std::string& m = methods[(k + static_cast<size_t>(round) - 1) % methods.size()];
+        const double cpu0 = CpuSeconds();
         const Run r = all[m](pts, count_for(m, is_random));
-        const double per = r.seconds * 1e9 / static_cast<double>(r.points);
-        std::printf("%d,%s,%s,%" PRId64 ",%.3f,%.1f,%.2f,%" PRId64 "\n", round, m.c_str(), order,
-                    r.points, r.seconds, per, r.mean_steps, r.checksum);
+        const double cpu = CpuSeconds() - cpu0;
+        const double per = cpu * 1e9 / static_cast<double>(r.points);
+        std::printf("%d,%s,%s,%" PRId64 ",%.3f,%.3f,%.1f,%.1f,%.2f,%" PRId64 "\n", round, m.c_str(),
+                    order, r.points, r.seconds, cpu, per,
+                    r.seconds * 1e9 / static_cast<double>(r.points), r.mean_steps, r.checksum);
         std::fflush(stdout);
         const std::string key = m + "/" + order;
         ns[key].push_back(per);
@@ -377,7 +391,7 @@ int RunAll(const RunArgs& args) {
     }
   }
   std::printf(
-      "\nsummary (median of %d rounds): method/order, points, ns per point, "
+      "\nsummary (median of %d rounds): method/order, points, CPU ns per point, "
       "points per second, mean steps, x cgal-walk, x cgal-hierarchy\n",
       args.rounds);
   for (const auto& [key, values] : ns) {
