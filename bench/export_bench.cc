@@ -31,6 +31,7 @@ namespace {
 struct Export {
   bool ok = false;
   double seconds = 0;
+  double cpu_seconds = 0;  // user + system of the child
   int64_t peak_rss_kib = 0;
   int64_t bytes = 0;
   std::string error;  // the CLI's stderr when it failed
@@ -73,6 +74,10 @@ Export RunExport(const std::string& store, const std::string& format, const std:
   Export e;
   e.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   e.peak_rss_kib = usage.ru_maxrss;
+  const auto secs = [](const timeval& t) {
+    return static_cast<double>(t.tv_sec) + static_cast<double>(t.tv_usec) * 1e-6;
+  };
+  e.cpu_seconds = secs(usage.ru_utime) + secs(usage.ru_stime);
   e.ok = WIFEXITED(status) && WEXITSTATUS(status) == 0;
   if (!e.ok) e.error = FirstLine(errors);
   std::error_code ec;
@@ -111,47 +116,54 @@ int Run(const std::string& dir, const std::vector<std::string>& formats, int rou
   const int64_t triangles = TriangleCount(store);
   std::printf("store %s: %lld triangles\n", store.c_str(), static_cast<long long>(triangles));
   std::map<std::string, std::vector<Export>> runs;
-  std::printf("round,format,ok,seconds,bytes,peak_rss_mib\n");
+  std::printf("round,format,ok,seconds,cpu_seconds,bytes,peak_rss_mib\n");
   for (int round = 1; round <= rounds; ++round) {
     for (size_t k = 0; k < formats.size(); ++k) {
       const std::string& f = formats[(k + static_cast<size_t>(round) - 1) % formats.size()];
       const Export e = RunExport(store, f, dir);
-      std::printf("%d,%s,%s,%.3f,%lld,%.0f%s%s\n", round, f.c_str(), e.ok ? "yes" : "no", e.seconds,
-                  static_cast<long long>(e.bytes), static_cast<double>(e.peak_rss_kib) / 1024,
-                  e.ok ? "" : ",", e.error.c_str());
+      std::printf("%d,%s,%s,%.3f,%.3f,%lld,%.0f%s%s\n", round, f.c_str(), e.ok ? "yes" : "no",
+                  e.seconds, e.cpu_seconds, static_cast<long long>(e.bytes),
+                  static_cast<double>(e.peak_rss_kib) / 1024, e.ok ? "" : ",", e.error.c_str());
       std::fflush(stdout);
       runs[f].push_back(e);
     }
   }
   std::printf(
-      "\nsummary (median of %d rounds): format, seconds, bytes, bytes per triangle, "
-      "peak RSS MiB, time / OBJ (per round), bytes / OBJ\n",
+      "\nsummary (median of %d rounds): format, wall s, CPU s, bytes, bytes per triangle, "
+      "peak RSS MiB, CPU time / OBJ's (per round), wall time / OBJ's (per round), bytes / OBJ\n",
       rounds);
+  const auto list = [](const std::vector<double>& values) {
+    std::string text;
+    for (double x : values) {
+      char one[16];
+      std::snprintf(one, sizeof one, "%s%.2f", text.empty() ? "" : " ", x);
+      text += one;
+    }
+    return text;
+  };
+  const std::vector<Export>* obj = runs.count("obj") ? &runs["obj"] : nullptr;
   for (const std::string& f : formats) {
     const std::vector<Export>& r = runs[f];
     if (!r.front().ok) {
       std::printf("%s,not available: %s\n", f.c_str(), r.front().error.c_str());
       continue;
     }
-    std::vector<double> seconds, rss, over_obj;
+    std::vector<double> wall, cpu, rss, cpu_over_obj, wall_over_obj;
     for (size_t i = 0; i < r.size(); ++i) {
-      seconds.push_back(r[i].seconds);
+      wall.push_back(r[i].seconds);
+      cpu.push_back(r[i].cpu_seconds);
       rss.push_back(static_cast<double>(r[i].peak_rss_kib) / 1024);
-      if (runs.count("obj") && runs["obj"][i].ok)
-        over_obj.push_back(r[i].seconds / runs["obj"][i].seconds);
+      if (obj && (*obj)[i].ok) {
+        cpu_over_obj.push_back(r[i].cpu_seconds / (*obj)[i].cpu_seconds);
+        wall_over_obj.push_back(r[i].seconds / (*obj)[i].seconds);
+      }
     }
-    std::string ratios;
-    for (double x : over_obj) {
-      char text[16];
-      std::snprintf(text, sizeof text, "%s%.2f", ratios.empty() ? "" : " ", x);
-      ratios += text;
-    }
-    const double obj_bytes = runs.count("obj") ? static_cast<double>(runs["obj"].front().bytes) : 0;
-    std::printf("%s,%.2f,%lld,%.1f,%.0f,%s,%.2f\n", f.c_str(), Median(seconds),
-                static_cast<long long>(r.front().bytes),
-                static_cast<double>(r.front().bytes) / static_cast<double>(triangles), Median(rss),
-                ratios.c_str(),
-                obj_bytes > 0 ? static_cast<double>(r.front().bytes) / obj_bytes : 0);
+    const double bytes = static_cast<double>(r.front().bytes);
+    const double obj_bytes = obj ? static_cast<double>(obj->front().bytes) : 0;
+    std::printf("%s,%.2f,%.2f,%.0f,%.1f,%.0f,%s,%s,%.2f\n", f.c_str(), Median(wall), Median(cpu),
+                bytes, bytes / static_cast<double>(triangles), Median(rss),
+                list(cpu_over_obj).c_str(), list(wall_over_obj).c_str(),
+                obj_bytes > 0 ? bytes / obj_bytes : 0);
   }
   return 0;
 }
