@@ -778,6 +778,7 @@ Result<DemImportReport> DemStore::Import(const std::vector<std::string>& files,
   TB_RETURN_IF_ERROR(tx->Commit());
   impl_->token = new_token;
   DemBlockCache::Instance().EraseStore(old_token);
+  if (options.progress) options.progress(1.0);  // the overviews' 4/3 is an upper bound
   return report;
 }
 
