@@ -7,6 +7,7 @@
 // reported as such with the CLI's message, so the table fills in as formats land.
 //
 //   export_bench --dir DIR [--formats obj,geojson,ply,stl,glb,gpkg,landxml] [--rounds 3]
+//                [--cli PATH/TO/tinbase]
 #include <gdal_priv.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
@@ -53,8 +54,10 @@ std::string FirstLine(const std::string& path) {
   return line;
 }
 
-// `tinbase --quiet export STORE --surface terrain --format F -o OUT` in a child, timed.
-Export RunExport(const std::string& store, const std::string& format, const std::string& dir) {
+// `tinbase export STORE --surface terrain --format F -o OUT` in a child, timed (its stderr goes
+// to a file, so it draws no progress bar).
+Export RunExport(const std::string& cli, const std::string& store, const std::string& format,
+                 const std::string& dir) {
   const std::string output = dir + "/export." + Extension(format);
   const std::string errors = dir + "/export.stderr";
   std::filesystem::remove(output);
@@ -64,7 +67,7 @@ Export RunExport(const std::string& store, const std::string& format, const std:
   if (pid == 0) {
     if (!std::freopen("/dev/null", "w", stdout) || !std::freopen(errors.c_str(), "w", stderr))
       _exit(126);
-    execl(TINBASE_CLI, "tinbase", "--quiet", "export", store.c_str(), "--surface", kStore1e6Surface,
+    execl(cli.c_str(), "tinbase", "export", store.c_str(), "--surface", kStore1e6Surface,
           "--format", format.c_str(), "-o", output.c_str(), static_cast<char*>(nullptr));
     _exit(127);
   }
@@ -111,7 +114,8 @@ int64_t TriangleCount(const std::string& store_path) {
   return loaded.ok() ? static_cast<int64_t>(loaded->tin.triangles.size()) : 0;
 }
 
-int Run(const std::string& dir, const std::vector<std::string>& formats, int rounds) {
+int Run(const std::string& cli, const std::string& dir, const std::vector<std::string>& formats,
+        int rounds) {
   const std::string store = Store1e6(dir);
   const int64_t triangles = TriangleCount(store);
   std::printf("store %s: %lld triangles\n", store.c_str(), static_cast<long long>(triangles));
@@ -120,7 +124,7 @@ int Run(const std::string& dir, const std::vector<std::string>& formats, int rou
   for (int round = 1; round <= rounds; ++round) {
     for (size_t k = 0; k < formats.size(); ++k) {
       const std::string& f = formats[(k + static_cast<size_t>(round) - 1) % formats.size()];
-      const Export e = RunExport(store, f, dir);
+      const Export e = RunExport(cli, store, f, dir);
       std::printf("%d,%s,%s,%.3f,%.3f,%lld,%.0f%s%s\n", round, f.c_str(), e.ok ? "yes" : "no",
                   e.seconds, e.cpu_seconds, static_cast<long long>(e.bytes),
                   static_cast<double>(e.peak_rss_kib) / 1024, e.ok ? "" : ",", e.error.c_str());
@@ -176,10 +180,12 @@ int main(int argc, char** argv) {
   std::string dir;
   std::string formats = "obj,geojson,ply,stl,glb,gpkg,landxml";
   int rounds = 3;
+  std::string cli = TINBASE_CLI;
   app.add_option("--dir", dir, "Where the store is (built there once) and exports go")->required();
   app.add_option("--formats", formats, "Comma-separated formats, one row each");
   app.add_option("--rounds", rounds, "Rounds (each exports every format once)");
+  app.add_option("--cli", cli, "The tinbase binary to run (default: this build's)");
   CLI11_PARSE(app, argc, argv);
   GDALAllRegister();
-  return tinbase::Run(dir, tinbase::Split(formats), rounds);
+  return tinbase::Run(cli, dir, tinbase::Split(formats), rounds);
 }
