@@ -118,7 +118,7 @@ Result<SurfaceBuildReport> BuildSurfaceFromDem(Store& store, const SurfaceBuildO
                                    ? BuildGreedy(dems, dem, options, &spec, &report)
                                    : BuildInMemory(dems, dem, options, &spec, &report));
   report.build_seconds = SecondsSince(start);
-  // Building is most of a build's time; writing the rows the rest.
+  // The bar's split, an estimate: building the TIN is most of a build, writing its rows the rest.
   if (options.progress) options.progress(0.7);
 
   start = std::chrono::steady_clock::now();
