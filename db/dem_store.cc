@@ -260,16 +260,21 @@ struct DemStore::Impl {
   Status VisitBlocks(const DemInfo& dem, int level, const CellRange& range,
                      const std::function<Status(const DemBlock&)>& fn);
 
-  // Runs the import's failure-injection hook, if any, after a block write.
+  // Runs the import's failure-injection hook, if any, after a block write, and reports progress.
   Status AfterBlockWrite() {
     ++blocks_done;
+    if (progress && blocks_expected > 0)
+      progress(std::min(1.0, static_cast<double>(blocks_done) / blocks_expected));
     return after_block_write ? after_block_write(blocks_done) : Status::Ok();
   }
 
   Store& store;
   uint64_t token = 0;  // the store's dem_cache_token as last read; 0: not read yet
   std::function<Status(int64_t)> after_block_write;  // of the import running
+  std::function<void(double)> progress;              // of the import running
   int64_t blocks_done = 0;
+  // Level 0's blocks and their overviews' (each level a quarter of the one below): 4/3 of them.
+  double blocks_expected = 0;
 };
 
 namespace {
@@ -737,6 +742,7 @@ Result<DemImportReport> DemStore::Impl::ImportInTransaction(const std::vector<st
 
   // Blocks touched by any sheet, each assembled once from the stored block and the sheets over it.
   const std::set<std::pair<int64_t, int64_t>> touched = BlocksUnder(dem, sheets);
+  blocks_expected = static_cast<double>(touched.size()) * 4 / 3;
   for (const auto& [by, bx] : touched) {
     TB_ASSIGN_OR_RETURN(std::vector<float> cells,
                         AssembleBlock(dem, existing, sheets, bx, by, options.keep_first));
@@ -759,7 +765,9 @@ Result<DemImportReport> DemStore::Import(const std::vector<std::string>& files,
                                    " is not a power of two from " + std::to_string(kMinBlockSize) +
                                    " to " + std::to_string(kMaxBlockSize));
   impl_->after_block_write = options.after_block_write;
+  impl_->progress = options.progress;
   impl_->blocks_done = 0;
+  impl_->blocks_expected = 0;
   TB_ASSIGN_OR_RETURN(auto tx, impl_->store.BeginWrite());
   // Read inside the transaction: the token this import replaces is the one last committed.
   TB_RETURN_IF_ERROR(impl_->RefreshToken());
@@ -770,6 +778,7 @@ Result<DemImportReport> DemStore::Import(const std::vector<std::string>& files,
   TB_RETURN_IF_ERROR(tx->Commit());
   impl_->token = new_token;
   DemBlockCache::Instance().EraseStore(old_token);
+  if (options.progress) options.progress(1.0);  // the overviews' 4/3 is an upper bound
   return report;
 }
 

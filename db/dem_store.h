@@ -95,6 +95,9 @@ struct DemImportOptions {
   // overviews) with the count so far; a non-OK status aborts the import like a failed write
   // (the transaction rolls back, the store is unchanged) and Import returns it.
   std::function<Status(int64_t blocks_written)> after_block_write;
+  // Called now and then with the fraction of the import done (by blocks written, the overviews
+  // counted), from the calling thread; empty: not called. For progress bars.
+  std::function<void(double fraction)> progress;
 };
 
 enum class DemSampling {

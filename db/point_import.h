@@ -9,6 +9,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <set>
 #include <string>
 
@@ -24,6 +25,10 @@ struct PointImportOptions {
   std::set<uint8_t> classes;  // empty: ground (class 2) when the file has any, else all points
   bool thin = false;
   ThinningOptions thresholds;  // used when `thin`
+  // Called now and then with the fraction of the import done (the points read, then the
+  // triangles handed to the writer against the ~2 per point a triangulation has), from the
+  // calling thread or the triangulating task's; empty: not called. For progress bars.
+  std::function<void(double fraction)> progress;
 };
 
 struct PointImportReport {

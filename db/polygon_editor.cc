@@ -385,16 +385,22 @@ Result<PolygonAddReport> AddPolygons(Store& store, const PolygonAddOptions& opti
   if (features.empty() && !total.failures.empty())
     return Status::InvalidArgument("no valid feature to add; the first: " + total.failures[0]);
   if (features.empty()) return Status::InvalidArgument(options.file + ": no features to add");
+  const auto progress = [&](double done) {
+    if (options.progress) options.progress(done / static_cast<double>(features.size()));
+  };
   if (!options.each) {
     std::vector<NewFeature> prepared;
     for (EditorFeature& f : features) {
       TB_ASSIGN_OR_RETURN(NewFeature n, Prepare(*session, std::move(f)));
       prepared.push_back(std::move(n));
+      progress(0.5 * static_cast<double>(prepared.size()));
     }
     return ApplyEdit(*session, std::move(prepared), {}, "polygon add");
   }
   TB_ASSIGN_OR_RETURN(session->load_points, LoadPointsThatReadTheSurface(store, surface, features));
+  double done = 0;
   for (EditorFeature& f : features) {
+    progress(done++);
     const std::string label = f.label;
     auto one = [&]() -> Result<PolygonAddReport> {
       TB_ASSIGN_OR_RETURN(NewFeature n, Prepare(*session, std::move(f)));

@@ -11,6 +11,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -34,6 +35,10 @@ struct PolygonAddOptions {
   std::optional<double> level;  // replace: the flat z
   bool repair = false;          // GEOS MakeValid before validation (core/vector/polygon_source)
   bool each = false;            // one transaction per feature; failures are reported, not fatal
+  // AddPolygons calls it now and then with the fraction of the features done (without `each`,
+  // preparing them is counted as half the work, the one edit the other half), from the calling
+  // thread; empty: not called. For progress bars.
+  std::function<void(double fraction)> progress;
 };
 
 struct PolygonAddReport {

@@ -111,12 +111,15 @@ Result<SurfaceBuildReport> BuildSurfaceFromDem(Store& store, const SurfaceBuildO
   DemStore dems(store);
   TB_ASSIGN_OR_RETURN(DemInfo dem, ResolveDem(dems, options.dem));
   SurfaceBuildReport report;
+  if (options.progress) options.progress(0.0);
   auto start = std::chrono::steady_clock::now();
   SurfaceInfo spec;
   TB_ASSIGN_OR_RETURN(Tin tin, options.method == TerrainMethod::kGreedy
                                    ? BuildGreedy(dems, dem, options, &spec, &report)
                                    : BuildInMemory(dems, dem, options, &spec, &report));
   report.build_seconds = SecondsSince(start);
+  // The bar's split, an estimate: building the TIN is most of a build, writing its rows the rest.
+  if (options.progress) options.progress(0.7);
 
   start = std::chrono::steady_clock::now();
   TB_ASSIGN_OR_RETURN(auto tx, store.BeginWrite());
@@ -126,6 +129,7 @@ Result<SurfaceBuildReport> BuildSurfaceFromDem(Store& store, const SurfaceBuildO
   TB_ASSIGN_OR_RETURN(report.surface, surfaces.Create(spec, tin));
   TB_ASSIGN_OR_RETURN(report.tx, AppendChange(store, BuildChange(report.surface, tin)));
   TB_RETURN_IF_ERROR(tx->Commit());
+  if (options.progress) options.progress(1.0);
   report.write_seconds = SecondsSince(start);
   report.vertices = static_cast<int64_t>(tin.vertices.size());
   report.triangles = static_cast<int64_t>(tin.triangles.size());

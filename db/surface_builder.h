@@ -18,6 +18,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 
 #include "core/base/status.h"
@@ -37,6 +38,9 @@ struct SurfaceBuildOptions {
   GreedyOptions greedy;        // tolerance (greedy, rtin) and max_points (greedy, vip)
   double vip_threshold = 1.0;  // vip: the significance threshold in metres
   CollapseOptions collapse;    // for collapse
+  // Called with the fraction done after each stage (the TIN built, its rows written), from the
+  // calling thread; empty: not called. The builders do not report from inside yet.
+  std::function<void(double fraction)> progress;
 };
 
 struct SurfaceBuildReport {

@@ -11,6 +11,7 @@
 
 #include "apps/tinbase/command.h"
 #include "apps/tinbase/output.h"
+#include "apps/tinbase/progress.h"
 #include "core/geometry/point_list.h"
 #include "db/dem_store.h"
 #include "db/surface_builder.h"
@@ -36,7 +37,10 @@ int RunImport(const ImportArgs& args) {
   options.block_size = args.block_size;
   options.keep_first = args.keep_first;
   Stopwatch watch;
-  auto report = dems.Import(args.files, options);
+  auto report = WithProgress("dem import", [&](std::function<void(double)> progress) {
+    options.progress = std::move(progress);
+    return dems.Import(args.files, options);
+  });
   if (!report.ok()) return ReportError(report.status());
   const DemInfo& d = report->dem;
   std::cout << "imported " << args.files.size() << " file(s) into DEM '" << d.name

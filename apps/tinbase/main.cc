@@ -10,6 +10,7 @@
 #include <string>
 
 #include "apps/tinbase/command.h"
+#include "apps/tinbase/progress.h"
 #include "db/dem_block_cache.h"
 #include "db/store.h"
 
@@ -81,6 +82,11 @@ int main(int argc, char** argv) {
   CLI::App app{"tinbase: a store of triangulated terrain and geological surfaces"};
   app.require_subcommand(1);
   app.set_version_flag("--version", TINBASE_VERSION);
+  // Global, before or after the subcommand (fallthrough): long jobs draw no progress bar.
+  app.add_flag_callback(
+      "-q,--quiet", [] { tinbase::cli::SetQuiet(true); },
+      "No progress bars (they are drawn only when stderr is a terminal anyway)");
+  app.fallthrough();
   int exit_code = tinbase::cli::kExitOk;
   tinbase::cli::RegisterStoreCommands(app, &exit_code);
   tinbase::cli::RegisterDemCommands(app, &exit_code);

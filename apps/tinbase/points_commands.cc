@@ -4,6 +4,7 @@
 
 #include "apps/tinbase/command.h"
 #include "apps/tinbase/output.h"
+#include "apps/tinbase/progress.h"
 #include "db/point_import.h"
 
 namespace tinbase::cli {
@@ -65,7 +66,10 @@ int RunImport(ImportArgs args) {
   auto store = Store::Open(args.store);
   if (!store.ok()) return ReportError(store.status());
   Stopwatch watch;
-  auto report = ImportPoints(**store, args.options);
+  auto report = WithProgress("points import", [&](std::function<void(double)> progress) {
+    args.options.progress = std::move(progress);
+    return ImportPoints(**store, args.options);
+  });
   if (!report.ok()) return ReportError(report.status());
   const PointTinReport& p = report->points;
   std::cout << "surface '" << args.options.surface << "' from " << p.format << ": " << p.points_in

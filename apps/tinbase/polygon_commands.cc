@@ -4,6 +4,7 @@
 
 #include "apps/tinbase/command.h"
 #include "apps/tinbase/output.h"
+#include "apps/tinbase/progress.h"
 #include "db/polygon_editor.h"
 
 namespace tinbase::cli {
@@ -30,7 +31,10 @@ int RunAdd(AddArgs args, bool level_given) {
   if (!store.ok()) return ReportError(store.status());
   if (level_given) args.options.level = args.level;
   Stopwatch watch;
-  auto report = AddPolygons(**store, args.options);
+  auto report = WithProgress("polygon add", [&](std::function<void(double)> progress) {
+    args.options.progress = std::move(progress);
+    return AddPolygons(**store, args.options);
+  });
   if (!report.ok()) return ReportError(report.status());
   for (const std::string& failure : report->failures)
     std::cerr << "tinbase: not added: " << failure << "\n";

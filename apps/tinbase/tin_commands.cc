@@ -8,6 +8,7 @@
 
 #include "apps/tinbase/command.h"
 #include "apps/tinbase/output.h"
+#include "apps/tinbase/progress.h"
 #include "db/surface_builder.h"
 
 namespace tinbase::cli {
@@ -49,7 +50,10 @@ int RunBuild(const BuildArgs& args) {
   }
   auto store = Store::Open(args.store);
   if (!store.ok()) return ReportError(store.status());
-  auto report = BuildSurfaceFromDem(**store, options);
+  auto report = WithProgress("tin build", [&](std::function<void(double)> progress) {
+    options.progress = std::move(progress);
+    return BuildSurfaceFromDem(**store, options);
+  });
   if (!report.ok()) return ReportError(report.status());
   std::cout << "surface '" << report->surface.name << "' (" << report->surface.method
             << "): " << report->vertices << " vertices, " << report->triangles
