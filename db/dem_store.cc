@@ -1121,8 +1121,7 @@ Result<int> DemStore::ClipLevel(const DemInfo& dem, const DemBox& box, int64_t m
 Result<DemClip> DemStore::Clip(const DemInfo& dem, const DemBox& box, int64_t max_cells,
                                const std::string& path) {
   TB_ASSIGN_OR_RETURN(const int level, ClipLevel(dem, box, max_cells));
-  TB_ASSIGN_OR_RETURN(const CellRange range,
-                      CellsIn(LevelOf(dem, level).geometry, box, dem.name));
+  TB_ASSIGN_OR_RETURN(const CellRange range, CellsIn(LevelOf(dem, level).geometry, box, dem.name));
   Grid grid;
   TB_RETURN_IF_ERROR(impl_->ReadCells(dem, level, range, &grid));
   TB_RETURN_IF_ERROR(WriteGeoTiff(grid, path));

@@ -217,8 +217,7 @@ Result<ClipTarget> ResolveClipTarget(const ClipArgs& args) {
   std::string name = args.format;
   if (name.empty()) {
     const std::optional<ExportFormat> from_path = ExportFormatFromPath(args.output);
-    if (!from_path) name = "tif";
-    else name = ExportFormatName(*from_path);
+    name = from_path ? ExportFormatName(*from_path) : "tif";
   }
   if (name == "tif") {
     if (args.faces != 0)
@@ -243,8 +242,10 @@ int RunClipRaster(const ClipArgs& args, DemStore& dems, const DemInfo& dem, cons
   if (!clip.ok()) return ReportError(clip.status());
   if (Status s = out->Commit(); !s.ok()) return ReportError(s);
   if (args.json) {
-    std::cout << nlohmann::json{{"output", args.output},     {"format", "tif"},
-                                {"level", clip->level},      {"width", clip->geometry.width},
+    std::cout << nlohmann::json{{"output", args.output},
+                                {"format", "tif"},
+                                {"level", clip->level},
+                                {"width", clip->geometry.width},
                                 {"height", clip->geometry.height},
                                 {"cell_size", clip->geometry.cell_x},
                                 {"seconds", watch.Seconds()}}
@@ -312,10 +313,10 @@ int RunClipMesh(const ClipArgs& args, const ClipTarget& target, Store& store, De
               << "\n";
     return kExitOk;
   }
-  std::cout << "wrote " << args.output << " (" << ExportFormatName(target.mesh) << "): "
-            << grid->geometry.width << " x " << grid->geometry.height << " cells of "
-            << Num(grid->geometry.cell_x) << " from level " << *level << ", "
-            << collapse.faces_in << " -> " << report->triangles << " faces";
+  std::cout << "wrote " << args.output << " (" << ExportFormatName(target.mesh)
+            << "): " << grid->geometry.width << " x " << grid->geometry.height << " cells of "
+            << Num(grid->geometry.cell_x) << " from level " << *level << ", " << collapse.faces_in
+            << " -> " << report->triangles << " faces";
   if (args.faces != 0)
     std::cout << ", max error " << Num(collapse.max_error, 4) << ", rms "
               << Num(collapse.rms_error, 4);

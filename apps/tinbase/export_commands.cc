@@ -103,18 +103,13 @@ int RunExport(const ExportArgs& args) {
     if (Status s = AddFeatures(**store, *surface, selected->tin, options); !s.ok())
       return ReportError(s);
   }
-  auto report =
-      ExportTin(selected->tin, crs->has_value() ? &**crs : nullptr, args.output, options);
+  auto report = ExportTin(selected->tin, crs->has_value() ? &**crs : nullptr, args.output, options);
   if (!report.ok()) return ReportError(report.status());
   if (args.json) {
-    const nlohmann::json j = {{"output", args.output},
-                              {"format", ExportFormatName(*format)},
-                              {"surface", surface->name},
-                              {"selection", filter->Describe()},
-                              {"vertices", report->vertices},
-                              {"triangles", report->triangles},
-                              {"bytes", report->bytes},
-                              {"seconds", watch.Seconds()}};
+    const nlohmann::json j = {{"output", args.output},        {"format", ExportFormatName(*format)},
+                              {"surface", surface->name},     {"selection", filter->Describe()},
+                              {"vertices", report->vertices}, {"triangles", report->triangles},
+                              {"bytes", report->bytes},       {"seconds", watch.Seconds()}};
     std::cout << j.dump(2) << "\n";
     return kExitOk;
   }
@@ -128,8 +123,8 @@ int RunExport(const ExportArgs& args) {
 
 void RegisterExportCommands(CLI::App& app, int* exit_code) {
   auto args = std::make_shared<ExportArgs>();
-  CLI::App* cmd = app.add_subcommand("export", "Write a surface to a file (" + ExportFormatList() +
-                                                   ")");
+  CLI::App* cmd =
+      app.add_subcommand("export", "Write a surface to a file (" + ExportFormatList() + ")");
   cmd->add_option("store", args->store, "Store file")->required();
   cmd->add_option("--surface", args->surface,
                   "Surface name (may be left out with --feature: the feature's surface)");

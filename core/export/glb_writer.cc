@@ -72,12 +72,24 @@ std::array<double, 4> TagColour(const std::string& tag) {
   const double p = v * (1 - s), q = v * (1 - s * f), t = v * (1 - s * (1 - f));
   std::array<double, 3> rgb;
   switch (static_cast<int>(hue)) {
-    case 0: rgb = {v, t, p}; break;
-    case 1: rgb = {q, v, p}; break;
-    case 2: rgb = {p, v, t}; break;
-    case 3: rgb = {p, q, v}; break;
-    case 4: rgb = {t, p, v}; break;
-    default: rgb = {v, p, q}; break;
+    case 0:
+      rgb = {v, t, p};
+      break;
+    case 1:
+      rgb = {q, v, p};
+      break;
+    case 2:
+      rgb = {p, v, t};
+      break;
+    case 3:
+      rgb = {p, q, v};
+      break;
+    case 4:
+      rgb = {t, p, v};
+      break;
+    default:
+      rgb = {v, p, q};
+      break;
   }
   return {Linear(rgb[0]), Linear(rgb[1]), Linear(rgb[2]), 1.0};
 }
@@ -258,8 +270,9 @@ tinygltf::Material GroupMaterial(const Tin& tin, int32_t key) {
     m.alphaMode = "BLEND";
   }
   m.pbrMetallicRoughness.baseColorFactor.assign(colour.begin(), colour.end());
-  m.extras = ToValue(json{{"tinbase", {{"tag", key >= 0 ? json(m.name) : json(nullptr)},
-                                       {"visible", key != kHiddenGroup}}}});
+  m.extras = ToValue(
+      json{{"tinbase",
+            {{"tag", key >= 0 ? json(m.name) : json(nullptr)}, {"visible", key != kHiddenGroup}}}});
   return m;
 }
 
@@ -271,8 +284,8 @@ void AddPrimitive(tinygltf::Model& model, BufferBuilder& buffer, PrimitiveData& 
   prim.material = material;
 
   const int pos_view = buffer.AddView(Bytes(p.positions), kArrayBuffer);
-  const int pos = buffer.AddAccessor(pos_view, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3,
-                                     vertex_count);
+  const int pos =
+      buffer.AddAccessor(pos_view, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, vertex_count);
   // glTF requires POSITION's bounds, exactly as the float values are.
   std::array<double, 3> lo, hi;
   lo.fill(std::numeric_limits<double>::infinity());
@@ -290,10 +303,9 @@ void AddPrimitive(tinygltf::Model& model, BufferBuilder& buffer, PrimitiveData& 
 
   if (vertex_count <= std::numeric_limits<uint16_t>::max()) {
     std::vector<uint16_t> narrow(p.indices.begin(), p.indices.end());
-    prim.indices =
-        buffer.AddAccessor(buffer.AddView(Bytes(narrow), kElementArrayBuffer),
-                           TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, TINYGLTF_TYPE_SCALAR,
-                           narrow.size());
+    prim.indices = buffer.AddAccessor(buffer.AddView(Bytes(narrow), kElementArrayBuffer),
+                                      TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, TINYGLTF_TYPE_SCALAR,
+                                      narrow.size());
   } else {
     prim.indices = buffer.AddAccessor(buffer.AddView(Bytes(p.indices), kElementArrayBuffer),
                                       TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR,
@@ -356,7 +368,9 @@ json StructuralMetadata(BufferBuilder& buffer, const std::vector<ExportFeature>&
     modes.push_back(static_cast<uint8_t>(f.mode));
     tags.push_back(f.tag.value_or(""));
   }
-  class_props["id"] = {{"type", "SCALAR"}, {"componentType", "INT64"}, {"required", true},
+  class_props["id"] = {{"type", "SCALAR"},
+                       {"componentType", "INT64"},
+                       {"required", true},
                        {"description", "The feature's id in the store"}};
   table_props["id"] = {{"values", buffer.AddView(Bytes(ids), 0)}};
   class_props["mode"] = {{"type", "ENUM"}, {"enumType", "featureMode"}, {"required", true}};

@@ -1,10 +1,10 @@
 #include "core/export/local_frame.h"
 
-#include <GeographicLib/Geocentric.hpp>
-#include <GeographicLib/LocalCartesian.hpp>
 #include <cpl_conv.h>
 #include <ogr_spatialref.h>
 
+#include <GeographicLib/Geocentric.hpp>
+#include <GeographicLib/LocalCartesian.hpp>
 #include <algorithm>
 #include <cassert>
 #include <limits>

@@ -62,7 +62,8 @@ Status WriteStl(const Tin& tin, const Crs* crs, const MeshSelection& s, const st
     double nx = uy * vz - uz * vy, ny = uz * vx - ux * vz, nz = ux * vy - uy * vx;
     const double length = std::sqrt(nx * nx + ny * ny + nz * nz);
     if (length > 0) nx /= length, ny /= length, nz /= length;
-    out.Put(static_cast<float>(nx)), out.Put(static_cast<float>(ny)), out.Put(static_cast<float>(nz));
+    out.Put(static_cast<float>(nx)), out.Put(static_cast<float>(ny)),
+        out.Put(static_cast<float>(nz));
     for (const auto& c : corner) out.Put(c[0]), out.Put(c[1]), out.Put(c[2]);
     out.Put(uint16_t{0});
   }

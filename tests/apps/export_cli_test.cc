@@ -4,11 +4,11 @@
 // bad input is one clear line, exit 1, and no file left behind.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
-#include <nlohmann/json.hpp>
-#include <algorithm>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <set>
 
 #include "tests/core/export/gltf_check.h"
@@ -85,8 +85,10 @@ class ExportCliTest : public ::testing::Test {
       t.visible.push_back(f["properties"]["visible"].get<bool>());
       std::array<double, 4> box = {1e300, 1e300, -1e300, -1e300};
       for (const auto& p : f["geometry"]["coordinates"][0]) {
-        box[0] = std::min(box[0], p[0].get<double>()), box[1] = std::min(box[1], p[1].get<double>());
-        box[2] = std::max(box[2], p[0].get<double>()), box[3] = std::max(box[3], p[1].get<double>());
+        box[0] = std::min(box[0], p[0].get<double>()),
+        box[1] = std::min(box[1], p[1].get<double>());
+        box[2] = std::max(box[2], p[0].get<double>()),
+        box[3] = std::max(box[3], p[1].get<double>());
       }
       t.boxes.push_back(box);
     }
@@ -112,8 +114,7 @@ TEST_F(ExportCliTest, EveryFormatWritesTheSameSurface) {
   EXPECT_GT(report["obj"]["triangles"].get<int>(), 1000);
   testing::ExpectValidGltf(out_ + "/t.glb");
   EXPECT_LT(report["glb"]["bytes"].get<int64_t>(), report["obj"]["bytes"].get<int64_t>());
-  EXPECT_EQ(ReadGeoJson(out_ + "/t.geojson").tags.size(),
-            report["obj"]["triangles"].get<size_t>());
+  EXPECT_EQ(ReadGeoJson(out_ + "/t.geojson").tags.size(), report["obj"]["triangles"].get<size_t>());
   // The GLB names the formations and holds the 62 features in its property table.
   const testing::GlbFile glb = testing::ParseGlb(out_ + "/t.glb");
   EXPECT_EQ(glb.gltf["extensions"]["EXT_structural_metadata"]["propertyTables"][0]["count"], 62);
@@ -143,16 +144,16 @@ TEST_F(ExportCliTest, SelectionOptionsNarrowEveryFormat) {
   EXPECT_LT(visible["triangles"], all["triangles"]);
   for (bool v : ReadGeoJson(out_ + "/visible.geojson").visible) EXPECT_TRUE(v);
 
-  const auto tagged = Export("--surface terrain --tag " + Quote(tag) + " -o " +
-                             Quote(out_ + "/tag.geojson"));
+  const auto tagged =
+      Export("--surface terrain --tag " + Quote(tag) + " -o " + Quote(out_ + "/tag.geojson"));
   EXPECT_LT(tagged["triangles"], all["triangles"]);
   for (const std::string& t : ReadGeoJson(out_ + "/tag.geojson").tags) EXPECT_EQ(t, tag);
 
   const double x0 = cx_ - 3000, y0 = cy_ - 3000, x1 = cx_ + 3000, y1 = cy_ + 3000;
-  const std::string box = std::to_string(x0) + "," + std::to_string(y0) + "," +
-                          std::to_string(x1) + "," + std::to_string(y1);
-  const auto window = Export("--surface terrain --bbox " + box + " -o " +
-                             Quote(out_ + "/box.geojson"));
+  const std::string box = std::to_string(x0) + "," + std::to_string(y0) + "," + std::to_string(x1) +
+                          "," + std::to_string(y1);
+  const auto window =
+      Export("--surface terrain --bbox " + box + " -o " + Quote(out_ + "/box.geojson"));
   EXPECT_LT(window["triangles"], all["triangles"]);
   for (const auto& b : ReadGeoJson(out_ + "/box.geojson").boxes)
     EXPECT_TRUE(b[0] <= x1 && b[2] >= x0 && b[1] <= y1 && b[3] >= y0);
@@ -183,22 +184,24 @@ TEST_F(ExportCliTest, SelectionOptionsNarrowEveryFormat) {
 
 TEST_F(ExportCliTest, BadInputIsOneLineAndLeavesNoFile) {
   const std::string s = Quote(store_);
-  ExpectRejected(store_, "export " + s + " --surface terrain --format dxf -o " +
-                             Quote(out_ + "/x.dxf"),
+  ExpectRejected(store_,
+                 "export " + s + " --surface terrain --format dxf -o " + Quote(out_ + "/x.dxf"),
                  "unknown export format 'dxf' (expected one of: obj, ply, stl, glb, geojson");
   ExpectRejected(store_, "export " + s + " --surface terrain -o " + Quote(out_ + "/x.dwg"),
                  "cannot tell the format from");
   const std::string unwritable = out_ + "/no/such/dir/t.glb";
   ExpectRejected(store_, "export " + s + " --surface terrain -o " + Quote(unwritable), unwritable);
-  ExpectRejected(store_, "export " + s + " --surface terrain --bbox 0,0,10,10 -o " +
-                             Quote(out_ + "/empty.glb"),
-                 "nothing selected");
-  ExpectRejected(store_, "export " + s + " --surface terrain --bbox 1,2,x,4 -o " +
-                             Quote(out_ + "/bad.glb"),
+  ExpectRejected(
+      store_,
+      "export " + s + " --surface terrain --bbox 0,0,10,10 -o " + Quote(out_ + "/empty.glb"),
+      "nothing selected");
+  ExpectRejected(store_,
+                 "export " + s + " --surface terrain --bbox 1,2,x,4 -o " + Quote(out_ + "/bad.glb"),
                  "1,2,x,4");
-  ExpectRejected(store_, "export " + s + " --surface terrain --tag 'no such unit' -o " +
-                             Quote(out_ + "/tag.ply"),
-                 "no such unit");
+  ExpectRejected(
+      store_,
+      "export " + s + " --surface terrain --tag 'no such unit' -o " + Quote(out_ + "/tag.ply"),
+      "no such unit");
   ExpectRejected(store_, "export " + s + " --surface nosuch -o " + Quote(out_ + "/n.stl"),
                  "nosuch");
   EXPECT_EQ(FilesInOut(), 0u);
@@ -237,15 +240,18 @@ TEST_F(ExportCliTest, DemClipReducesTheWindowToTheFaceBudgetAsGlb) {
     indices += glb.gltf["accessors"][p["indices"].get<int>()]["count"].get<size_t>();
   EXPECT_EQ(indices / 3, j["faces"].get<size_t>());
 
-  ExpectRejected(store_, "dem clip " + Quote(store_) + " --bbox " + box + " --faces 1 -o " +
-                             Quote(out_ + "/one.glb"),
-                 "--faces must be at least 2");
-  ExpectRejected(store_, "dem clip " + Quote(store_) + " --bbox " + box + " --faces 100 -o " +
-                             Quote(out_ + "/c.tif"),
-                 "--faces applies to mesh formats");
-  ExpectRejected(store_, "dem clip " + Quote(store_) + " --bbox 0,0,10,10 --faces 100 -o " +
-                             Quote(out_ + "/far.glb"),
-                 "does not overlap");
+  ExpectRejected(
+      store_,
+      "dem clip " + Quote(store_) + " --bbox " + box + " --faces 1 -o " + Quote(out_ + "/one.glb"),
+      "--faces must be at least 2");
+  ExpectRejected(
+      store_,
+      "dem clip " + Quote(store_) + " --bbox " + box + " --faces 100 -o " + Quote(out_ + "/c.tif"),
+      "--faces applies to mesh formats");
+  ExpectRejected(
+      store_,
+      "dem clip " + Quote(store_) + " --bbox 0,0,10,10 --faces 100 -o " + Quote(out_ + "/far.glb"),
+      "does not overlap");
   EXPECT_FALSE(std::filesystem::exists(out_ + "/one.glb"));
   EXPECT_FALSE(std::filesystem::exists(out_ + "/far.glb"));
 }

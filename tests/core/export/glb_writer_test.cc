@@ -5,9 +5,9 @@
 // each triangle's feature id and the property table say which feature it belongs to.
 #include "core/export/glb_writer.h"
 
-#include <GeographicLib/LocalCartesian.hpp>
 #include <gtest/gtest.h>
 
+#include <GeographicLib/LocalCartesian.hpp>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -69,9 +69,8 @@ struct Corner {
 std::vector<std::vector<Corner>> CornersInStoreCrs(const GlbFile& glb, const Crs& crs) {
   const json& t = glb.gltf["asset"]["extras"]["tinbase"];
   const json& o = t["origin"];
-  const GeographicLib::LocalCartesian frame(o["latitude"].get<double>(),
-                                            o["longitude"].get<double>(),
-                                            o["height"].get<double>());
+  const GeographicLib::LocalCartesian frame(
+      o["latitude"].get<double>(), o["longitude"].get<double>(), o["height"].get<double>());
   auto geographic = Crs::FromUserInput(t["geographic_crs"].get<std::string>());
   EXPECT_TRUE(geographic.ok());
   std::vector<std::vector<Corner>> out;
@@ -241,8 +240,8 @@ TEST_F(GlbWriterTest, FeatureIdsAndThePropertyTableSayWhichFeatureEachTriangleIs
   EXPECT_EQ(table.strings.at("drilled"), (std::vector<std::string>{"true", "", "", ""}));
   // "age ma" is missing on two rows, so it is text; its id has no space.
   EXPECT_EQ(table.strings.at("age_ma"), (std::vector<std::string>{"2460.5", "2597", "", ""}));
-  const json& modes = glb.gltf["extensions"]["EXT_structural_metadata"]["schema"]["enums"]
-                                ["featureMode"]["values"];
+  const json& modes =
+      glb.gltf["extensions"]["EXT_structural_metadata"]["schema"]["enums"]["featureMode"]["values"];
   EXPECT_EQ(modes.size(), 5u);
 
   // Per primitive, each triangle's three corners carry one id, and the ids match the features
@@ -295,16 +294,15 @@ TEST_F(GlbWriterTest, WithoutCrsTheFrameIsTheStoreAxesShifted) {
 TEST_F(GlbWriterTest, NothingToWriteIsAnError) {
   Tin hidden = tin_;
   for (TinTriangle& t : hidden.triangles) t.visible = false;
-  const Status s = WriteGlb(hidden, crs_.get(), SelectTriangles(hidden, true), {},
-                            dir_.Path("none.glb"));
+  const Status s =
+      WriteGlb(hidden, crs_.get(), SelectTriangles(hidden, true), {}, dir_.Path("none.glb"));
   EXPECT_EQ(s.code(), StatusCode::kInvalidArgument);
 }
 
 TEST_F(GlbWriterTest, IsSmallerThanObjOfTheSameSurface) {
-  const Tin big = testing::MakeGridTin(260, 260, 2.5, 612345.678901234, 5171234.56789012,
-                                       [](double x, double y) {
-                                         return 800 + std::sin(x / 40) * 20 + std::cos(y / 30) * 7;
-                                       });
+  const Tin big = testing::MakeGridTin(
+      260, 260, 2.5, 612345.678901234, 5171234.56789012,
+      [](double x, double y) { return 800 + std::sin(x / 40) * 20 + std::cos(y / 30) * 7; });
   const MeshSelection s = SelectTriangles(big, false);
   const std::string glb = dir_.Path("big.glb"), obj = dir_.Path("big.obj");
   ASSERT_TRUE(WriteGlb(big, crs_.get(), s, {}, glb).ok());

@@ -37,9 +37,9 @@ TEST(WriteStl, ReadsBackThroughCgalRelativeToTheRecordedOrigin) {
   EXPECT_NE(header.rfind("solid", 0), 0u);
   double x0 = 0, y0 = 0, z0 = 1;
   char label[81] = {};
-  ASSERT_EQ(std::sscanf(header.c_str(), "tinbase STL origin %lf %lf %lf crs %80s", &x0, &y0, &z0,
-                        label),
-            4)
+  ASSERT_EQ(
+      std::sscanf(header.c_str(), "tinbase STL origin %lf %lf %lf crs %80s", &x0, &y0, &z0, label),
+      4)
       << header;
   EXPECT_EQ(std::string(label), "EPSG:32632");
   EXPECT_EQ(z0, 0);
