@@ -440,12 +440,11 @@ json AssetExtras(const Crs* crs, const LocalFrame& frame) {
     t["axes"] = "x = store x, y = store z, z = -store y; store units";
   }
   t["origin"] = origin;
+  // Without a CRS there are no crs keys at all: tinygltf drops JSON nulls.
   if (crs != nullptr) {
     t["crs"] = crs->Label();
     t["crs_wkt"] = OneLineWkt(*crs);
     if (auto epsg = crs->Epsg()) t["epsg"] = *epsg;
-  } else {
-    t["crs"] = nullptr;
   }
   return {{"tinbase", t}};
 }

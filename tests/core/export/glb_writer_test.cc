@@ -277,7 +277,9 @@ TEST_F(GlbWriterTest, WithoutCrsTheFrameIsTheStoreAxesShifted) {
   const MeshSelection s = SelectTriangles(tin_, false);
   const GlbFile glb = WriteAndRead(s, {}, nullptr);
   const json& t = glb.gltf["asset"]["extras"]["tinbase"];
-  EXPECT_TRUE(t["crs"].is_null());
+  EXPECT_FALSE(t.contains("crs"));
+  EXPECT_FALSE(t.contains("epsg"));
+  EXPECT_EQ(t["frame"], "store axes shifted to the origin (no CRS)");
   EXPECT_FALSE(glb.gltf.contains("extensionsUsed"));
   const json& prim = glb.gltf["meshes"][0]["primitives"][0];
   const std::vector<double> p = glb.Accessor(prim["attributes"]["POSITION"].get<int>());
