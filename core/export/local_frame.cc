@@ -7,6 +7,7 @@
 #include <GeographicLib/LocalCartesian.hpp>
 #include <algorithm>
 #include <cassert>
+#include <cmath>
 #include <limits>
 #include <memory>
 
@@ -61,6 +62,17 @@ Result<LocalFrame> ToLocalFrame(const Tin& tin, const Crs* crs, const MeshSelect
   ConvertHeightUnits(*crs, geographic, points);
   const TinVertex origin = points.back();
   points.pop_back();
+  // A geographic store holding projected numbers (or a broken transformation) would otherwise
+  // become NaN positions in the file.
+  for (size_t i = 0; i < points.size(); ++i) {
+    const TinVertex& p = points[i];
+    if (!(std::abs(p.y) <= 90) || !std::isfinite(p.x) || !std::isfinite(p.z)) {
+      const TinVertex& v = tin.vertices[s.vertices[i]];
+      return Status::InvalidArgument("vertex (" + std::to_string(v.x) + ", " + std::to_string(v.y) +
+                                     ") is not a place on " + "the earth in " + crs->Label() +
+                                     " (latitude " + std::to_string(p.y) + ")");
+    }
+  }
 
   OGRErr err = OGRERR_NONE;
   frame.semi_major = geographic.ogr().GetSemiMajor(&err);

@@ -293,6 +293,42 @@ TEST_F(GlbWriterTest, WithoutCrsTheFrameIsTheStoreAxesShifted) {
   EXPECT_LT(worst, 1e-3);  // vertex 0 is in there, where it was
 }
 
+// A store in longitude and latitude: no projection step, the frame straight on WGS 84.
+TEST_F(GlbWriterTest, AGeographicStoreGoesStraightIntoTheFrame) {
+  tin_ = testing::MakeGridTin(8, 6, 0.0003, 10.0, 46.0, [](double x, double y) {
+    return 1500 + (x - 10.0) * 1e4 + (y - 46.0) * 5e3;
+  });
+  const Tin& geo = tin_;
+  auto wgs84 = Crs::FromUserInput("EPSG:4326");
+  ASSERT_TRUE(wgs84.ok());
+  const GlbFile glb = WriteAndRead(SelectTriangles(geo, false), {}, &*wgs84);
+  const json& t = glb.gltf["asset"]["extras"]["tinbase"];
+  EXPECT_EQ(t["geographic_crs"], "EPSG:4326");
+  EXPECT_NEAR(t["origin"]["longitude"].get<double>(), 10.0 + 4 * 0.0003, 1e-12);
+  EXPECT_NEAR(t["origin"]["latitude"].get<double>(), 46.0 + 3 * 0.0003, 1e-12);
+  const std::vector<std::vector<Corner>> back = CornersInStoreCrs(glb, *wgs84);
+  ASSERT_EQ(back.size(), 1u);
+  ASSERT_EQ(back[0].size(), geo.vertices.size());  // one primitive, nothing split
+  for (const Corner& c : back[0]) {
+    bool found = false;
+    for (const TinVertex& v : geo.vertices)
+      found = found || (std::abs(c.x - v.x) < 1e-8 && std::abs(c.y - v.y) < 1e-8 &&
+                        std::abs(c.z - v.z) < 1e-3);
+    EXPECT_TRUE(found) << c.x << " " << c.y << " " << c.z;
+  }
+}
+
+// Projected numbers in a store that says it is geographic are no place on the earth.
+TEST_F(GlbWriterTest, CoordinatesOffTheEarthAreRefused) {
+  auto wgs84 = Crs::FromUserInput("EPSG:4326");
+  ASSERT_TRUE(wgs84.ok());
+  const std::string path = dir_.Path("off.glb");
+  const Status s = WriteGlb(tin_, &*wgs84, SelectTriangles(tin_, false), {}, path);
+  EXPECT_EQ(s.code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(s.message().find("is not a place on the earth in EPSG:4326"), std::string::npos)
+      << s.message();
+}
+
 TEST_F(GlbWriterTest, NothingToWriteIsAnError) {
   Tin hidden = tin_;
   for (TinTriangle& t : hidden.triangles) t.visible = false;
