@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <fstream>
+#include <limits>
 #include <vector>
 
 #include "core/export/binary_out.h"
@@ -59,6 +60,9 @@ std::string Header(const Crs* crs, const MeshSelection& s, const TagNumbering& t
 }  // namespace
 
 Status WritePly(const Tin& tin, const Crs* crs, const MeshSelection& s, const std::string& path) {
+  if (s.vertices.size() > static_cast<size_t>(std::numeric_limits<int32_t>::max()))
+    return Status::InvalidArgument(path + ": " + std::to_string(s.vertices.size()) +
+                                   " vertices are more than PLY's int indices reach");
   const TagNumbering tags = NumberTags(tin, s);
   BinaryOut out;
   out.PutText(Header(crs, s, tags));

@@ -22,7 +22,8 @@
 namespace tinbase {
 
 // Writes the selected triangles of `tin` to `path` (created or truncated); `crs` may be null.
-// IOError naming `path` when it cannot be opened or written.
+// IOError naming `path` when it cannot be opened or written; InvalidArgument when there are more
+// vertices than PLY's int indices reach.
 Status WritePly(const Tin& tin, const Crs* crs, const MeshSelection& selection,
                 const std::string& path);
 
