@@ -2,6 +2,7 @@
 
 #include <cpl_conv.h>
 #include <ogr_spatialref.h>
+#include <tbb/parallel_for.h>
 
 #include <GeographicLib/Geocentric.hpp>
 #include <GeographicLib/LocalCartesian.hpp>
@@ -28,6 +29,29 @@ Result<Crs> GeographicOf(const Crs& crs) {
   CPLFree(wkt);
   return Crs::FromWkt(text);
 }
+
+// `points` from `crs` to its geographic system `geographic`, heights in metres. A geographic
+// store holding projected numbers (or a broken transformation) would otherwise become NaN
+// positions in the file, so a point off the earth is an error naming it.
+Status ToGeographic(const Crs& crs, const Crs& geographic, std::vector<TinVertex>& points) {
+  std::vector<TinVertex> original;
+  if (!crs.IsGeographic()) {
+    original = points;
+    TB_RETURN_IF_ERROR(ReprojectXy(crs, geographic, points));
+  }
+  ConvertHeightUnits(crs, geographic, points);
+  for (size_t i = 0; i < points.size(); ++i) {
+    const TinVertex& p = points[i];
+    if (std::abs(p.y) <= 90 && std::isfinite(p.x) && std::isfinite(p.z)) continue;
+    const TinVertex& v = original.empty() ? p : original[i];
+    return Status::InvalidArgument("vertex (" + std::to_string(v.x) + ", " + std::to_string(v.y) +
+                                   ") is not a place on the earth in " + crs.Label() +
+                                   " (latitude " + std::to_string(p.y) + ")");
+  }
+  return Status::Ok();
+}
+
+constexpr size_t kChunk = size_t{1} << 16;  // vertices per parallel task
 
 }  // namespace
 
@@ -56,35 +80,36 @@ Result<LocalFrame> ToLocalFrame(const Tin& tin, const Crs* crs, const MeshSelect
   }
 
   TB_ASSIGN_OR_RETURN(Crs geographic, GeographicOf(*crs));
-  // The origin rides along as the last point, so it goes through the very same transformation.
-  points.push_back({frame.x0, frame.y0, frame.z0, VertexKind::kUser});
-  if (!crs->IsGeographic()) TB_RETURN_IF_ERROR(ReprojectXy(*crs, geographic, points));
-  ConvertHeightUnits(*crs, geographic, points);
-  const TinVertex origin = points.back();
-  points.pop_back();
-  // A geographic store holding projected numbers (or a broken transformation) would otherwise
-  // become NaN positions in the file.
-  for (size_t i = 0; i < points.size(); ++i) {
-    const TinVertex& p = points[i];
-    if (!(std::abs(p.y) <= 90) || !std::isfinite(p.x) || !std::isfinite(p.z)) {
-      const TinVertex& v = tin.vertices[s.vertices[i]];
-      return Status::InvalidArgument("vertex (" + std::to_string(v.x) + ", " + std::to_string(v.y) +
-                                     ") is not a place on " + "the earth in " + crs->Label() +
-                                     " (latitude " + std::to_string(p.y) + ")");
-    }
-  }
-
+  std::vector<TinVertex> origin_point = {{frame.x0, frame.y0, frame.z0, VertexKind::kUser}};
+  TB_RETURN_IF_ERROR(ToGeographic(*crs, geographic, origin_point));
+  const TinVertex origin = origin_point[0];
   OGRErr err = OGRERR_NONE;
   frame.semi_major = geographic.ogr().GetSemiMajor(&err);
   frame.inverse_flattening = geographic.ogr().GetInvFlattening(&err);
   const GeographicLib::Geocentric earth(
       frame.semi_major, frame.inverse_flattening > 0 ? 1 / frame.inverse_flattening : 0);
   const GeographicLib::LocalCartesian enu(origin.y, origin.x, origin.z, earth);
-  for (size_t i = 0; i < points.size(); ++i) {
-    double e = 0, n = 0, u = 0;
-    enu.Forward(points[i].y, points[i].x, points[i].z, e, n, u);
-    frame.enu[i] = {e, n, u};
-  }
+
+  // Chunks on TBB's threads, each with its own copies of the two systems (an
+  // OGRSpatialReference is not safe to share between threads); every point is transformed on
+  // its own, so the result does not depend on the thread count. The first failing chunk's error
+  // is reported, whichever thread met it first.
+  const size_t chunks = (points.size() + kChunk - 1) / kChunk;
+  std::vector<Crs> from(chunks, *crs), to(chunks, geographic);
+  std::vector<Status> errors(chunks);
+  tbb::parallel_for(size_t{0}, chunks, [&](size_t c) {
+    const size_t begin = c * kChunk, end = std::min(points.size(), begin + kChunk);
+    std::vector<TinVertex> part(points.begin() + static_cast<ptrdiff_t>(begin),
+                                points.begin() + static_cast<ptrdiff_t>(end));
+    errors[c] = ToGeographic(from[c], to[c], part);
+    if (!errors[c].ok()) return;
+    for (size_t i = 0; i < part.size(); ++i) {
+      double e = 0, n = 0, u = 0;
+      enu.Forward(part[i].y, part[i].x, part[i].z, e, n, u);
+      frame.enu[begin + i] = {e, n, u};
+    }
+  });
+  for (const Status& e : errors) TB_RETURN_IF_ERROR(e);
   frame.geodetic = true;
   frame.latitude = origin.y;
   frame.longitude = origin.x;
