@@ -1119,15 +1119,18 @@ Status DemStore::ForEachBlock(const DemInfo& dem, const DemBox& box, int level,
   return impl_->VisitBlocks(dem, level, range, fn);
 }
 
+Result<int> DemStore::ClipLevel(const DemInfo& dem, const DemBox& box, int64_t max_cells) {
+  for (int level = 0;; ++level) {
+    TB_ASSIGN_OR_RETURN(CellRange range, CellsIn(LevelOf(dem, level).geometry, box, dem.name));
+    const int64_t cells = (range.col_hi - range.col_lo + 1) * (range.row_hi - range.row_lo + 1);
+    if (cells <= max_cells || level + 1 >= dem.levels) return level;
+  }
+}
+
 Result<DemClip> DemStore::Clip(const DemInfo& dem, const DemBox& box, int64_t max_cells,
                                const std::string& path) {
-  int level = 0;
-  CellRange range{};
-  for (;; ++level) {
-    TB_ASSIGN_OR_RETURN(range, CellsIn(LevelOf(dem, level).geometry, box, dem.name));
-    const int64_t cells = (range.col_hi - range.col_lo + 1) * (range.row_hi - range.row_lo + 1);
-    if (cells <= max_cells || level + 1 >= dem.levels) break;
-  }
+  TB_ASSIGN_OR_RETURN(const int level, ClipLevel(dem, box, max_cells));
+  TB_ASSIGN_OR_RETURN(const CellRange range, CellsIn(LevelOf(dem, level).geometry, box, dem.name));
   Grid grid;
   TB_RETURN_IF_ERROR(impl_->ReadCells(dem, level, range, &grid));
   TB_RETURN_IF_ERROR(WriteGeoTiff(grid, path));

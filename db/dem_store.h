@@ -181,8 +181,11 @@ class DemStore {
   // error of `fn`; errors as ReadWindow.
   Status ForEachBlock(const DemInfo& dem, const DemBox& box, int level,
                       const std::function<Status(const DemBlock&)>& fn);
+  // The finest level whose window of `box` holds at most `max_cells` cells (the coarsest if none
+  // does): the sampling step of Clip and of `dem clip --faces`. Errors as ReadWindow.
+  Result<int> ClipLevel(const DemInfo& dem, const DemBox& box, int64_t max_cells);
   // Writes the cells of `box` to a float32 GeoTIFF at `path` (nodata: the DEM's, else NaN) from
-  // the finest level whose window holds at most `max_cells` cells (the coarsest if none does).
+  // ClipLevel's level.
   // Errors as ReadWindow; IOError naming `path` when GDAL cannot write it.
   Result<DemClip> Clip(const DemInfo& dem, const DemBox& box, int64_t max_cells,
                        const std::string& path);

@@ -11,6 +11,8 @@ PACKAGES=(
   libsqlite3-dev sqlite3 libblosc-dev libzstd-dev zlib1g-dev
   nlohmann-json3-dev libcli11-dev
   libtbb-dev
+  libtinygltf-dev libmeshoptimizer-dev
+  nodejs
   libgtest-dev libgmock-dev librapidcheck-dev libbenchmark-dev
   clang-format clang-tidy
 )
@@ -21,6 +23,9 @@ for p in "${PACKAGES[@]}"; do
     missing+=("$p")
   fi
 done
+# The glTF validator of the tests runs on node with npm (scripts/install-test-tools.sh). Debian
+# ships npm as its own package; NodeSource's nodejs bundles it, so only ask for it when absent.
+command -v npm >/dev/null || missing+=(npm)
 if [ ${#missing[@]} -eq 0 ]; then
   echo "install-deps: all ${#PACKAGES[@]} packages present"
   exit 0

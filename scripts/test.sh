@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
-# Second command of the README (and what .ci/run calls): install dependencies, build everything
+# Second command of the README (and what .ci/run calls): install dependencies and the npm test
+# tools (scripts/install-test-tools.sh: the glTF validator), build everything
 # with warnings as errors, run the whole test suite with CTest, then the style checks
 # (scripts/lint.sh: clang-format and clang-tidy).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
+scripts/install-test-tools.sh
 cmake -S . -B build/test -G Ninja -DCMAKE_BUILD_TYPE=Release -DTINBASE_BUILD_TESTS=ON \
   -DTINBASE_WERROR=ON -DTINBASE_BUILD_BENCH=ON >/dev/null
 cmake --build build/test -j "$(nproc)"

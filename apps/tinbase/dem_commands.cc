@@ -12,7 +12,12 @@
 #include "apps/tinbase/command.h"
 #include "apps/tinbase/output.h"
 #include "apps/tinbase/progress.h"
+#include "core/base/output_file.h"
+#include "core/export/export_format.h"
+#include "core/export/tin_export.h"
 #include "core/geometry/point_list.h"
+#include "core/tin/edge_collapse.h"
+#include "core/tin/grid_triangulation.h"
 #include "db/dem_store.h"
 #include "db/surface_builder.h"
 
@@ -179,6 +184,10 @@ struct ClipArgs {
   std::string bbox;
   int64_t max_cells = 4096 * 4096;
   std::string output;
+  std::string format;  // "tif" or a mesh format; empty: from the output's extension, else tif
+  int64_t faces = 0;   // mesh formats: the face budget of the edge collapse (0: none)
+  std::string strategy = "quadric";
+  bool json = false;
 };
 
 // "minx,miny,maxx,maxy" -> a box; InvalidArgument naming the text otherwise.
@@ -202,22 +211,136 @@ Result<DemBox> ParseBbox(const std::string& text) {
   return DemBox{v[0], v[1], v[2], v[3]};
 }
 
+// What `dem clip` writes: the window as a GeoTIFF, or (paper 002) as a mesh.
+struct ClipTarget {
+  bool raster = true;
+  ExportFormat mesh = ExportFormat::kGlb;
+};
+
+Result<ClipTarget> ResolveClipTarget(const ClipArgs& args) {
+  std::string name = args.format;
+  if (name.empty()) {
+    const std::optional<ExportFormat> from_path = ExportFormatFromPath(args.output);
+    name = from_path ? ExportFormatName(*from_path) : "tif";
+  }
+  if (name == "tif") {
+    if (args.faces != 0)
+      return Status::InvalidArgument("--faces applies to mesh formats (--format " +
+                                     ExportFormatList() + "), not to a GeoTIFF");
+    return ClipTarget{};
+  }
+  auto mesh = ParseExportFormat(name);
+  if (!mesh.ok())
+    return Status::InvalidArgument("unknown clip format '" + name + "' (expected one of: tif, " +
+                                   ExportFormatList() + ")");
+  if (args.faces != 0 && args.faces < 2)
+    return Status::InvalidArgument("--faces must be at least 2, got " + std::to_string(args.faces));
+  return ClipTarget{false, *mesh};
+}
+
+int RunClipRaster(const ClipArgs& args, DemStore& dems, const DemInfo& dem, const DemBox& box) {
+  Stopwatch watch;
+  auto out = OutputFile::Create(args.output);
+  if (!out.ok()) return ReportError(out.status());
+  auto clip = dems.Clip(dem, box, args.max_cells, out->temp_path());
+  if (!clip.ok()) return ReportError(clip.status());
+  if (Status s = out->Commit(); !s.ok()) return ReportError(s);
+  if (args.json) {
+    std::cout << nlohmann::json{{"output", args.output},
+                                {"format", "tif"},
+                                {"level", clip->level},
+                                {"width", clip->geometry.width},
+                                {"height", clip->geometry.height},
+                                {"cell_size", clip->geometry.cell_x},
+                                {"seconds", watch.Seconds()}}
+                     .dump(2)
+              << "\n";
+    return kExitOk;
+  }
+  std::cout << "wrote " << args.output << ": " << clip->geometry.width << " x "
+            << clip->geometry.height << " cells of " << Num(clip->geometry.cell_x) << " from level "
+            << clip->level << " in " << Num(watch.Seconds(), 3) << " s\n";
+  return kExitOk;
+}
+
+// Paper 002 in one command: the window at the sampling step --max-cells allows, its full grid
+// triangulation, edge collapse to --faces (core/tin/edge_collapse.h), then the mesh writer.
+int RunClipMesh(const ClipArgs& args, const ClipTarget& target, Store& store, DemStore& dems,
+                const DemInfo& dem, const DemBox& box) {
+  CollapseStrategy strategy{};
+  if (!ParseCollapseStrategy(args.strategy, &strategy))
+    return ReportError(Status::InvalidArgument("unknown --strategy '" + args.strategy +
+                                               "' (expected quadric or paper)"));
+  if (auto out = OutputFile::Create(args.output); !out.ok()) return ReportError(out.status());
+  auto crs = store.GetCrs();
+  if (!crs.ok()) return ReportError(crs.status());
+  Stopwatch watch;
+  auto level = dems.ClipLevel(dem, box, args.max_cells);
+  if (!level.ok()) return ReportError(level.status());
+  auto grid = dems.ReadWindow(dem, box, *level);
+  if (!grid.ok()) return ReportError(grid.status());
+  Tin tin = GridTriangulation(*grid);
+  if (tin.triangles.empty())
+    return ReportError(Status::NotFound("the window " + args.bbox + " of DEM '" + dem.name +
+                                        "' holds no complete square of valid cells: nothing "
+                                        "to write"));
+  CollapseReport collapse;
+  collapse.faces_in = collapse.faces_out = static_cast<int64_t>(tin.triangles.size());
+  if (args.faces != 0) {
+    CollapseOptions options;
+    options.faces = args.faces;
+    options.strategy = strategy;
+    auto reduced = CollapseToFaceBudget(tin, options, &collapse, &*grid);
+    if (!reduced.ok()) return ReportError(reduced.status());
+    tin = std::move(*reduced);
+  }
+  ExportOptions options;
+  options.format = target.mesh;
+  auto report = ExportTin(tin, crs->has_value() ? &**crs : nullptr, args.output, options);
+  if (!report.ok()) return ReportError(report.status());
+  if (args.json) {
+    std::cout << nlohmann::json{{"output", args.output},
+                                {"format", ExportFormatName(target.mesh)},
+                                {"level", *level},
+                                {"width", grid->geometry.width},
+                                {"height", grid->geometry.height},
+                                {"cell_size", grid->geometry.cell_x},
+                                {"faces_in", collapse.faces_in},
+                                {"faces", report->triangles},
+                                {"vertices", report->vertices},
+                                {"budget_met", args.faces == 0 || collapse.budget_met},
+                                {"max_error", collapse.max_error},
+                                {"rms_error", collapse.rms_error},
+                                {"bytes", report->bytes},
+                                {"seconds", watch.Seconds()}}
+                     .dump(2)
+              << "\n";
+    return kExitOk;
+  }
+  std::cout << "wrote " << args.output << " (" << ExportFormatName(target.mesh)
+            << "): " << grid->geometry.width << " x " << grid->geometry.height << " cells of "
+            << Num(grid->geometry.cell_x) << " from level " << *level << ", " << collapse.faces_in
+            << " -> " << report->triangles << " faces";
+  if (args.faces != 0)
+    std::cout << ", max error " << Num(collapse.max_error, 4) << ", rms "
+              << Num(collapse.rms_error, 4);
+  std::cout << " in " << Num(watch.Seconds(), 3) << " s\n";
+  return kExitOk;
+}
+
 int RunClip(const ClipArgs& args) {
   auto box = ParseBbox(args.bbox);
   if (!box.ok()) return ReportError(box.status());
   if (args.max_cells < 1) return ReportError(Status::InvalidArgument("--max-cells must be >= 1"));
+  auto target = ResolveClipTarget(args);
+  if (!target.ok()) return ReportError(target.status());
   auto store = Store::Open(args.store, Store::Access::kReadOnly);
   if (!store.ok()) return ReportError(store.status());
   DemStore dems(**store);
   auto dem = ResolveDem(dems, args.dem);
   if (!dem.ok()) return ReportError(dem.status());
-  Stopwatch watch;
-  auto clip = dems.Clip(*dem, *box, args.max_cells, args.output);
-  if (!clip.ok()) return ReportError(clip.status());
-  std::cout << "wrote " << args.output << ": " << clip->geometry.width << " x "
-            << clip->geometry.height << " cells of " << Num(clip->geometry.cell_x) << " from level "
-            << clip->level << " in " << Num(watch.Seconds(), 3) << " s\n";
-  return kExitOk;
+  if (target->raster) return RunClipRaster(args, dems, *dem, *box);
+  return RunClipMesh(args, *target, **store, dems, *dem, *box);
 }
 
 }  // namespace
@@ -247,13 +370,23 @@ info->add_flag("--json", info_args->json, "Print JSON");
 info->callback([=] { *exit_code = RunInfo(*info_args); });
 
 auto clip_args = std::make_shared<ClipArgs>();
-CLI::App* clip = dem->add_subcommand("clip", "Write a window of a DEM as a GeoTIFF");
+CLI::App* clip = dem->add_subcommand(
+    "clip", "Write a window of a DEM as a GeoTIFF, or as a mesh reduced to --faces (paper 002)");
 clip->add_option("store", clip_args->store, "Store file")->required();
 clip->add_option("--name", clip_args->dem, "DEM name (default: the only DEM)");
 clip->add_option("--bbox", clip_args->bbox, "MINX,MINY,MAXX,MAXY in the store's CRS")->required();
 clip->add_option("--max-cells", clip_args->max_cells,
                  "Read the finest overview whose window has at most this many cells");
-clip->add_option("-o,--output", clip_args->output, "GeoTIFF to write")->required();
+clip->add_option("--format", clip_args->format,
+                 "tif or a mesh format: " + ExportFormatList() +
+                     " (default: from the output's extension, else tif)");
+clip->add_option("--faces", clip_args->faces,
+                 "Mesh formats: reduce the window's grid triangulation by edge collapse to at "
+                 "most this many faces");
+clip->add_option("--strategy", clip_args->strategy,
+                 "Edge-collapse costs: quadric (default) or paper");
+clip->add_option("-o,--output", clip_args->output, "File to write")->required();
+clip->add_flag("--json", clip_args->json, "Print what was written as JSON");
 clip->callback([=] { *exit_code = RunClip(*clip_args); });
 
 auto sample_args = std::make_shared<SampleArgs>();

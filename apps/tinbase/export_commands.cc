@@ -1,11 +1,18 @@
-// Kernel: `export` (a surface, or the inside of one polygon feature, to OBJ or GeoJSON).
+// Kernel: `export` (a surface, or the part of it a selection picks, to obj, ply, stl, glb,
+// geojson, landxml or vdb). The selection options mean what they mean everywhere (db/query/surface_selection.h);
+// the file goes through OutputFile, so a failed export leaves nothing behind.
 #include <iostream>
+#include <nlohmann/json.hpp>
+#include <optional>
 
 #include "apps/tinbase/command.h"
 #include "apps/tinbase/landxml_vdb_export.h"
 #include "apps/tinbase/output.h"
+#include "core/base/output_file.h"
+#include "core/export/export_format.h"
 #include "core/export/tin_export.h"
 #include "db/feature_store.h"
+#include "db/query/surface_selection.h"
 #include "db/surface_store.h"
 
 namespace tinbase::cli {
@@ -15,47 +22,130 @@ namespace {
 struct ExportArgs {
   std::string store;
   std::string surface;
-  std::string format = "obj";
+  std::string format;  // empty: from the output's extension
   std::string output;
-  bool visible_only = false;
+  std::string bbox;
   int64_t feature = 0;
+  bool visible_only = false;
+  std::string tag;
+  bool json = false;
   std::string base;             // vdb
   double voxel = 0;             // vdb
   std::optional<double> floor;  // vdb
 };
 
-int RunExport(const ExportArgs& args) {
-  if (args.format == "landxml" || args.format == "vdb") {
-    LandXmlVdbExportArgs a{args.store, args.surface, args.output, {},
-                           args.base,  args.voxel,   args.floor};
-    a.filter.feature = args.feature;
-    a.filter.visible_only = args.visible_only;
-    return args.format == "landxml" ? RunLandXmlExport(a) : RunVdbExport(a);
+// The formats that read more of the store than the selected mesh (features, constraints, a
+// second surface), written by their own kernels: "landxml" or "vdb", from --format or the
+// extension; empty for the mesh formats.
+std::string StoreFormat(const ExportArgs& args) {
+  const auto ends_with = [&](const char* ext) {
+    const std::string e(ext);
+    return args.output.size() > e.size() &&
+           args.output.compare(args.output.size() - e.size(), e.size(), e) == 0;
+  };
+  if (args.format == "landxml" || args.format == "vdb") return args.format;
+  if (args.format.empty() && ends_with(".xml")) return "landxml";
+  if (args.format.empty() && ends_with(".vdb")) return "vdb";
+  return "";
+}
+
+// --format, or else the output file's extension.
+Result<ExportFormat> ResolveFormat(const ExportArgs& args) {
+  if (!args.format.empty()) return ParseExportFormat(args.format);
+  if (auto format = ExportFormatFromPath(args.output)) return *format;
+  return Status::InvalidArgument("cannot tell the format from '" + args.output +
+                                 "': give --format (one of: " + ExportFormatList() + ")");
+}
+
+Result<SurfaceFilter> FilterOf(const ExportArgs& args) {
+  SurfaceFilter filter;
+  if (!args.bbox.empty()) {
+    TB_ASSIGN_OR_RETURN(Box box, ParseBbox(args.bbox));
+    filter.bbox = box;
   }
-  auto format = ParseExportFormat(args.format);
+  filter.feature = args.feature;
+  filter.visible_only = args.visible_only;
+  if (!args.tag.empty()) filter.tag = args.tag;
+  return filter;
+}
+
+// The named surface, or without --surface the one that holds --feature.
+Result<SurfaceInfo> ResolveSurface(Store& store, const ExportArgs& args) {
+  SurfaceStore surfaces(store);
+  if (!args.surface.empty()) return surfaces.Find(args.surface);
+  TB_ASSIGN_OR_RETURN(std::vector<SurfaceInfo> all, surfaces.List());
+  for (const SurfaceInfo& s : all)
+    if (LoadFeature(store, s, args.feature).ok()) return s;
+  return Status::NotFound("no feature " + std::to_string(args.feature));
+}
+
+// The surface's features for the GLB's property table, and each selected triangle's feature.
+Status AddFeatures(Store& store, const SurfaceInfo& surface, const Tin& tin,
+                   ExportOptions& options) {
+  TB_ASSIGN_OR_RETURN(std::vector<EditorFeature> features, LoadFeatures(store, surface));
+  for (const EditorFeature& f : features) {
+    ExportFeature e;
+    e.id = f.id;
+    e.mode = f.mode;
+    e.tag = f.tag;
+    e.attributes = f.attributes;
+    if (!f.polygons.empty()) e.inside = InsideOf(f);
+    options.features.push_back(std::move(e));
+  }
+  options.triangle_feature = OwningFeatures(tin, options.features);
+  return Status::Ok();
+}
+
+int RunExport(const ExportArgs& args) {
+  const std::string store_format = StoreFormat(args);
+  if (store_format != "vdb" && (!args.base.empty() || args.voxel != 0 || args.floor))
+    return ReportError(
+        Status::InvalidArgument("--base, --voxel and --floor apply only to --format vdb"));
+  if (!store_format.empty()) {
+    auto filter = FilterOf(args);
+    if (!filter.ok()) return ReportError(filter.status());
+    LandXmlVdbExportArgs a{args.store, args.surface, args.output, *filter,
+                           args.base,  args.voxel,   args.floor};
+    return store_format == "landxml" ? RunLandXmlExport(a) : RunVdbExport(a);
+  }
+  auto format = ResolveFormat(args);
   if (!format.ok()) return ReportError(format.status());
-  if (args.surface.empty() == (args.feature == 0))
-    return ReportError(Status::InvalidArgument("give --surface or --feature (one of them)"));
+  auto filter = FilterOf(args);
+  if (!filter.ok()) return ReportError(filter.status());
+  if (args.surface.empty() && args.feature == 0)
+    return ReportError(Status::InvalidArgument("give --surface (or --feature alone)"));
+  // Before any reading, so a bad path costs nothing; ExportTin checks again when it writes.
+  if (auto out = OutputFile::Create(args.output); !out.ok()) return ReportError(out.status());
   auto store = Store::Open(args.store, Store::Access::kReadOnly);
   if (!store.ok()) return ReportError(store.status());
-  SurfaceStore surfaces(**store);
   auto crs = (*store)->GetCrs();
   if (!crs.ok()) return ReportError(crs.status());
   Stopwatch watch;
-  auto loaded = [&]() -> Result<LoadedSurface> {
-    if (args.feature != 0) return LoadFeatureSurface(**store, args.feature);
-    TB_ASSIGN_OR_RETURN(SurfaceInfo surface, surfaces.Find(args.surface));
-    return surfaces.Load(surface);
-  }();
-  if (!loaded.ok()) return ReportError(loaded.status());
+  auto surface = ResolveSurface(**store, args);
+  if (!surface.ok()) return ReportError(surface.status());
+  auto selected = SelectSurface(**store, *surface, *filter);
+  if (!selected.ok()) return ReportError(selected.status());
+
   ExportOptions options;
   options.format = *format;
-  options.visible_only = args.visible_only;
-  options.triangle_ids = loaded->triangle_ids;
-  auto report = ExportTin(loaded->tin, crs->has_value() ? &**crs : nullptr, args.output, options);
+  options.triangle_ids = selected->triangle_ids;
+  if (*format == ExportFormat::kGlb) {
+    if (Status s = AddFeatures(**store, *surface, selected->tin, options); !s.ok())
+      return ReportError(s);
+  }
+  auto report = ExportTin(selected->tin, crs->has_value() ? &**crs : nullptr, args.output, options);
   if (!report.ok()) return ReportError(report.status());
-  std::cout << "wrote " << args.output << ": " << report->vertices << " vertices, "
-            << report->triangles << " triangles in " << Num(watch.Seconds(), 3) << " s\n";
+  if (args.json) {
+    const nlohmann::json j = {{"output", args.output},        {"format", ExportFormatName(*format)},
+                              {"surface", surface->name},     {"selection", filter->Describe()},
+                              {"vertices", report->vertices}, {"triangles", report->triangles},
+                              {"bytes", report->bytes},       {"seconds", watch.Seconds()}};
+    std::cout << j.dump(2) << "\n";
+    return kExitOk;
+  }
+  std::cout << "wrote " << args.output << " (" << ExportFormatName(*format)
+            << "): " << report->vertices << " vertices, " << report->triangles << " triangles, "
+            << report->bytes << " bytes in " << Num(watch.Seconds(), 3) << " s\n";
   return kExitOk;
 }
 
@@ -63,14 +153,21 @@ int RunExport(const ExportArgs& args) {
 
 void RegisterExportCommands(CLI::App& app, int* exit_code) {
   auto args = std::make_shared<ExportArgs>();
-  CLI::App* cmd = app.add_subcommand("export", "Write a surface to a file (obj, geojson)");
+  CLI::App* cmd =
+      app.add_subcommand("export", "Write a surface to a file (" + ExportFormatList() + ")");
   cmd->add_option("store", args->store, "Store file")->required();
-  cmd->add_option("--surface", args->surface, "Surface name");
+  cmd->add_option("--surface", args->surface,
+                  "Surface name (may be left out with --feature: the feature's surface)");
+  cmd->add_option("--format", args->format,
+                  ExportFormatList() +
+                      ", landxml or vdb (default: from the output file's extension)");
+  cmd->add_option("-o,--output", args->output, "Output file")->required();
+  cmd->add_option("--bbox", args->bbox, "Only triangles meeting MINX,MINY,MAXX,MAXY");
   cmd->add_option("--feature", args->feature,
                   "Only the inside of this polygon feature, clipped to it, holes left out");
-  cmd->add_option("--format", args->format, "obj, geojson, landxml or vdb (default obj)");
-  cmd->add_option("-o,--output", args->output, "Output file")->required();
   cmd->add_flag("--visible-only", args->visible_only, "Leave out invisible triangles");
+  cmd->add_option("--tag", args->tag, "Only triangles with this tag");
+  cmd->add_flag("--json", args->json, "Print what was written as JSON");
   cmd->add_option("--base", args->base, "vdb: lower surface; writes the thickness as a fog volume");
   cmd->add_option("--voxel", args->voxel, "vdb: voxel size (default: the longer side / 512)");
   cmd->add_option("--floor", args->floor, "vdb level set: z of the floor under the surface");

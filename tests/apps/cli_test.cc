@@ -258,8 +258,8 @@ TEST_F(CliTest, BadInputIsRejectedAndChangesNothing) {
   ExpectRejected(store_, "tin build " + s + " --surface terrain --tolerance 5", "terrain");
   ExpectRejected(store_, "tin build " + s + " --surface t2 --tolerance 0", "tolerance");
   ExpectRejected(store_,
-                 "export " + s + " --surface terrain --format stl -o " + Quote(dir_.Path("x.stl")),
-                 "stl");
+                 "export " + s + " --surface terrain --format dxf -o " + Quote(dir_.Path("x.dxf")),
+                 "unknown export format 'dxf'");
   const std::string other = dir_.Path("other.db");
   std::ofstream(other) << "SQLite format 3 but not really\n";
   CliResult r = RunCli("info " + Quote(other));

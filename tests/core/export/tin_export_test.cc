@@ -7,6 +7,7 @@
 #include <ogrsf_frmts.h>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <memory>
 #include <set>
@@ -95,9 +96,9 @@ size_t VisibleTriangleCount(const Tin& tin) {
 TEST(ParseExportFormat, KnowsObjAndGeoJson) {
   EXPECT_EQ(*ParseExportFormat("obj"), ExportFormat::kObj);
   EXPECT_EQ(*ParseExportFormat("geojson"), ExportFormat::kGeoJson);
-  auto bad = ParseExportFormat("stl");
+  auto bad = ParseExportFormat("dxf");
   ASSERT_FALSE(bad.ok());
-  EXPECT_NE(bad.status().message().find("'stl'"), std::string::npos);
+  EXPECT_NE(bad.status().message().find("'dxf'"), std::string::npos);
 }
 
 TEST(ExportObj, RoundTripsEveryVertexAndFaceExactly) {
@@ -281,7 +282,8 @@ TEST(ExportGeoJson, VisibleOnlyKeepsVisibleTrianglesAndOverwrites) {
 TEST(ExportTin, UnwritablePathIsAnIOErrorNamingIt) {
   const Tin tin = SampleTin();
   TempDir dir;
-  for (ExportFormat format : {ExportFormat::kObj, ExportFormat::kGeoJson}) {
+  for (ExportFormat format : {ExportFormat::kObj, ExportFormat::kPly, ExportFormat::kStl,
+                              ExportFormat::kGlb, ExportFormat::kGeoJson}) {
     const std::string path = dir.Path("no/such/dir/out.file");
     ExportOptions options;
     options.format = format;
@@ -290,6 +292,29 @@ TEST(ExportTin, UnwritablePathIsAnIOErrorNamingIt) {
     EXPECT_EQ(report.status().code(), StatusCode::kIOError);
     EXPECT_NE(report.status().message().find(path), std::string::npos) << report.status().message();
   }
+}
+
+// A writer that fails half way (here: nothing visible to write as GLB) leaves no file, and an
+// older file at the path is left as it was.
+TEST(ExportTin, AFailedExportLeavesNoFileAndKeepsTheOldOne) {
+  Tin tin = SampleTin();
+  for (TinTriangle& t : tin.triangles) t.visible = false;
+  TempDir dir;
+  const std::string fresh = dir.Path("fresh.glb");
+  ExportOptions options;
+  options.format = ExportFormat::kGlb;
+  options.visible_only = true;
+  ASSERT_FALSE(ExportTin(tin, nullptr, fresh, options).ok());
+  EXPECT_FALSE(std::filesystem::exists(fresh));
+  const std::string old = dir.Path("old.glb");
+  std::ofstream(old) << "earlier export";
+  ASSERT_FALSE(ExportTin(tin, nullptr, old, options).ok());
+  std::ifstream in(old);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(text, "earlier export");
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir.Path("")),
+                          std::filesystem::directory_iterator()),
+            1);  // no temporary file left beside it
 }
 
 TEST(ExportTin, WrongNumberOfIdsIsRefused) {
