@@ -1,9 +1,11 @@
 // Kernel: `export` (a surface, or the inside of one polygon feature, to OBJ or GeoJSON).
 #include <iostream>
+#include <nlohmann/json.hpp>
 
 #include "apps/tinbase/command.h"
 #include "apps/tinbase/output.h"
 #include "core/export/tin_export.h"
+#include "db/export/gpkg_export.h"
 #include "db/feature_store.h"
 #include "db/surface_store.h"
 
@@ -18,9 +20,59 @@ struct ExportArgs {
   std::string output;
   bool visible_only = false;
   int64_t feature = 0;
+  std::string bbox;  // gpkg: the selection options of docs/cli.md
+  std::string tag;
+  std::string dem;  // gpkg: the DEM of the raster layer ("none": no raster)
+  bool json = false;
 };
 
+// --format gpkg (db/export/gpkg_export.h): triangles, features, constraints and the DEM.
+int RunGpkgExport(const ExportArgs& args) {
+  if (args.surface.empty()) return ReportError(Status::InvalidArgument("give --surface"));
+  GpkgExportOptions options;
+  if (!args.bbox.empty()) {
+    auto box = ParseBbox(args.bbox);
+    if (!box.ok()) return ReportError(box.status().WithContext("--bbox"));
+    options.filter.bbox = *box;
+  }
+  options.filter.feature = args.feature;
+  options.filter.visible_only = args.visible_only;
+  if (!args.tag.empty()) options.filter.tag = args.tag;
+  options.with_dem = args.dem != "none";
+  if (options.with_dem) options.dem = args.dem;
+  auto store = Store::Open(args.store, Store::Access::kReadOnly);
+  if (!store.ok()) return ReportError(store.status());
+  auto surface = SurfaceStore(**store).Find(args.surface);
+  if (!surface.ok()) return ReportError(surface.status());
+  auto report = ExportGpkg(**store, *surface, options, args.output);
+  if (!report.ok()) return ReportError(report.status());
+  nlohmann::json out = {{"output", args.output},
+                        {"format", "gpkg"},
+                        {"triangles", report->triangles},
+                        {"vertices", report->vertices},
+                        {"features", report->features},
+                        {"breaklines", report->breaklines},
+                        {"constraints", report->constraints}};
+  out["dem"] = report->dem.empty() ? nlohmann::json(nullptr) : nlohmann::json(report->dem);
+  if (report->raster)
+    out["raster"] = {{"width", report->raster->width}, {"height", report->raster->height}};
+  if (args.json) {
+    std::cout << out.dump(2) << "\n";
+  } else {
+    std::cout << "wrote " << args.output << ": " << report->triangles << " triangles, "
+              << report->features + report->breaklines << " features, " << report->constraints
+              << " constraints"
+              << (report->raster
+                      ? ", DEM " + report->dem + " " + std::to_string(report->raster->width) +
+                            " x " + std::to_string(report->raster->height)
+                      : std::string())
+              << "\n";
+  }
+  return kExitOk;
+}
+
 int RunExport(const ExportArgs& args) {
+  if (args.format == "gpkg") return RunGpkgExport(args);
   auto format = ParseExportFormat(args.format);
   if (!format.ok()) return ReportError(format.status());
   if (args.surface.empty() == (args.feature == 0))
@@ -60,6 +112,11 @@ void RegisterExportCommands(CLI::App& app, int* exit_code) {
   cmd->add_option("--format", args->format, "obj or geojson (default obj)");
   cmd->add_option("-o,--output", args->output, "Output file")->required();
   cmd->add_flag("--visible-only", args->visible_only, "Leave out invisible triangles");
+  cmd->add_option("--bbox", args->bbox, "gpkg: only triangles meeting minx,miny,maxx,maxy");
+  cmd->add_option("--tag", args->tag, "gpkg: only triangles with this tag");
+  cmd->add_option("--dem", args->dem,
+                  "gpkg: DEM of the raster layer (default the surface's; none)");
+  cmd->add_flag("--json", args->json, "gpkg: print the report as JSON");
   cmd->callback([=] { *exit_code = RunExport(*args); });
 }
 
