@@ -37,10 +37,10 @@ struct FieldSpec {
 Result<OGRLayer*> CreateLayer(GDALDataset& ds, const std::string& path, const char* name,
                               const OGRSpatialReference* srs, OGRwkbGeometryType type,
                               const char* fid, const std::vector<FieldSpec>& fields) {
+  // GDAL's default R*Tree spatial index stays on: readers such as QGIS draw a window through
+  // it instead of reading every triangle.
   std::string fid_option = std::string("FID=") + fid;
-  // No spatial index: QGIS builds none it needs for a file this size, and the writer stays one
-  // pass; SPATIAL_INDEX=NO also keeps the rtree triggers out of the inserts.
-  const char* options[] = {fid_option.c_str(), "SPATIAL_INDEX=NO", nullptr};
+  const char* options[] = {fid_option.c_str(), nullptr};
   OGRLayer* layer = ds.CreateLayer(name, const_cast<OGRSpatialReference*>(srs), type,
                                    const_cast<char**>(options));
   if (layer == nullptr) return GdalFailure(path, std::string("cannot create layer ") + name);

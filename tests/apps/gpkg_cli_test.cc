@@ -122,6 +122,24 @@ TEST_F(GpkgCliTest, FiltersApply) {
   EXPECT_EQ(raster.out.find("Size is"), std::string::npos) << "--dem none writes no raster";
 }
 
+// --feature: the inside of one geological unit, and that unit alone in the features layer.
+TEST_F(GpkgCliTest, FeatureSelectsItsInside) {
+  const std::string out = dir_->Path("unit.gpkg");
+  const nlohmann::json report = Json(RunCli("export " + Quote(store_) +
+                                            " --surface terrain --format gpkg --json --feature 1 "
+                                            "-o " +
+                                            Quote(out)));
+  EXPECT_GT(report["triangles"].get<int64_t>(), 0);
+  EXPECT_EQ(report["features"], 1);
+  EXPECT_EQ(Count(out, "triangles"), report["triangles"].get<int64_t>());
+  auto unit = RunTool("ogrinfo -ro " + Quote(out) + " features -fid 1");
+  EXPECT_NE(unit.out.find("OGRFeature(features):1"), std::string::npos) << unit.out;
+  auto tags = RunTool("ogrinfo -ro " + Quote(out) +
+                      " -sql \"SELECT count(DISTINCT tag) AS n FROM triangles\"");
+  EXPECT_NE(tags.out.find("n (Integer) = 1"), std::string::npos) << "one unit, one tag\n"
+                                                                 << tags.out;
+}
+
 TEST_F(GpkgCliTest, BadInputLeavesNoFile) {
   const std::string out = dir_->Path("bad.gpkg");
   const std::string export_gpkg = "export " + Quote(store_) + " --surface terrain --format gpkg ";
