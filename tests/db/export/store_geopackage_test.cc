@@ -236,6 +236,7 @@ TEST_F(StoreGeoPackageTest, AStoreWithoutCrsIsUndefinedCartesian) {
 // SQLite driver, which lists the layers as tables without geometry.
 TEST_F(StoreGeoPackageTest, WhichDriverAFileNameGets) {
   const std::string named = dir_.Path("copy.gpkg");
+  const int64_t triangles = Count("tinbase_triangles");
   store_.reset();
   std::filesystem::copy_file(path_, named);
   auto gpkg = RunTool("ogrinfo -ro -so " + Q(named) + " tinbase_triangles");
@@ -245,6 +246,9 @@ TEST_F(StoreGeoPackageTest, WhichDriverAFileNameGets) {
   auto sqlite = RunTool("ogrinfo -ro " + Q(path_));
   EXPECT_NE(sqlite.out.find("using driver `SQLite'"), std::string::npos) << sqlite.out;
   EXPECT_NE(sqlite.out.find("tinbase_triangles (None)"), std::string::npos) << sqlite.out;
+  auto plain = RunTool("ogrinfo -ro -so " + Q(path_) + " tinbase_triangles");
+  EXPECT_EQ(ValueAfter(plain.out, "Feature Count: "), std::to_string(triangles));
+  EXPECT_NE(plain.out.find("geom: Binary"), std::string::npos) << plain.out;
 }
 
 }  // namespace
