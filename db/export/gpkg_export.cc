@@ -5,6 +5,7 @@
 #include <ogrsf_frmts.h>
 
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <memory>
 #include <unordered_map>
@@ -227,34 +228,34 @@ Result<std::optional<DemInfo>> RasterDem(DemStore& dems, const SurfaceInfo& surf
   return std::optional<DemInfo>(std::move(dem));
 }
 
-// Appends `grid` to the GeoPackage at `file` as the Float32 gridded coverage `dem`.
-Status AppendRaster(const std::string& file, const std::string& path, const Grid& grid,
+// Appends `grid` to the GeoPackage at `file` as the Float32 gridded coverage `dem`. The cells
+// are written in place (nodata filled in) and lent to GDAL, so the window is in memory once.
+Status AppendRaster(const std::string& file, const std::string& path, Grid& grid,
                     const DemInfo& dem) {
   GDALDriver* mem = GetGDALDriverManager()->GetDriverByName("MEM");
   GDALDriver* gpkg = GetGDALDriverManager()->GetDriverByName("GPKG");
   if (mem == nullptr || gpkg == nullptr) return Status::IOError(path + ": GDAL lacks MEM or GPKG");
-  const GridGeometry& g = grid.geometry;
-  GdalDatasetPtr source(mem->Create("", static_cast<int>(g.width), static_cast<int>(g.height), 1,
-                                    GDT_Float32, nullptr));
-  if (!source) return GdalFailure(path, "cannot hold DEM " + dem.name + " in memory");
-  double transform[6] = {g.origin_x, g.cell_x, 0, g.origin_y, 0, g.cell_y};
-  source->SetGeoTransform(transform);
-  if (!dem.crs_wkt.empty()) source->SetProjection(dem.crs_wkt.c_str());
   // Cells without data are NaN in the store; a file gets the DEM's declared nodata value where
   // there is one, since readers of gridded coverages key on `data_null` rather than on NaN.
   const bool declared = dem.nodata.has_value() && std::isfinite(*dem.nodata);
   const double nodata = declared ? *dem.nodata : std::numeric_limits<double>::quiet_NaN();
-  std::vector<float> cells = grid.cells;
   if (declared) {
-    for (float& c : cells)
+    for (float& c : grid.cells)
       if (std::isnan(c)) c = static_cast<float>(nodata);
   }
-  GDALRasterBand* band = source->GetRasterBand(1);
-  band->SetNoDataValue(nodata);
-  if (band->RasterIO(GF_Write, 0, 0, static_cast<int>(g.width), static_cast<int>(g.height),
-                     cells.data(), static_cast<int>(g.width), static_cast<int>(g.height),
-                     GDT_Float32, 0, 0, nullptr) != CE_None)
-    return GdalFailure(path, "cannot copy DEM " + dem.name);
+  const GridGeometry& g = grid.geometry;
+  GdalDatasetPtr source(mem->Create("", static_cast<int>(g.width), static_cast<int>(g.height), 0,
+                                    GDT_Float32, nullptr));
+  if (!source) return GdalFailure(path, "cannot lend DEM " + dem.name + " to GDAL");
+  const std::string pointer =
+      "DATAPOINTER=" + std::to_string(reinterpret_cast<uintptr_t>(grid.cells.data()));
+  const char* band_options[] = {pointer.c_str(), nullptr};
+  if (source->AddBand(GDT_Float32, const_cast<char**>(band_options)) != CE_None)
+    return GdalFailure(path, "cannot lend DEM " + dem.name + " to GDAL");
+  double transform[6] = {g.origin_x, g.cell_x, 0, g.origin_y, 0, g.cell_y};
+  source->SetGeoTransform(transform);
+  if (!dem.crs_wkt.empty()) source->SetProjection(dem.crs_wkt.c_str());
+  source->GetRasterBand(1)->SetNoDataValue(nodata);
   const char* options[] = {"APPEND_SUBDATASET=YES", "RASTER_TABLE=dem", "TILE_FORMAT=TIFF",
                            nullptr};
   GdalDatasetPtr out(gpkg->CreateCopy(file.c_str(), source.get(), FALSE,

@@ -12,7 +12,8 @@
 //   constraints  LineString Z, one per constrained edge whose two vertices are selected: va, vb
 //                (vertex store ids) and the feature it belongs to (null for the surface's own).
 //   dem          a Float32 2D gridded coverage (GDAL's GPKG raster, TIFF tiles) of the DEM cells
-//                under the selection's box, nodata as the DEM declares it (else NaN).
+//                under the selection's box, nodata as the DEM declares it (else NaN); the
+//                window is read into memory once (DemStore::ReadWindow) and handed to GDAL.
 // The file is written under a temporary name and renamed into place (core/base/output_file.h),
 // so a failed export leaves nothing at `path`. Thread-safety: one call per Store at a time.
 #pragma once
