@@ -286,44 +286,34 @@ CREATE TABLE tinbase_gpkg_sequence(id INTEGER PRIMARY KEY AUTOINCREMENT);
 
 -- The surfaces table is registered as an attribute layer: with one, GDAL lists only what
 -- gpkg_contents names (its LIST_ALL_TABLES=AUTO), not every internal table.
+-- Extents: one scan of the vertices for the mesh layers, the features' stored boxes for theirs.
 CREATE VIEW gpkg_contents(table_name, data_type, identifier, description, last_change, min_x,
                           min_y, max_x, max_y, srs_id) AS
-SELECT table_name, data_type, table_name, description,
+WITH mesh(min_x, min_y, max_x, max_y) AS (
+  SELECT min(x), min(y), max(x), max(y) FROM vertices),
+boxes(breakline, min_x, min_y, max_x, max_y) AS (
+  SELECT mode = 'breakline', min(min_x), min(min_y), max(max_x), max(max_y) FROM features
+  GROUP BY mode = 'breakline'),
+layers(table_name, data_type, description, breakline) AS (
+  SELECT 'tinbase_triangles', 'features', 'the triangles of every surface', NULL
+  UNION ALL SELECT 'tinbase_vertices', 'features', 'the vertices of every surface', NULL
+  UNION ALL SELECT 'tinbase_constraints', 'features', 'the constrained edges of every surface', NULL
+  UNION ALL SELECT 'tinbase_features', 'features', 'the polygon features of every surface', 0
+  UNION ALL SELECT 'tinbase_breaklines', 'features', 'the breakline features of every surface', 1
+  UNION ALL SELECT 'surfaces', 'attributes', 'the surfaces of the store', NULL)
+SELECT l.table_name, l.data_type, l.table_name, l.description,
   coalesce(strftime('%Y-%m-%dT%H:%M:%fZ', (SELECT max(time) FROM changes)),
            '1970-01-01T00:00:00.000Z'),
-  min_x, min_y, max_x, max_y, srs_id
-FROM (
-  SELECT 'tinbase_triangles' AS table_name, 'features' AS data_type,
-    'the triangles of every surface' AS description,
-    (SELECT min(x) FROM vertices) AS min_x, (SELECT min(y) FROM vertices) AS min_y,
-    (SELECT max(x) FROM vertices) AS max_x, (SELECT max(y) FROM vertices) AS max_y,
-    (SELECT srs_id FROM tinbase_gpkg_srs) AS srs_id
-  UNION ALL
-  SELECT 'tinbase_vertices', 'features', 'the vertices of every surface',
-    (SELECT min(x) FROM vertices), (SELECT min(y) FROM vertices),
-    (SELECT max(x) FROM vertices), (SELECT max(y) FROM vertices),
-    (SELECT srs_id FROM tinbase_gpkg_srs)
-  UNION ALL
-  SELECT 'tinbase_constraints', 'features', 'the constrained edges of every surface',
-    (SELECT min(x) FROM vertices), (SELECT min(y) FROM vertices),
-    (SELECT max(x) FROM vertices), (SELECT max(y) FROM vertices),
-    (SELECT srs_id FROM tinbase_gpkg_srs)
-  UNION ALL
-  SELECT 'tinbase_features', 'features', 'the polygon features of every surface',
-    (SELECT min(min_x) FROM features WHERE mode <> 'breakline'),
-    (SELECT min(min_y) FROM features WHERE mode <> 'breakline'),
-    (SELECT max(max_x) FROM features WHERE mode <> 'breakline'),
-    (SELECT max(max_y) FROM features WHERE mode <> 'breakline'),
-    (SELECT srs_id FROM tinbase_gpkg_srs)
-  UNION ALL
-  SELECT 'tinbase_breaklines', 'features', 'the breakline features of every surface',
-    (SELECT min(min_x) FROM features WHERE mode = 'breakline'),
-    (SELECT min(min_y) FROM features WHERE mode = 'breakline'),
-    (SELECT max(max_x) FROM features WHERE mode = 'breakline'),
-    (SELECT max(max_y) FROM features WHERE mode = 'breakline'),
-    (SELECT srs_id FROM tinbase_gpkg_srs)
-  UNION ALL
-  SELECT 'surfaces', 'attributes', 'the surfaces of the store', NULL, NULL, NULL, NULL, NULL);
+  CASE WHEN l.data_type = 'attributes' THEN NULL
+       WHEN l.breakline IS NULL THEN m.min_x ELSE b.min_x END,
+  CASE WHEN l.data_type = 'attributes' THEN NULL
+       WHEN l.breakline IS NULL THEN m.min_y ELSE b.min_y END,
+  CASE WHEN l.data_type = 'attributes' THEN NULL
+       WHEN l.breakline IS NULL THEN m.max_x ELSE b.max_x END,
+  CASE WHEN l.data_type = 'attributes' THEN NULL
+       WHEN l.breakline IS NULL THEN m.max_y ELSE b.max_y END,
+  CASE WHEN l.data_type = 'features' THEN (SELECT srs_id FROM tinbase_gpkg_srs) END
+FROM layers l CROSS JOIN mesh m LEFT JOIN boxes b ON b.breakline = l.breakline;
 
 CREATE VIEW gpkg_geometry_columns(table_name, column_name, geometry_type_name, srs_id, z, m) AS
 SELECT table_name, 'geom', geometry_type_name, (SELECT srs_id FROM tinbase_gpkg_srs), z, 0
