@@ -13,6 +13,10 @@
 -- 2^52), so the bytes are the stored double's; a subnormal (|x| < 2^-1022) comes out as 0. Bytes
 -- are cut from a blob holding every byte value, since || makes text of blobs and char() writes
 -- UTF-8; the text so joined is CAST back to a blob, byte for byte, at the end.
+--
+-- A later migration that rebuilds a table these views read (as 0009 rebuilt triangles) must drop
+-- the views first and create them again after: SQLite's ALTER TABLE ... RENAME re-checks every
+-- view and fails on one whose table is gone.
 CREATE TABLE tinbase_gpkg_pow2(
   p REAL PRIMARY KEY,  -- 2^e
   e INTEGER NOT NULL
