@@ -1,5 +1,5 @@
 // Kernel: `export` (a surface, or the part of it a selection picks, to obj, ply, stl, glb,
-// geojson, landxml or vdb). The selection options mean what they mean everywhere (db/query/surface_selection.h);
+// geojson, gpkg, landxml or vdb). The selection options mean what they mean everywhere (db/query/surface_selection.h);
 // the file goes through OutputFile, so a failed export leaves nothing behind.
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -11,6 +11,7 @@
 #include "core/base/output_file.h"
 #include "core/export/export_format.h"
 #include "core/export/tin_export.h"
+#include "db/export/gpkg_export.h"
 #include "db/feature_store.h"
 #include "db/query/surface_selection.h"
 #include "db/surface_store.h"
@@ -32,29 +33,41 @@ struct ExportArgs {
   std::string base;             // vdb
   double voxel = 0;             // vdb
   std::optional<double> floor;  // vdb
+  std::string dem;              // gpkg: the DEM of the raster layer ("none": no raster)
 };
 
 // The formats that read more of the store than the selected mesh (features, constraints, a
-// second surface), written by their own kernels: "landxml" or "vdb", from --format or the
-// extension; empty for the mesh formats.
+// second surface, the DEM), written by their own kernels: "gpkg", "landxml" or "vdb", from
+// --format or the extension; empty for the mesh formats.
 std::string StoreFormat(const ExportArgs& args) {
   const auto ends_with = [&](const char* ext) {
     const std::string e(ext);
     return args.output.size() > e.size() &&
            args.output.compare(args.output.size() - e.size(), e.size(), e) == 0;
   };
-  if (args.format == "landxml" || args.format == "vdb") return args.format;
+  if (args.format == "gpkg" || args.format == "landxml" || args.format == "vdb")
+    return args.format;
+  if (args.format.empty() && ends_with(".gpkg")) return "gpkg";
   if (args.format.empty() && ends_with(".xml")) return "landxml";
   if (args.format.empty() && ends_with(".vdb")) return "vdb";
   return "";
 }
 
+// Every format the command writes, for messages.
+std::string AllFormats() { return ExportFormatList() + ", gpkg, landxml, vdb"; }
+
 // --format, or else the output file's extension.
 Result<ExportFormat> ResolveFormat(const ExportArgs& args) {
-  if (!args.format.empty()) return ParseExportFormat(args.format);
+  if (!args.format.empty()) {
+    Result<ExportFormat> format = ParseExportFormat(args.format);
+    if (!format.ok())
+      return Status::InvalidArgument("unknown format '" + args.format + "' (known: " +
+                                     AllFormats() + ")");
+    return format;
+  }
   if (auto format = ExportFormatFromPath(args.output)) return *format;
   return Status::InvalidArgument("cannot tell the format from '" + args.output +
-                                 "': give --format (one of: " + ExportFormatList() + ")");
+                                 "': give --format (one of: " + AllFormats() + ")");
 }
 
 Result<SurfaceFilter> FilterOf(const ExportArgs& args) {
@@ -96,11 +109,54 @@ Status AddFeatures(Store& store, const SurfaceInfo& surface, const Tin& tin,
   return Status::Ok();
 }
 
+// --format gpkg (db/export/gpkg_export.h): triangles, features, constraints and the DEM.
+int RunGpkgExport(const ExportArgs& args) {
+  if (args.surface.empty()) return ReportError(Status::InvalidArgument("give --surface"));
+  GpkgExportOptions options;
+  auto filter = FilterOf(args);
+  if (!filter.ok()) return ReportError(filter.status());
+  options.filter = *filter;
+  options.with_dem = args.dem != "none";
+  if (options.with_dem) options.dem = args.dem;
+  auto store = Store::Open(args.store, Store::Access::kReadOnly);
+  if (!store.ok()) return ReportError(store.status());
+  auto surface = SurfaceStore(**store).Find(args.surface);
+  if (!surface.ok()) return ReportError(surface.status());
+  auto report = ExportGpkg(**store, *surface, options, args.output);
+  if (!report.ok()) return ReportError(report.status());
+  nlohmann::json out = {{"output", args.output},
+                        {"format", "gpkg"},
+                        {"triangles", report->triangles},
+                        {"vertices", report->vertices},
+                        {"features", report->features},
+                        {"breaklines", report->breaklines},
+                        {"constraints", report->constraints}};
+  out["dem"] = report->dem.empty() ? nlohmann::json(nullptr) : nlohmann::json(report->dem);
+  if (report->raster)
+    out["raster"] = {{"width", report->raster->width}, {"height", report->raster->height}};
+  if (args.json) {
+    std::cout << out.dump(2) << "\n";
+  } else {
+    std::cout << "wrote " << args.output << ": " << report->triangles << " triangles, "
+              << report->features + report->breaklines << " features, " << report->constraints
+              << " constraints"
+              << (report->raster
+                      ? ", DEM " + report->dem + " " + std::to_string(report->raster->width) +
+                            " x " + std::to_string(report->raster->height)
+                      : std::string())
+              << "\n";
+  }
+  return kExitOk;
+}
+
 int RunExport(const ExportArgs& args) {
   const std::string store_format = StoreFormat(args);
   if (store_format != "vdb" && (!args.base.empty() || args.voxel != 0 || args.floor))
     return ReportError(
         Status::InvalidArgument("--base, --voxel and --floor apply only to --format vdb"));
+  if (store_format != "gpkg" && !args.dem.empty())
+    return ReportError(Status::InvalidArgument("--dem applies only to --format gpkg"));
+  if (store_format == "gpkg") return RunGpkgExport(args);
   if (!store_format.empty()) {
     auto filter = FilterOf(args);
     if (!filter.ok()) return ReportError(filter.status());
@@ -154,13 +210,12 @@ int RunExport(const ExportArgs& args) {
 void RegisterExportCommands(CLI::App& app, int* exit_code) {
   auto args = std::make_shared<ExportArgs>();
   CLI::App* cmd =
-      app.add_subcommand("export", "Write a surface to a file (" + ExportFormatList() + ")");
+      app.add_subcommand("export", "Write a surface to a file (" + AllFormats() + ")");
   cmd->add_option("store", args->store, "Store file")->required();
   cmd->add_option("--surface", args->surface,
                   "Surface name (may be left out with --feature: the feature's surface)");
   cmd->add_option("--format", args->format,
-                  ExportFormatList() +
-                      ", landxml or vdb (default: from the output file's extension)");
+                  AllFormats() + " (default: from the output file's extension)");
   cmd->add_option("-o,--output", args->output, "Output file")->required();
   cmd->add_option("--bbox", args->bbox, "Only triangles meeting MINX,MINY,MAXX,MAXY");
   cmd->add_option("--feature", args->feature,
@@ -171,6 +226,8 @@ void RegisterExportCommands(CLI::App& app, int* exit_code) {
   cmd->add_option("--base", args->base, "vdb: lower surface; writes the thickness as a fog volume");
   cmd->add_option("--voxel", args->voxel, "vdb: voxel size (default: the longer side / 512)");
   cmd->add_option("--floor", args->floor, "vdb level set: z of the floor under the surface");
+  cmd->add_option("--dem", args->dem,
+                  "gpkg: DEM of the raster layer (default the surface's; none: no raster)");
   cmd->callback([=] { *exit_code = RunExport(*args); });
 }
 
