@@ -37,4 +37,15 @@ Result<std::vector<Point2>> ReadPointText(std::istream& in, const std::string& n
 Result<std::vector<Point2>> ReadPoints(const std::string& path,
                                        const std::optional<Crs>& target_crs = std::nullopt);
 
+// The vertices of a polyline, in order: x,y text or an OGR point layer as ReadPoints reads them,
+// or an OGR layer holding one LineString feature. Errors as ReadPoints', and InvalidArgument
+// naming the file for a line layer of more than one feature.
+Result<std::vector<Point2>> ReadLine(const std::string& path,
+                                     const std::optional<Crs>& target_crs = std::nullopt);
+
+// Points typed on the command line: "x,y" pairs separated by spaces or ';' ("0,0 10,5;20,0").
+// InvalidArgument "`what` 'text': point k 'token' is not x,y" (k 1-based) otherwise, or for no
+// points at all.
+Result<std::vector<Point2>> ParsePointList(const std::string& text, const std::string& what);
+
 }  // namespace tinbase
