@@ -105,6 +105,19 @@ class Walker {
     return Status::Ok();
   }
 
+  // Moves across edge i of the current triangle (opposite corner i) to its neighbour, which
+  // must have that edge the other way round: broken links give an error rather than a walk
+  // that never ends.
+  Status EnterAcross(int i) {
+    const int64_t from = current_, a = tri_.v[(i + 1) % 3], b = tri_.v[(i + 2) % 3];
+    TB_RETURN_IF_ERROR(Enter(*tri_.n[i]));
+    for (int j = 0; j < 3; ++j)
+      if (tri_.v[(j + 1) % 3] == b && tri_.v[(j + 2) % 3] == a) return Status::Ok();
+    return Status::Corruption("triangle " + std::to_string(current_) + " is linked across edge " +
+                              std::to_string(a) + "-" + std::to_string(b) + " of triangle " +
+                              std::to_string(from) + " but does not have it; run tinbase check");
+  }
+
   int Side(const Point2& p) const { return Orientation(s_, e_, p); }
 
   Status LeavesSurface(const Point2& where) const {
@@ -122,7 +135,7 @@ class Walker {
       const Point2& b = tri_.p[(i + 2) % 3];
       if (Orientation(a, b, s_) != 0 || Orientation(a, b, e_) >= 0) continue;
       if (!tri_.n[i]) return LeavesSurface(s_);
-      return Enter(*tri_.n[i]);
+      return EnterAcross(i);
     }
     return Status::Ok();
   }
@@ -180,7 +193,7 @@ class Walker {
       }
       AddCrossing(u, w);
       if (!tri_.n[i]) return LeavesSurface({out_.stations.back().x, out_.stations.back().y});
-      return Enter(*tri_.n[i]);
+      return EnterAcross(i);
     }
     return Status::Corruption("the line from " + PointText(s_) + " to " + PointText(e_) +
                               " runs through triangle " + std::to_string(current_) +
