@@ -99,7 +99,7 @@ int RunLocateOne(OpenSurface& open, double x, double y, bool json) {
 // triangle, z, visibility or tag.
 void PrintLocated(const Point2& p, const Location* where, bool json) {
   if (json) {
-    nlohmann::json j = {{"x", p.x}, {"y", p.y}, {"triangle", nullptr},
+    nlohmann::json j = {{"x", p.x},     {"y", p.y},           {"triangle", nullptr},
                         {"z", nullptr}, {"visible", nullptr}, {"tag", nullptr}};
     if (where != nullptr) {
       j["triangle"] = where->triangle;
@@ -247,12 +247,12 @@ int RunTriangles(const TrianglesArgs& args) {
               << "\n";
     return kExitOk;
   }
-  std::cout << s.tin.triangles.size() << " triangles of surface '" << open->surface.name
-            << "' for " << filter->Describe() << "\n";
+  std::cout << s.tin.triangles.size() << " triangles of surface '" << open->surface.name << "' for "
+            << filter->Describe() << "\n";
   for (size_t t = 0; t < s.tin.triangles.size(); ++t) {
     const TinTriangle& tri = s.tin.triangles[t];
-    std::cout << "triangle " << s.triangle_ids[t] << ": vertices " << s.vertex_ids[tri.v[0]]
-              << " " << s.vertex_ids[tri.v[1]] << " " << s.vertex_ids[tri.v[2]]
+    std::cout << "triangle " << s.triangle_ids[t] << ": vertices " << s.vertex_ids[tri.v[0]] << " "
+              << s.vertex_ids[tri.v[1]] << " " << s.vertex_ids[tri.v[2]]
               << (tri.visible ? "" : ", invisible")
               << (tri.tag == kNoTag ? std::string() : ", tag " + s.tin.tags[tri.tag]) << "\n";
   }
@@ -318,8 +318,9 @@ struct ProfileArgs : SurfaceArgs {
 
 Result<std::vector<Point2>> LineOf(const ProfileArgs& args, const std::optional<Crs>& crs) {
   if (args.line.empty() == args.line_file.empty())
-    return Status::InvalidArgument("give the profile line as --line \"x,y x,y ...\" or "
-                                   "--line-file FILE, one of them");
+    return Status::InvalidArgument(
+        "give the profile line as --line \"x,y x,y ...\" or "
+        "--line-file FILE, one of them");
   if (!args.line.empty()) return ParsePointList(args.line, "--line");
   return ReadLine(args.line_file, crs);
 }
@@ -398,8 +399,8 @@ int RunProfile(const ProfileArgs& args) {
     ProfilePlotOptions options;
     options.width = args.width;
     options.height = args.height;
-    Status s = WriteProfilePlot(profile->stations, PlotStretches(*profile), plot->temp_path(),
-                                options);
+    Status s =
+        WriteProfilePlot(profile->stations, PlotStretches(*profile), plot->temp_path(), options);
     if (s.ok()) s = plot->Commit();
     if (!s.ok()) return ReportError(s);
   }

@@ -74,8 +74,8 @@ class Walker {
 
   Status Start(int64_t triangle, const Point2& first) {
     TB_RETURN_IF_ERROR(Enter(triangle));
-    out_.stations.push_back({0, first.x, first.y, InterpolateZ(tri_, first.x, first.y),
-                             StationKind::kStart});
+    out_.stations.push_back(
+        {0, first.x, first.y, InterpolateZ(tri_, first.x, first.y), StationKind::kStart});
     return Status::Ok();
   }
 
@@ -209,8 +209,7 @@ class Walker {
     const double denom = Cross(dx, dy, ex, ey);
     const double t = std::clamp(Cross(a.x - s_.x, a.y - s_.y, ex, ey) / denom, 0.0, 1.0);
     const double f = std::clamp(Cross(a.x - s_.x, a.y - s_.y, dx, dy) / denom, 0.0, 1.0);
-    const double distance =
-        std::max(base_ + t * std::hypot(dx, dy), out_.stations.back().distance);
+    const double distance = std::max(base_ + t * std::hypot(dx, dy), out_.stations.back().distance);
     Add(distance, a.x + f * ex, a.y + f * ey, tri_.z[u] + f * (tri_.z[w] - tri_.z[u]),
         StationKind::kEdge);
   }
@@ -242,8 +241,8 @@ Result<LineWalk> WalkLine(const std::vector<Point2>& line, int64_t start_triangl
   size_t from = 0;
   for (size_t k = 1; k <= last; ++k) {
     if (Same(line[k], line[from])) continue;
-    TB_RETURN_IF_ERROR(walker.Segment(line[from], line[k], k,
-                                      k == last ? StationKind::kEnd : StationKind::kBend));
+    TB_RETURN_IF_ERROR(
+        walker.Segment(line[from], line[k], k, k == last ? StationKind::kEnd : StationKind::kBend));
     from = k;
   }
   return out;

@@ -52,8 +52,7 @@ std::optional<double> Number(std::string_view field) {
   if (!field.empty() && field.front() == '+') field.remove_prefix(1);
   double value = 0;
   const auto [end, ec] = std::from_chars(field.data(), field.data() + field.size(), value);
-  if (ec != std::errc() || end != field.data() + field.size() || field.empty())
-    return std::nullopt;
+  if (ec != std::errc() || end != field.data() + field.size() || field.empty()) return std::nullopt;
   return value;
 }
 
@@ -165,8 +164,8 @@ Result<TransformPtr> TransformTo(OGRLayer& layer, const std::optional<Crs>& targ
   if (source->IsSame(*target)) return TransformPtr();
   TransformPtr t(OGRCreateCoordinateTransformation(&source->ogr(), &target->ogr()));
   if (!t)
-    return Status::InvalidArgument(name + ": no transformation from " + source->Label() +
-                                   " to " + target->Label() + LastGdalError());
+    return Status::InvalidArgument(name + ": no transformation from " + source->Label() + " to " +
+                                   target->Label() + LastGdalError());
   return t;
 }
 

@@ -28,11 +28,21 @@ struct Glyph {
   std::array<uint8_t, 5> rows;
 };
 constexpr std::array<Glyph, 15> kFont{{
-    {'0', {7, 5, 5, 5, 7}}, {'1', {2, 6, 2, 2, 7}}, {'2', {7, 1, 7, 4, 7}},
-    {'3', {7, 1, 7, 1, 7}}, {'4', {5, 5, 7, 1, 1}}, {'5', {7, 4, 7, 1, 7}},
-    {'6', {7, 4, 7, 5, 7}}, {'7', {7, 1, 1, 1, 1}}, {'8', {7, 5, 7, 5, 7}},
-    {'9', {7, 5, 7, 1, 7}}, {'.', {0, 0, 0, 0, 2}}, {'-', {0, 0, 7, 0, 0}},
-    {'e', {0, 7, 7, 4, 7}}, {'+', {0, 2, 7, 2, 0}}, {'m', {0, 0, 7, 7, 5}},
+    {'0', {7, 5, 5, 5, 7}},
+    {'1', {2, 6, 2, 2, 7}},
+    {'2', {7, 1, 7, 4, 7}},
+    {'3', {7, 1, 7, 1, 7}},
+    {'4', {5, 5, 7, 1, 1}},
+    {'5', {7, 4, 7, 1, 7}},
+    {'6', {7, 4, 7, 5, 7}},
+    {'7', {7, 1, 1, 1, 1}},
+    {'8', {7, 5, 7, 5, 7}},
+    {'9', {7, 5, 7, 1, 7}},
+    {'.', {0, 0, 0, 0, 2}},
+    {'-', {0, 0, 7, 0, 0}},
+    {'e', {0, 7, 7, 4, 7}},
+    {'+', {0, 2, 7, 2, 0}},
+    {'m', {0, 0, 7, 7, 5}},
 }};
 
 class Canvas {
@@ -55,7 +65,8 @@ class Canvas {
       const int x = static_cast<int>(std::lround(x0 + f * (x1 - x0)));
       const int y = static_cast<int>(std::lround(y0 + f * (y1 - y0)));
       for (int dy = 0; dy < thickness; ++dy)
-        for (int dx = 0; dx < thickness; ++dx) Set(x + dx - thickness / 2, y + dy - thickness / 2, c);
+        for (int dx = 0; dx < thickness; ++dx)
+          Set(x + dx - thickness / 2, y + dy - thickness / 2, c);
     }
   }
 
@@ -109,8 +120,7 @@ Rgb Lighter(const Rgb& c) {
 
 void DrawGrid(Canvas& canvas, const ProfilePlotFrame& f) {
   const double z_step = NiceStep(f.max_z - f.min_z, 5);
-  for (double z = std::ceil(f.min_z / z_step) * z_step; z <= f.max_z + z_step * 1e-9;
-       z += z_step) {
+  for (double z = std::ceil(f.min_z / z_step) * z_step; z <= f.max_z + z_step * 1e-9; z += z_step) {
     const double row = f.Row(z);
     canvas.Line(f.left, row, f.right, row, kGrid, 1, 0);
     const std::string text = Label(z);
@@ -164,8 +174,7 @@ Status WritePng(Canvas& canvas, const std::string& path) {
   QuietGdalErrors quiet;
   GDALDriver* mem = GetGDALDriverManager()->GetDriverByName("MEM");
   GDALDriver* png = GetGDALDriverManager()->GetDriverByName("PNG");
-  if (mem == nullptr || png == nullptr)
-    return Status::IOError(path + ": GDAL has no PNG driver");
+  if (mem == nullptr || png == nullptr) return Status::IOError(path + ": GDAL has no PNG driver");
   GdalDatasetPtr image(mem->Create("", canvas.width(), canvas.height(), 3, GDT_Byte, nullptr));
   if (!image) return Status::IOError(path + ": cannot make the image" + LastGdalError());
   int bands[3] = {1, 2, 3};
@@ -174,8 +183,8 @@ Status WritePng(Canvas& canvas, const std::string& path) {
                       canvas.width(), canvas.height(), GDT_Byte, 3, bands, 3,
                       static_cast<GSpacing>(canvas.width()) * 3, 1, nullptr) != CE_None)
     return Status::IOError(path + ": cannot draw the image" + LastGdalError());
-  GdalDatasetPtr written(png->CreateCopy(path.c_str(), image.get(), FALSE, nullptr, nullptr,
-                                         nullptr));
+  GdalDatasetPtr written(
+      png->CreateCopy(path.c_str(), image.get(), FALSE, nullptr, nullptr, nullptr));
   if (!written) return Status::IOError(path + ": cannot write the PNG" + LastGdalError());
   return Status::Ok();
 }

@@ -19,7 +19,8 @@ class ProfileReader {
   Result<WalkTriangle> Read(int64_t id) {
     Result<TriangleRow> row = tables_.Triangle(id);
     if (row.status().code() == StatusCode::kNotFound)
-      return Status::Corruption(row.status().message() + ", yet the walk was linked to it; run "
+      return Status::Corruption(row.status().message() +
+                                ", yet the walk was linked to it; run "
                                 "tinbase check");
     TB_RETURN_IF_ERROR(row.status());
     WalkTriangle t;
@@ -58,7 +59,8 @@ class ProfileReader {
     if (auto it = vertices_.find(id); it != vertices_.end()) return it->second;
     Result<VertexRow> v = tables_.Vertex(id);
     if (v.status().code() == StatusCode::kNotFound)
-      return Status::Corruption(v.status().message() + ", yet a triangle has it; run tinbase "
+      return Status::Corruption(v.status().message() +
+                                ", yet a triangle has it; run tinbase "
                                 "check");
     TB_RETURN_IF_ERROR(v.status());
     vertices_.emplace(id, *v);
@@ -77,12 +79,12 @@ Status CheckLine(const std::vector<Point2>& line) {
                                    std::to_string(line.size()));
   for (size_t k = 0; k < line.size(); ++k)
     if (!std::isfinite(line[k].x) || !std::isfinite(line[k].y))
-      return Status::InvalidArgument("profile point " + std::to_string(k + 1) +
-                                     " is not finite");
+      return Status::InvalidArgument("profile point " + std::to_string(k + 1) + " is not finite");
   for (const Point2& p : line)
     if (p.x != line.front().x || p.y != line.front().y) return Status::Ok();
-  return Status::InvalidArgument("a profile line needs two distinct points; all its points are "
-                                 "the same");
+  return Status::InvalidArgument(
+      "a profile line needs two distinct points; all its points are "
+      "the same");
 }
 
 }  // namespace
@@ -97,9 +99,8 @@ Result<SurfaceProfile> ProfileAlong(Store& store, const SurfaceInfo& surface,
     return Status::NotFound("profile point 1: " + start.status().message());
   TB_RETURN_IF_ERROR(start.status());
   ProfileReader reader(store, surface);
-  TB_ASSIGN_OR_RETURN(LineWalk walk, WalkLine(line, start->triangle, [&](int64_t id) {
-                        return reader.Read(id);
-                      }));
+  TB_ASSIGN_OR_RETURN(LineWalk walk,
+                      WalkLine(line, start->triangle, [&](int64_t id) { return reader.Read(id); }));
   SurfaceProfile profile;
   profile.stations = std::move(walk.stations);
   TB_RETURN_IF_ERROR(reader.ReadTags());

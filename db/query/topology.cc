@@ -33,14 +33,16 @@ Result<bool> Turn(MeshTables& tables, const SurfaceInfo& surface, int64_t vertex
     if (read.status().code() == StatusCode::kNotFound)
       return Status::Corruption("surface '" + surface.name + "': the triangles around vertex " +
                                 std::to_string(vertex) + " link to triangle " +
-                                std::to_string(*next) + ", which does not exist; run tinbase "
-                                                        "check");
+                                std::to_string(*next) +
+                                ", which does not exist; run tinbase "
+                                "check");
     TB_RETURN_IF_ERROR(read.status());
     if (CornerOf(*read, vertex) < 0)
       return Status::Corruption("surface '" + surface.name + "': triangle " +
                                 std::to_string(*next) + " is linked around vertex " +
-                                std::to_string(vertex) + " but does not have it; run tinbase "
-                                                         "check");
+                                std::to_string(vertex) +
+                                " but does not have it; run tinbase "
+                                "check");
     row = *read;
     ids->push_back(*next);
     rows->push_back(row);
@@ -72,8 +74,8 @@ Result<VertexStar> StarOf(Store& store, const SurfaceInfo& surface, int64_t vert
                             std::to_string(at->triangle) + " covers it)");
   std::vector<int64_t> ccw_ids, cw_ids;
   std::vector<TriangleRow> ccw_rows, cw_rows;
-  TB_ASSIGN_OR_RETURN(const bool closed, Turn(tables, surface, vertex, at->triangle, first, 1,
-                                              &ccw_ids, &ccw_rows));
+  TB_ASSIGN_OR_RETURN(const bool closed,
+                      Turn(tables, surface, vertex, at->triangle, first, 1, &ccw_ids, &ccw_rows));
   if (!closed) {
     TB_RETURN_IF_ERROR(
         Turn(tables, surface, vertex, at->triangle, first, 2, &cw_ids, &cw_rows).status());

@@ -40,7 +40,7 @@ Result<VertexStar> StarOf(Store& store, const SurfaceInfo& surface, int64_t vert
 
 // One edge of a triangle and what lies across it.
 struct SharedEdge {
-  std::optional<int64_t> neighbour;  // nullopt on the boundary
+  std::optional<int64_t> neighbour;   // nullopt on the boundary
   std::array<int64_t, 2> vertices{};  // the edge's ends, in the triangle's counter-clockwise order
   std::array<VertexRow, 2> ends;      // their rows
   bool constrained = false;           // a constrained edge (a feature's ring or a breakline)
@@ -56,7 +56,6 @@ struct TriangleNeighbours {
 
 // Triangle `triangle` of `surface` with its neighbours and the edges they share. NotFound
 // naming the triangle and the surface when it is not one of its triangles.
-Result<TriangleNeighbours> NeighboursOf(Store& store, const SurfaceInfo& surface,
-                                        int64_t triangle);
+Result<TriangleNeighbours> NeighboursOf(Store& store, const SurfaceInfo& surface, int64_t triangle);
 
 }  // namespace tinbase

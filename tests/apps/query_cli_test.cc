@@ -65,10 +65,10 @@ class QueryCliTest : public ::testing::Test {
     Tin tin = testing::MakeGridTin(20, 10, 10, kX0, kY0, PlaneZ);
     tin.tags = {"sand", "clay"};
     for (TinTriangle& t : tin.triangles)
-      t.tag = tin.vertices[t.v[0]].x + tin.vertices[t.v[1]].x + tin.vertices[t.v[2]].x <
-                      3 * (kX0 + 100)
-                  ? 0
-                  : 1;
+      t.tag =
+          tin.vertices[t.v[0]].x + tin.vertices[t.v[1]].x + tin.vertices[t.v[2]].x < 3 * (kX0 + 100)
+              ? 0
+              : 1;
     store_ = dir_.Path("plane.tinbase");
     auto stored = testing::StoreSurface(store_, "plane", tin);
     ASSERT_TRUE(stored.ok()) << stored.status().ToString();
@@ -125,8 +125,8 @@ TEST_F(QueryCliTest, LocatePointsReadsJsonLinesCsvHeadersStdinAndOgrLayers) {
 
   // The same points from standard input give the same answers.
   const auto [code, out] =
-      Shell("printf '500012.5 5000031.25\\n500150 5000050\\n' | " + std::string(TINBASE_CLI) +
-                " " + Cmd("locate") + "--json --points -",
+      Shell("printf '500012.5 5000031.25\\n500150 5000050\\n' | " + std::string(TINBASE_CLI) + " " +
+                Cmd("locate") + "--json --points -",
             dir_);
   EXPECT_EQ(code, 0);
   EXPECT_EQ(out, r.out);
@@ -284,14 +284,12 @@ TEST_F(QueryCliTest, BadProfilesAreRefusedAndLeaveNoPlot) {
   ExpectRejected(store_, Cmd("profile"), "--line");
   EXPECT_FALSE(std::filesystem::exists(png));
   const std::string unwritable = dir_.Path("no/such/dir/p.png");
-  ExpectRejected(store_,
-                 Cmd("profile") + "--line '500005,5000005 500100,5000050' --plot " +
-                     Quote(unwritable),
-                 "--plot");
+  ExpectRejected(
+      store_, Cmd("profile") + "--line '500005,5000005 500100,5000050' --plot " + Quote(unwritable),
+      "--plot");
   // No temporary file is left beside the plot either.
   for (const auto& entry : std::filesystem::directory_iterator(dir_.dir()))
-    EXPECT_EQ(entry.path().filename().string().find("p.png"), std::string::npos)
-        << entry.path();
+    EXPECT_EQ(entry.path().filename().string().find("p.png"), std::string::npos) << entry.path();
 }
 
 // Hamersley terrain with a square fill feature: `triangles --feature` lists the triangles inside
@@ -311,7 +309,8 @@ TEST(QueryCliStandalone, TrianglesOfAFeature) {
                         << R"([520000,7480000]]]}}]})";
   RunWrite(store, "polygon add " + Quote(store) + " " + Quote(square) +
                       " --surface terrain --mode fill --tag granite");
-  const auto j = Json(RunCli("triangles --json " + Quote(store) + " --surface terrain --feature 1"));
+  const auto j =
+      Json(RunCli("triangles --json " + Quote(store) + " --surface terrain --feature 1"));
   EXPECT_EQ(j["filter"], "feature 1");
   ASSERT_GT(j["count"].get<int>(), 20);
   double area = 0;

@@ -18,8 +18,8 @@ using testing::TempDir;
 std::array<uint8_t, 3> PixelAt(GDALDataset& ds, int x, int y) {
   std::array<uint8_t, 3> rgb{};
   for (int b = 0; b < 3; ++b)
-    EXPECT_EQ(ds.GetRasterBand(b + 1)->RasterIO(GF_Read, x, y, 1, 1, &rgb[b], 1, 1, GDT_Byte, 0,
-                                                0, nullptr),
+    EXPECT_EQ(ds.GetRasterBand(b + 1)->RasterIO(GF_Read, x, y, 1, 1, &rgb[b], 1, 1, GDT_Byte, 0, 0,
+                                                nullptr),
               CE_None);
   return rgb;
 }

@@ -108,10 +108,11 @@ TEST_F(BulkLocateTest, SortedPointsWalkAFewStepsEach) {
 TEST_F(BulkLocateTest, ASinkErrorStopsTheRun) {
   std::vector<Point2> points(20, Point2{1100, 2100});
   int calls = 0;
-  Status s = LocatePoints(*s_.store, s_.info, points, [&](size_t i, const Point2&, const Location*) {
-    ++calls;
-    return i == 5 ? Status::IOError("stdout closed") : Status::Ok();
-  });
+  Status s =
+      LocatePoints(*s_.store, s_.info, points, [&](size_t i, const Point2&, const Location*) {
+        ++calls;
+        return i == 5 ? Status::IOError("stdout closed") : Status::Ok();
+      });
   EXPECT_EQ(s.code(), StatusCode::kIOError);
   EXPECT_EQ(calls, 6);
 }

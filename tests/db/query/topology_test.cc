@@ -25,8 +25,8 @@ Tin Hexagon() {
   tin.vertices.push_back({0, 0, 10, VertexKind::kUser});
   for (int k = 0; k < 6; ++k) {
     const double a = k * M_PI / 3;
-    tin.vertices.push_back({100 * std::cos(a), 100 * std::sin(a), static_cast<double>(k),
-                            VertexKind::kUser});
+    tin.vertices.push_back(
+        {100 * std::cos(a), 100 * std::sin(a), static_cast<double>(k), VertexKind::kUser});
   }
   for (uint32_t k = 1; k <= 6; ++k) tin.triangles.push_back({{0, k, k % 6 + 1}});
   EXPECT_TRUE(LinkNeighbours(tin));
@@ -147,8 +147,8 @@ TEST(Topology, StarsOfARandomTinAgreeWithBruteForce) {
   testing::RandomTinOptions options;
   options.points = 300;
   options.seed = 11;
-  auto stored = testing::StoreSurface(dir.Path("r.tinbase"), "r",
-                                      testing::RandomDelaunayTin(options));
+  auto stored =
+      testing::StoreSurface(dir.Path("r.tinbase"), "r", testing::RandomDelaunayTin(options));
   ASSERT_TRUE(stored.ok()) << stored.status().ToString();
   const LoadedSurface& s = stored->loaded;
   std::map<int64_t, std::set<int64_t>> around;
