@@ -15,6 +15,7 @@ constexpr int kRightMargin = 20;
 constexpr int kTopMargin = 20;
 constexpr int kBottomMargin = 36;  // room for the distance labels
 constexpr int kGlyphScale = 2;     // font pixels per glyph bit
+constexpr int kMaxSide = 16384;    // pixels: the image is drawn in memory, 3 bytes a pixel
 
 using Rgb = std::array<uint8_t, 3>;
 constexpr Rgb kGrid{225, 225, 225};
@@ -235,8 +236,10 @@ std::array<uint8_t, 3> SeriesColour(int series) {
 Status WriteProfilePlot(const std::vector<Station>& stations,
                         const std::vector<ProfilePlotStretch>& stretches, const std::string& path,
                         const ProfilePlotOptions& options) {
-  if (options.width < 200 || options.height < 100)
-    return Status::InvalidArgument("a profile plot needs at least 200 x 100 pixels, got " +
+  if (options.width < 200 || options.height < 100 || options.width > kMaxSide ||
+      options.height > kMaxSide)
+    return Status::InvalidArgument("a profile plot has 200 x 100 to " + std::to_string(kMaxSide) +
+                                   " x " + std::to_string(kMaxSide) + " pixels, not " +
                                    std::to_string(options.width) + " x " +
                                    std::to_string(options.height));
   if (stations.size() < 2 || stretches.size() + 1 != stations.size())

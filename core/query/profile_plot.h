@@ -46,8 +46,8 @@ std::array<uint8_t, 3> SeriesColour(int series);
 
 // Writes the plot of `stations` (stretches[i] from stations[i] to stations[i + 1]) as a PNG
 // file at `path`, overwriting it. InvalidArgument when the options ask for an image under
-// 200 x 100 pixels or the counts do not match; IOError naming the path when GDAL cannot write.
-// REQUIRES: at least two stations, finite values.
+// 200 x 100 pixels or over 16384 on a side, or the counts do not match; IOError naming the path
+// when GDAL cannot write. REQUIRES: at least two stations, finite values.
 Status WriteProfilePlot(const std::vector<Station>& stations,
                         const std::vector<ProfilePlotStretch>& stretches, const std::string& path,
                         const ProfilePlotOptions& options = {});

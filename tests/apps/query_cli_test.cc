@@ -282,6 +282,10 @@ TEST_F(QueryCliTest, BadProfilesAreRefusedAndLeaveNoPlot) {
   ExpectRejected(store_, Cmd("profile") + "--line '1,1 500005,5000005'",
                  "profile point 1: point (1, 1) is outside surface 'plane'");
   ExpectRejected(store_, Cmd("profile"), "--line");
+  ExpectRejected(
+      store_,
+      Cmd("profile") + "--line '500005,5000005 500100,5000050' --width 10 --plot " + Quote(png),
+      "200 x 100 to 16384 x 16384 pixels, not 10 x 400");
   EXPECT_FALSE(std::filesystem::exists(png));
   const std::string unwritable = dir_.Path("no/such/dir/p.png");
   ExpectRejected(

@@ -78,7 +78,12 @@ TEST(ProfilePlot, TooSmallOrMismatchedIsRefusedAndWritesNothing) {
   tiny.width = 50;
   Status s = WriteProfilePlot(stations, {{-1, true}}, path, tiny);
   EXPECT_EQ(s.code(), StatusCode::kInvalidArgument);
-  EXPECT_NE(s.message().find("at least 200 x 100 pixels, got 50 x 400"), std::string::npos);
+  EXPECT_NE(s.message().find("200 x 100 to 16384 x 16384 pixels, not 50 x 400"), std::string::npos)
+      << s.message();
+  ProfilePlotOptions huge;
+  huge.height = 100000;
+  EXPECT_EQ(WriteProfilePlot(stations, {{-1, true}}, path, huge).code(),
+            StatusCode::kInvalidArgument);
   EXPECT_EQ(WriteProfilePlot(stations, {}, path).code(), StatusCode::kInvalidArgument);
   EXPECT_FALSE(std::filesystem::exists(path));
   // A flat profile still gets a z range to draw in.
