@@ -48,6 +48,13 @@ bool Holds(const Tin& tin, size_t t, const Point2& p) {
   return true;
 }
 
+// Whether the station is at a corner of triangle t.
+bool IsCorner(const Tin& tin, size_t t, const Station& s) {
+  for (uint32_t v : tin.triangles[t].v)
+    if (tin.vertices[v].x == s.x && tin.vertices[v].y == s.y) return true;
+  return false;
+}
+
 // Some triangle holding p, by testing them all.
 int64_t BruteLocate(const Tin& tin, const Point2& p) {
   for (size_t t = 0; t < tin.triangles.size(); ++t)
@@ -164,7 +171,7 @@ TEST(LineWalk, BrokenLinksAreCorruptionNotAWrongAnswer) {
 // brute-force plane's, every stretch lies in its triangle, and the walk reads about one triangle
 // per station.
 TEST(LineWalk, RandomLinesOnAFreeTinAgreeWithBruteForce) {
-  for (uint32_t seed = 1; seed <= 20; ++seed) {
+  for (uint32_t seed = 1; seed <= 300; ++seed) {
     SCOPED_TRACE("seed " + std::to_string(seed));
     Tin tin = testing::PerturbedGridTin(12, 9, seed, 1.0, 0.3);
     for (TinVertex& v : tin.vertices) v.z = Plane(v.x, v.y);
@@ -187,6 +194,45 @@ TEST(LineWalk, RandomLinesOnAFreeTinAgreeWithBruteForce) {
     }
     EXPECT_NEAR(w->stations.back().distance, total, 1e-6);
     EXPECT_LE(reads, static_cast<int>(w->stations.size()) + 4);
+  }
+}
+
+// Lines from vertex to vertex of a free TIN, and along its boundary, pass through vertices and
+// run along edges: the walk decides every one of those by exact predicates and still agrees
+// with brute force.
+TEST(LineWalk, VertexToVertexAndAlongTheBoundaryOnAFreeTin) {
+  for (uint32_t seed = 1; seed <= 300; ++seed) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    Tin tin = testing::PerturbedGridTin(10, 8, seed, 1.0, 0.3);
+    for (TinVertex& v : tin.vertices) v.z = Plane(v.x, v.y);
+    std::mt19937 rng(seed);
+    std::uniform_int_distribution<size_t> pick(0, tin.vertices.size() - 1);
+    std::vector<Point2> line;
+    for (int k = 0; k < 5; ++k) {
+      const TinVertex& v = tin.vertices[pick(rng)];
+      line.push_back({v.x, v.y});
+    }
+    // Then round the boundary (its vertices are never displaced) counter-clockwise.
+    for (const Point2& corner :
+         {Point2{600000, 5100000}, Point2{600009, 5100000}, Point2{600009, 5100007},
+          Point2{600000, 5100007}, Point2{600000, 5100000}})
+      line.push_back(corner);
+    auto w = Walk(tin, line);
+    ASSERT_TRUE(w.ok()) << w.status().ToString();
+    for (const Station& s : w->stations)
+      EXPECT_NEAR(s.z, Plane(s.x, s.y), 1e-6) << s.x << " " << s.y;
+    for (size_t i = 0; i + 1 < w->stations.size(); ++i) {
+      const Point2 mid{(w->stations[i].x + w->stations[i + 1].x) / 2,
+                       (w->stations[i].y + w->stations[i + 1].y) / 2};
+      // A stretch along an edge joins two corners, and its rounded middle may fall either side.
+      const size_t t = static_cast<size_t>(w->triangles[i]);
+      EXPECT_TRUE(Holds(tin, t, mid) ||
+                  (IsCorner(tin, t, w->stations[i]) && IsCorner(tin, t, w->stations[i + 1])))
+          << "stretch " << i;
+      EXPECT_LE(w->stations[i].distance, w->stations[i + 1].distance);
+    }
+    // The boundary's 9 + 7 + 9 + 7 unit edges meet at 28 vertices besides the 4 corners.
+    EXPECT_GE(Count(*w, StationKind::kVertex), 28);
   }
 }
 
