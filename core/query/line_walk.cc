@@ -188,7 +188,8 @@ class Walker {
         const Point2& p = tri_.p[j];
         const double dx = e_.x - s_.x, dy = e_.y - s_.y;
         const double along = ((p.x - s_.x) * dx + (p.y - s_.y) * dy) / std::hypot(dx, dy);
-        Add(base_ + along, p.x, p.y, tri_.z[j], StationKind::kVertex);
+        Add(std::max(base_ + along, out_.stations.back().distance), p.x, p.y, tri_.z[j],
+            StationKind::kVertex);
         return Pivot(j);
       }
       AddCrossing(u, w);
@@ -201,7 +202,8 @@ class Walker {
   }
 
   // Records where the segment crosses the edge from corner u to corner w of the current
-  // triangle. Both corners are strictly on opposite sides of the line, so the lines meet.
+  // triangle. Both corners are strictly on opposite sides of the line, so the lines meet. The
+  // rounded distance is kept from running backwards, which crossings close together could.
   void AddCrossing(int u, int w) {
     const Point2 &a = tri_.p[u], &b = tri_.p[w];
     const double dx = e_.x - s_.x, dy = e_.y - s_.y;
