@@ -1,6 +1,6 @@
 // Topology queries over a stored surface: the star of a vertex (its triangles and neighbouring
-// vertices in turn around it), a triangle's neighbours with the edges they share, and the
-// triangles of a window or of a feature (through db/query/surface_selection.h).
+// vertices in turn around it) and a triangle's neighbours with the edges they share. (The
+// triangles of a window or of a feature are SelectSurface's, db/query/surface_selection.h.)
 //
 // Star and neighbours read only the rows around the vertex or triangle, through MeshTables, in
 // one read snapshot. Thread-safety: one call per Store at a time.
