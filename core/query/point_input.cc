@@ -12,40 +12,12 @@
 #include <iostream>
 #include <memory>
 
+#include "core/geometry/point_list.h"
 #include "core/vector/gdal_session.h"
 
 namespace tinbase {
 
 namespace {
-
-std::string_view Trim(std::string_view s) {
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
-  return s;
-}
-
-// The fields of a line: split at commas when it has one (CSV), else at runs of whitespace.
-std::vector<std::string_view> Fields(std::string_view line) {
-  std::vector<std::string_view> fields;
-  if (line.find(',') != std::string_view::npos) {
-    size_t start = 0;
-    for (;;) {
-      const size_t comma = line.find(',', start);
-      fields.push_back(Trim(line.substr(start, comma - start)));
-      if (comma == std::string_view::npos) break;
-      start = comma + 1;
-    }
-    return fields;
-  }
-  size_t i = 0;
-  while (i < line.size()) {
-    while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
-    const size_t start = i;
-    while (i < line.size() && !std::isspace(static_cast<unsigned char>(line[i]))) ++i;
-    if (i > start) fields.push_back(line.substr(start, i - start));
-  }
-  return fields;
-}
 
 // The whole field as a double; nullopt when it is not exactly one number.
 std::optional<double> Number(std::string_view field) {
@@ -56,92 +28,12 @@ std::optional<double> Number(std::string_view field) {
   return value;
 }
 
-std::string Lower(std::string_view s) {
-  std::string out(s);
-  std::transform(out.begin(), out.end(), out.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return out;
-}
-
-// The column of the header named one of `names`, or -1.
-int ColumnNamed(const std::vector<std::string_view>& header,
-                std::initializer_list<const char*> names) {
-  for (size_t i = 0; i < header.size(); ++i) {
-    std::string field = Lower(header[i]);
-    if (field.size() >= 2 && field.front() == '"' && field.back() == '"')
-      field = field.substr(1, field.size() - 2);
-    for (const char* name : names)
-      if (field == name) return static_cast<int>(i);
-  }
-  return -1;
-}
-
-struct Columns {
-  int x = 0;
-  int y = 1;
-};
-
-Result<Columns> HeaderColumns(const std::vector<std::string_view>& header,
-                              const std::string& where) {
-  Columns c{ColumnNamed(header, {"x", "easting"}), ColumnNamed(header, {"y", "northing"})};
-  if (c.x < 0 || c.y < 0)
-    return Status::InvalidArgument(where +
-                                   ": the header names no x and y columns (x,y or "
-                                   "easting,northing)");
-  return c;
-}
-
-// The field as a finite coordinate; InvalidArgument naming the axis and the place otherwise.
-Result<double> Coordinate(std::string_view field, const char* axis, const std::string& where) {
-  const std::optional<double> value = Number(field);
-  if (!value)
-    return Status::InvalidArgument(where + ": " + axis + " '" + std::string(field) +
-                                   "' is not a number");
-  if (!std::isfinite(*value))
-    return Status::InvalidArgument(where + ": " + axis + " '" + std::string(field) +
-                                   "' is not finite");
-  return *value;
-}
-
-std::string LineWhere(const std::string& name, int64_t line) {
-  return name + ", line " + std::to_string(line);
-}
-
-}  // namespace
-
-Result<std::vector<Point2>> ReadPointText(std::istream& in, const std::string& name) {
-  std::vector<Point2> points;
-  std::optional<Columns> columns;
-  std::string text;
-  int64_t line = 0;
-  while (std::getline(in, text)) {
-    ++line;
-    const std::string_view trimmed = Trim(text);
-    if (trimmed.empty() || trimmed.front() == '#') continue;
-    const std::vector<std::string_view> fields = Fields(trimmed);
-    const std::string where = LineWhere(name, line);
-    if (!columns) {
-      if (!Number(fields.front())) {
-        TB_ASSIGN_OR_RETURN(columns, HeaderColumns(fields, where));
-        continue;
-      }
-      columns = Columns{};
-    }
-    const int needed = std::max(columns->x, columns->y) + 1;
-    if (static_cast<int>(fields.size()) < needed)
-      return Status::InvalidArgument(where + ": " + std::to_string(fields.size()) +
-                                     " field(s), expected at least " + std::to_string(needed) +
-                                     " (x, y)");
-    TB_ASSIGN_OR_RETURN(const double x, Coordinate(fields[columns->x], "x", where));
-    TB_ASSIGN_OR_RETURN(const double y, Coordinate(fields[columns->y], "y", where));
-    points.push_back({x, y});
-  }
-  if (in.bad()) return Status::IOError(name + ": read failed at line " + std::to_string(line + 1));
+// The points of x,y text (core/geometry/point_list.h); InvalidArgument when there are none.
+Result<std::vector<Point2>> ReadText(std::istream& in, const std::string& name) {
+  TB_ASSIGN_OR_RETURN(std::vector<Point2> points, ReadPointList(in, name));
   if (points.empty()) return Status::InvalidArgument(name + ": no points");
   return points;
 }
-
-namespace {
 
 struct TransformDeleter {
   void operator()(OGRCoordinateTransformation* t) const {
@@ -245,7 +137,7 @@ enum class Shape { kPoints, kLine };
 
 Result<std::vector<Point2>> Read(const std::string& path, const std::optional<Crs>& target,
                                  Shape shape) {
-  if (path == "-") return ReadPointText(std::cin, "standard input");
+  if (path == "-") return ReadText(std::cin, "standard input");
   const std::string name = std::filesystem::path(path).filename().string();
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) return Status::NotFound(path + ": no such file");
@@ -258,7 +150,7 @@ Result<std::vector<Point2>> Read(const std::string& path, const std::optional<Cr
   }
   std::ifstream in(path);
   if (!in) return Status::IOError(path + ": cannot be read");
-  return ReadPointText(in, name);
+  return ReadText(in, name);
 }
 
 }  // namespace

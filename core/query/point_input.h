@@ -3,11 +3,11 @@
 //
 // The whole input is read and checked before anything is returned, so a caller that streams
 // answers prints none for an input with a bad line: it gets every point or one error naming the
-// file and the 1-based line (text) or the feature (OGR). Thread-safety: reentrant.
+// file and the 1-based line (text) or the feature (OGR). Thread-safety: reentrant (standard
+// input is read by one caller at a time).
 #pragma once
 
 #include <cstdint>
-#include <istream>
 #include <optional>
 #include <string>
 #include <vector>
@@ -18,22 +18,14 @@
 
 namespace tinbase {
 
-// Reads x,y text from `in`; `name` stands for the file in messages. One point a line, its
-// fields separated by a comma when the line has one, else by whitespace; blank lines and lines
-// starting with '#' are skipped. A first data line whose first field is not a number is a
-// header: the columns named x and y (or easting and northing, any case) are then read, and
-// other columns ignored; without a header x and y are the first two fields and more are
-// ignored. InvalidArgument "name, line 7: ..." for a line with too few fields, a field that is
-// not a number or a number that is not finite, and for a header without x and y columns;
-// InvalidArgument "name: no points" when there are none.
-Result<std::vector<Point2>> ReadPointText(std::istream& in, const std::string& name);
-
 // The points of `path`: standard input for "-", the first layer of any vector source OGR opens
 // other than its CSV driver (every feature a Point, reprojected to `target_crs` when it is given
-// and the layer declares another CRS), and x,y text (ReadPointText) for everything else. Errors:
-// NotFound when the file does not exist; ReadPointText's; for a vector source, InvalidArgument
-// naming the file and feature for a feature that is not a point, and the file for a source of
-// more than one layer, no features, or coordinates that cannot be reprojected.
+// and the layer declares another CRS), and x,y text for everything else: one point a line, a
+// header naming the x and y columns if any (ReadPointList, core/geometry/point_list.h). Errors:
+// NotFound when the file does not exist; InvalidArgument "file:7: ..." naming the line of bad
+// text (ReadPointList's), "file: no points" when there are none; for a vector source,
+// InvalidArgument naming the file and feature for a feature that is not a point, and the file
+// for a source of more than one layer or coordinates that cannot be reprojected.
 Result<std::vector<Point2>> ReadPoints(const std::string& path,
                                        const std::optional<Crs>& target_crs = std::nullopt);
 

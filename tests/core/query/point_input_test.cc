@@ -6,7 +6,6 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
-#include <sstream>
 
 #include "tests/support/test_support.h"
 
@@ -15,9 +14,11 @@ namespace {
 
 using testing::TempDir;
 
+// The points of a file p.txt holding `text`.
 Result<std::vector<Point2>> Text(const std::string& text) {
-  std::istringstream in(text);
-  return ReadPointText(in, "p.txt");
+  TempDir dir;
+  std::ofstream(dir.Path("p.txt")) << text;
+  return ReadPoints(dir.Path("p.txt"));
 }
 
 void ExpectError(const Result<std::vector<Point2>>& r, const std::string& expected) {
@@ -44,17 +45,21 @@ TEST(PointInput, PlainLinesCsvAndHeaders) {
   auto quoted = Text("\"y\",\"x\"\n1,2\n");
   ASSERT_TRUE(quoted.ok()) << quoted.status().ToString();
   EXPECT_EQ((*quoted)[0].x, 2);
+  // A header naming no x and y leaves them in the first two columns.
+  auto unnamed = Text("a;b\n1;2\n");
+  ASSERT_TRUE(unnamed.ok()) << unnamed.status().ToString();
+  EXPECT_EQ((*unnamed)[0].y, 2);
 }
 
 TEST(PointInput, BadLinesAreNamedByFileAndLine) {
-  ExpectError(Text("1 2\n\n3 x4\n"), "p.txt, line 3: y 'x4' is not a number");
-  ExpectError(Text("1 2\n3\n"), "p.txt, line 2: 1 field(s), expected at least 2");
-  ExpectError(Text("x,y\n1,2\n3,inf\n"), "p.txt, line 3: y 'inf' is not finite");
-  ExpectError(Text("x,y\n1,2\n3,nan\n"), "line 3");
-  ExpectError(Text("a,b\n1,2\n"), "p.txt, line 1: the header names no x and y columns");
-  ExpectError(Text("id,x,y\n1,2\n"), "p.txt, line 2: 2 field(s), expected at least 3");
+  ExpectError(Text("1 2\n\n3 x4\n"), "p.txt:3: 'x4' is not a number");
+  ExpectError(Text("1 2\n3\n"), "p.txt:2: expected 'x y' or 'x,y', got '3'");
+  ExpectError(Text("x,y\n1,2\n3,inf\n"), "p.txt:3: coordinates must be finite");
+  ExpectError(Text("x,y\n1,2\n3,nan\n"), "p.txt:3: coordinates must be finite");
+  ExpectError(Text("id,x,y\n1,,3\n"), "p.txt:2: '' is not a number");
+  ExpectError(Text("id,x,y\n1,2\n"), "p.txt:2: 2 field(s), the header's x and y need 3");
   ExpectError(Text("# nothing\n\n"), "p.txt: no points");
-  ExpectError(Text("1 2\n1.5.5 2\n"), "line 2: x '1.5.5'");
+  ExpectError(Text("1 2\n1.5.5 2\n"), "p.txt:2: '1.5.5' is not a number");
 }
 
 TEST(PointInput, FilesOfTextAndOgrPointLayers) {
@@ -62,7 +67,7 @@ TEST(PointInput, FilesOfTextAndOgrPointLayers) {
   const std::string csv = dir.Path("pts.csv");
   std::ofstream(csv) << "x,y\n1,2\n3,4\n5,oops\n";
   // GDAL's CSV driver would read this file; the bad line must still be named.
-  ExpectError(ReadPoints(csv), "pts.csv, line 4: y 'oops' is not a number");
+  ExpectError(ReadPoints(csv), "pts.csv:4: 'oops' is not a number");
 
   const std::string geojson = dir.Path("pts.geojson");
   std::ofstream(geojson)
