@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <charconv>
 #include <iostream>
-#include <map>
 #include <nlohmann/json.hpp>
 #include <set>
 
@@ -52,7 +51,7 @@ std::string CsvField(const std::string& s) {
   return out + "\"";
 }
 
-// The store, its surface and the store's CRS, opened read-only.
+// The store, opened read-only, and the surface the command names.
 struct OpenSurface {
   std::unique_ptr<Store> store;
   SurfaceInfo surface;
