@@ -18,6 +18,9 @@ namespace {
 // Rings of blocks searched around an empty block before settling for any triangle: the walk
 // from a triangle a few blocks away is still short, and beyond that an arbitrary start is as good.
 constexpr int kJumpRings = 3;
+// Blocks (of about 32 triangles) between two points within which the second walk starts where
+// the first ended rather than with a jump: a few blocks' walk is as short as a jump's.
+constexpr int64_t kNearBlocks = 2;
 
 struct WalkVertex {
   Point2 p;
@@ -133,6 +136,7 @@ class PointLocator::Walker {
     TB_ASSIGN_OR_RETURN(int64_t start, Start(x, y));
     TB_ASSIGN_OR_RETURN(Location location, Walk(start, x, y));
     last_ = location.triangle;
+    last_point_ = Point2{x, y};
     if (!paint) return location;
     TB_ASSIGN_OR_RETURN(const TriangleRow found, reader_.Triangle(location.triangle));
     location.visible = found.visible;
@@ -141,9 +145,19 @@ class PointLocator::Walker {
   }
 
  private:
-  // Where the previous walk ended, while that triangle still exists; else a jump.
+  // Whether (x, y) is within kNearBlocks blocks of the previous point: then the walk from where
+  // that one ended is short; from farther (random input, say) it would cross the surface, and a
+  // jump costs one indexed lookup and a walk within a block.
+  bool NearLast(double x, double y) const {
+    const BlockGrid& g = surface_.blocks;
+    return std::abs(g.ColumnOf(x) - g.ColumnOf(last_point_->x)) <= kNearBlocks &&
+           std::abs(g.RowOf(y) - g.RowOf(last_point_->y)) <= kNearBlocks;
+  }
+
+  // Where the previous walk ended, while that triangle still exists and the point is near the
+  // previous one; else a jump.
   Result<int64_t> Start(double x, double y) {
-    if (last_) {
+    if (last_ && NearLast(x, y)) {
       bool exists = false;
       if (cache_) {
         TB_ASSIGN_OR_RETURN(exists, cache_->HasTriangle(*last_));
@@ -232,6 +246,7 @@ class PointLocator::Walker {
   WalkReader reader_;
   MeshCache* cache_;  // when given, rows are read through it instead of reader_
   std::optional<int64_t> last_;
+  std::optional<Point2> last_point_;  // the point whose walk ended in last_
 };
 
 PointLocator::PointLocator(Store& store, const SurfaceInfo& surface, MeshCache* cache)

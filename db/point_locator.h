@@ -6,8 +6,9 @@
 // (Devillers' remembering stochastic walk) so the walk terminates on non-Delaunay surfaces too.
 // Reads O(walk length) rows through MeshTables (db/mesh/mesh_tables.h), never the whole surface,
 // all in one read snapshot. PointLocator locates many points in a row, each walk starting where
-// the last one ended: points along a ring are then a few steps apart instead of a jump and a
-// walk each. Thread-safety: one per Store.
+// the last one ended when the point is near the last one (within two blocks): points along a
+// ring or sorted in space are then a few steps apart instead of a jump and a walk each, and a
+// point far away jumps instead of walking across the surface. Thread-safety: one per Store.
 #pragma once
 
 #include <cstdint>

@@ -3,8 +3,10 @@
 //
 // A line holds x and y separated by white space, a comma or a semicolon; further fields are
 // ignored (a CSV of x,y,name works). Blank lines and lines starting with '#' are skipped, and so
-// is a first line whose first two fields are not numbers (a CSV header). Anything else that is
-// not two finite numbers is an error naming the source and the line. Thread-safety: pure.
+// is a first line whose first two fields are not numbers (a CSV header). When that header names
+// an x and a y column (`x` or `easting`, `y` or `northing`, any case), those columns are read
+// instead, wherever they are, empty fields counting as columns. Anything else that is not two
+// finite numbers is an error naming the source and the line. Thread-safety: pure.
 #pragma once
 
 #include <istream>

@@ -27,6 +27,28 @@ TEST(PointListTest, SeparatorsCommentsAndHeader) {
   EXPECT_TRUE(Read("").value().empty());
 }
 
+TEST(PointListTest, AHeaderNamingXAndYPicksThoseColumns) {
+  auto points = Read("id,name,Northing,EASTING\n1,,200,100\n2,well b,201.5,101\n");
+  ASSERT_TRUE(points.ok()) << points.status().ToString();
+  ASSERT_EQ(points->size(), 2u);
+  EXPECT_EQ((*points)[0].x, 100);
+  EXPECT_EQ((*points)[0].y, 200);
+  EXPECT_EQ((*points)[1].y, 201.5);
+  auto spaced = Read("z y x\n5 2 1\n");
+  ASSERT_TRUE(spaced.ok()) << spaced.status().ToString();
+  EXPECT_EQ((*spaced)[0].x, 1);
+  // An empty field is a column: x is not taken from the next one.
+  auto empty = Read("id,x,y\n1,,3\n");
+  ASSERT_FALSE(empty.ok());
+  EXPECT_NE(empty.status().message().find("pts:2: '' is not a number"), std::string::npos)
+      << empty.status().message();
+  auto short_line = Read("id,x,y\n1,2\n");
+  ASSERT_FALSE(short_line.ok());
+  EXPECT_NE(short_line.status().message().find("pts:2: 2 field(s), the header's x and y need 3"),
+            std::string::npos)
+      << short_line.status().message();
+}
+
 TEST(PointListTest, BadLinesNameTheLine) {
   struct Case {
     const char* text;
