@@ -18,6 +18,8 @@
 //   tinbase        PointLocator::Locate (triangle, z, visible, tag), one read snapshot, each walk
 //                  from the last answer
 //   tinbase+cache  the same with a MeshCache, so rows read once stay in memory
+//   tinbase-bulk   LocatePoints, what `tinbase locate --points` runs: the previous answer's
+//                  triangle tested in memory first, then the walk (a jump when far)
 //   tinbase-jump   LocatePoint per point (a jump through the centroid blocks, then a walk)
 //   cgal-walk      CGAL's locate(p, hint = last face) on a constrained triangulation whose
 //                  constraints are every stored edge: exactly the stored triangles
@@ -55,6 +57,7 @@
 #include "bench/store_1e6.h"
 #include "db/mesh_cache.h"
 #include "db/point_locator.h"
+#include "db/query/bulk_locate.h"
 #include "db/surface_store.h"
 
 namespace tinbase {
@@ -212,6 +215,30 @@ struct Bench {
   std::unique_ptr<Hierarchy> hierarchy;
 };
 
+// What `tinbase locate --points` runs (db/query/bulk_locate.h): the last triangle tested in
+// memory first, then the walk from it.
+Run TinbaseBulkRun(Bench& b, const std::vector<Pt>& pts, int64_t count) {
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<Point2> points;
+  points.reserve(static_cast<size_t>(count));
+  for (int64_t i = 0; i < count; ++i)
+    points.push_back({pts[static_cast<size_t>(i)].x, pts[static_cast<size_t>(i)].y});
+  Run run;
+  int64_t steps = 0;
+  const Status located =
+      LocatePoints(*b.store, b.surface, points, [&](size_t, const Point2&, const Location* at) {
+        if (at == nullptr) return Status::NotFound("a point is outside");
+        run.checksum += at->triangle;
+        steps += at->steps;
+        return Status::Ok();
+      });
+  if (!located.ok()) Die("locate", located);
+  run.seconds = Seconds(start);
+  run.points = count;
+  run.mean_steps = static_cast<double>(steps) / static_cast<double>(count);
+  return run;
+}
+
 Run TinbaseRun(Bench& b, const std::vector<Pt>& pts, int64_t count, bool cached) {
   const auto start = std::chrono::steady_clock::now();
   auto snapshot = Check(ReadSnapshot::Begin(*b.store), "read snapshot");
@@ -288,7 +315,8 @@ struct RunArgs {
   int64_t walk_sample = 2000;
   int64_t jump_points = 1000000;
   int rounds = 2;
-  std::string methods = "tinbase,tinbase+cache,tinbase-jump,cgal-walk,cgal-hierarchy";
+  std::string methods =
+      "tinbase,tinbase+cache,tinbase-bulk,tinbase-jump,cgal-walk,cgal-hierarchy";
 };
 
 // A hierarchy face's store id: the stored triangle holding its centroid (the same triangle
@@ -337,6 +365,7 @@ int RunAll(const RunArgs& args) {
       {"tinbase", [&](const auto& p, int64_t n) { return TinbaseRun(b, p, n, false); }},
       {"tinbase+cache", [&](const auto& p, int64_t n) { return TinbaseRun(b, p, n, true); }},
       {"tinbase-jump", [&](const auto& p, int64_t n) { return TinbaseJumpRun(b, p, n); }},
+      {"tinbase-bulk", [&](const auto& p, int64_t n) { return TinbaseBulkRun(b, p, n); }},
       {"cgal-walk", [&](const auto& p, int64_t n) { return CgalWalkRun(*b.ct, p, n); }},
       {"cgal-hierarchy",
        [&](const auto& p, int64_t n) { return CgalHierarchyRun(*b.hierarchy, p, n); }},
@@ -358,6 +387,7 @@ int RunAll(const RunArgs& args) {
     int64_t n = args.points;
     if (is_random && walks) n = args.walk_sample;
     if (method == "tinbase-jump") n = is_random ? args.jump_points : args.sample;
+    if (method == "tinbase-bulk" && is_random) n = args.jump_points;
     return std::min(n, args.points);
   };
   // key "method/order" -> CPU ns per point, one per round. CPU time, because on a machine shared

@@ -96,17 +96,8 @@ Result<int64_t> JumpStart(MeshTables& tables, const SurfaceInfo& surface, double
   return *any;
 }
 
-// Barycentric interpolation of z over the triangle, relative to its first vertex so large map
-// coordinates do not cancel away the small differences that matter.
 double InterpolateZ(const std::array<WalkVertex, 3>& t, double x, double y) {
-  const double bx = t[1].p.x - t[0].p.x, by = t[1].p.y - t[0].p.y;
-  const double cx = t[2].p.x - t[0].p.x, cy = t[2].p.y - t[0].p.y;
-  const double px = x - t[0].p.x, py = y - t[0].p.y;
-  const double det = bx * cy - by * cx;
-  if (det == 0) return t[0].z;  // degenerate; CheckStore reports it
-  const double l1 = (px * cy - py * cx) / det;
-  const double l2 = (bx * py - by * px) / det;
-  return t[0].z + l1 * (t[1].z - t[0].z) + l2 * (t[2].z - t[0].z);
+  return PlaneZ({t[0].p, t[1].p, t[2].p}, {t[0].z, t[1].z, t[2].z}, x, y);
 }
 
 // Shortest text that reads back as the same double, so a reported point can be located again.
@@ -125,6 +116,17 @@ std::string PointText(double x, double y) {
 }
 
 }  // namespace
+
+double PlaneZ(const std::array<Point2, 3>& p, const std::array<double, 3>& z, double x, double y) {
+  const double bx = p[1].x - p[0].x, by = p[1].y - p[0].y;
+  const double cx = p[2].x - p[0].x, cy = p[2].y - p[0].y;
+  const double px = x - p[0].x, py = y - p[0].y;
+  const double det = bx * cy - by * cx;
+  if (det == 0) return z[0];  // degenerate; CheckStore reports it
+  const double l1 = (px * cy - py * cx) / det;
+  const double l2 = (bx * py - by * px) / det;
+  return z[0] + l1 * (z[1] - z[0]) + l2 * (z[2] - z[0]);
+}
 
 class PointLocator::Walker {
  public:

@@ -11,12 +11,14 @@
 // point far away jumps instead of walking across the surface. Thread-safety: one per Store.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
 
 #include "core/base/status.h"
+#include "core/geometry/predicates.h"
 #include "db/mesh_cache.h"
 #include "db/store.h"
 #include "db/surface_store.h"
@@ -36,6 +38,11 @@ struct Location {
 // no triangle holds it; Corruption when the rows the walk reads are inconsistent (CheckStore
 // tells which). Works inside a WriteTransaction too (then reads what it has written).
 Result<Location> LocatePoint(Store& store, const SurfaceInfo& surface, double x, double y);
+
+// z at (x, y) of the plane through the triangle p[0..2] with heights z[0..2], by barycentric
+// interpolation relative to p[0] (so large map coordinates do not cancel away the small
+// differences that matter): the z every Location reports.
+double PlaneZ(const std::array<Point2, 3>& p, const std::array<double, 3>& z, double x, double y);
 
 // LocatePoint for a sequence of points of one surface. It remembers the rows it read (the last
 // triangle and the vertices), so the surface must not change while it is in use: hold a

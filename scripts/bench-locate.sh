@@ -23,7 +23,7 @@ rounds=${3:-2}
 sample=${SAMPLE:-100000}
 walk_sample=${WALK_SAMPLE:-2000}
 jump_points=${JUMP_POINTS:-1000000}
-methods=${METHODS:-tinbase,tinbase-jump,cgal-walk,cgal-hierarchy}
+methods=${METHODS:-tinbase,tinbase-bulk,tinbase-jump,cgal-walk,cgal-hierarchy}
 build=${BUILD_DIR:-build-bench}
 pgbin=/usr/lib/postgresql/15/bin
 [ -x "$pgbin/initdb" ] || { echo "PostgreSQL 15 is missing: apt-get install postgresql-15 postgresql-15-postgis-3" >&2; exit 1; }
@@ -140,6 +140,10 @@ for key, v in sorted(ns.items()):
           f"{1e9 / med:.0f}")
 print("\nratio per round, CPU time unless it says wall [goal]")
 for a, b, table, goal in [
+        (("tinbase-bulk", "sorted"), ("cgal-walk", "sorted"), ns, "<= 2"),
+        (("tinbase-bulk", "random"), ("cgal-hierarchy", "random"), ns, "<= 2"),
+        (("postgis-join", "sorted"), ("tinbase-bulk", "sorted"), ns, ">= 20"),
+        (("postgis-join", "random"), ("tinbase-bulk", "random"), ns, ">= 20"),
         (("tinbase", "sorted"), ("cgal-walk", "sorted"), ns, "<= 2"),
         (("tinbase+cache", "sorted"), ("cgal-walk", "sorted"), ns, "<= 2"),
         (("tinbase-jump", "random"), ("cgal-hierarchy", "random"), ns, "<= 2"),

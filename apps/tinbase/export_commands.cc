@@ -61,8 +61,8 @@ Result<ExportFormat> ResolveFormat(const ExportArgs& args) {
   if (!args.format.empty()) {
     Result<ExportFormat> format = ParseExportFormat(args.format);
     if (!format.ok())
-      return Status::InvalidArgument("unknown format '" + args.format + "' (known: " +
-                                     AllFormats() + ")");
+      return Status::InvalidArgument("unknown export format '" + args.format +
+                                     "' (expected one of: " + AllFormats() + ")");
     return format;
   }
   if (auto format = ExportFormatFromPath(args.output)) return *format;

@@ -1,9 +1,12 @@
 // Bulk point location: the triangle, z and paint under each of many points of one surface,
 // handed over one at a time in input order so a caller can stream them out.
 //
-// One PointLocator serves every point, so each walk starts from the previous answer: points
-// sorted along a path or in space cost a few steps each, and only a point far from the one
-// before jumps first (db/point_locator.h). All answers come from one read snapshot.
+// A point in the triangle of the previous answer is answered from memory (steps 0): sorted input
+// puts several points in a row into one triangle. Otherwise one PointLocator serves every point,
+// so each walk starts from the previous answer: points sorted along a path or in space cost a
+// few steps each, and only a point far from the one before jumps first (db/point_locator.h). A
+// point on an edge may be answered by either triangle (their z agree). All answers come from one
+// read snapshot.
 // Thread-safety: one call per Store at a time.
 #pragma once
 

@@ -186,7 +186,8 @@ TEST_F(ExportCliTest, BadInputIsOneLineAndLeavesNoFile) {
   const std::string s = Quote(store_);
   ExpectRejected(store_,
                  "export " + s + " --surface terrain --format dxf -o " + Quote(out_ + "/x.dxf"),
-                 "unknown export format 'dxf' (expected one of: obj, ply, stl, glb, geojson");
+                 "unknown export format 'dxf' (expected one of: obj, ply, stl, glb, geojson, gpkg, "
+                 "landxml, vdb)");
   ExpectRejected(store_, "export " + s + " --surface terrain -o " + Quote(out_ + "/x.dwg"),
                  "cannot tell the format from");
   const std::string unwritable = out_ + "/no/such/dir/t.glb";
