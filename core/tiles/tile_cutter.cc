@@ -1,0 +1,363 @@
+// TileCutter: see tile_cutter.h.
+#include "core/tiles/tile_cutter.h"
+
+#include <algorithm>
+#include <cmath>
+#include <tuple>
+
+#include "core/geometry/predicates.h"
+
+namespace tinbase {
+
+namespace {
+
+// The four lines that bound a tile, in the order they clip.
+enum ClipLine : int { kWest = 0, kEast = 1, kSouth = 2, kNorth = 3 };
+constexpr int kNoLine = -1;
+
+struct ClipPoint {
+  double lon = 0, lat = 0, h = 0;
+  Ecef normal{};
+};
+
+// One vertex of a polygon being clipped, with where the edge leaving it lies: on TIN edge
+// (edge_a, edge_b), or on a clip line.
+struct PolygonVertex {
+  ClipPoint point;
+  uint32_t edge_a = 0, edge_b = 0;
+  int edge_line = kNoLine;
+};
+
+double LineValue(const TileRect& r, int line) {
+  switch (line) {
+    case kWest:
+      return r.west;
+    case kEast:
+      return r.east;
+    case kSouth:
+      return r.south;
+    default:
+      return r.north;
+  }
+}
+
+bool IsLongitudeLine(int line) { return line == kWest || line == kEast; }
+
+bool Inside(const ClipPoint& p, const TileRect& r, int line) {
+  switch (line) {
+    case kWest:
+      return p.lon >= r.west;
+    case kEast:
+      return p.lon <= r.east;
+    case kSouth:
+      return p.lat >= r.south;
+    default:
+      return p.lat <= r.north;
+  }
+}
+
+Ecef Lerp(const Ecef& a, const Ecef& b, double t) {
+  return {a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]), a[2] + t * (b[2] - a[2])};
+}
+
+class TileClipper {
+ public:
+  TileClipper(const GeoSurface& surface, const std::vector<TinVertex>& vertices,
+              const TileRect& rect, const std::vector<uint32_t>& candidates)
+      : s_(surface), vertices_(vertices), rect_(rect), candidates_(candidates) {}
+
+  ClipPoint VertexPoint(uint32_t v) const {
+    const TinVertex& p = vertices_[v];
+    return {p.x, p.y, p.z, NormalOf(v)};
+  }
+
+  // Where TIN edge (a, b) crosses clip line `line`, computed from the edge alone.
+  ClipPoint EdgeCrossing(uint32_t a, uint32_t b, int line) const {
+    if (a > b) std::swap(a, b);
+    const TinVertex& pa = vertices_[a];
+    const TinVertex& pb = vertices_[b];
+    const double value = LineValue(rect_, line);
+    const bool lon_line = IsLongitudeLine(line);
+    const double ca = lon_line ? pa.x : pa.y;
+    const double cb = lon_line ? pb.x : pb.y;
+    if (ca == value) return VertexPoint(a);
+    if (cb == value) return VertexPoint(b);
+    const double t = (value - ca) / (cb - ca);
+    ClipPoint out;
+    out.lon = lon_line ? value : pa.x + t * (pb.x - pa.x);
+    out.lat = lon_line ? pa.y + t * (pb.y - pa.y) : value;
+    out.h = pa.z + t * (pb.z - pa.z);
+    if (!s_.normals.empty()) out.normal = Lerp(s_.normals[a], s_.normals[b], t);
+    return out;
+  }
+
+  // A corner of the tile, its height from the lowest-numbered visible triangle holding it.
+  ClipPoint Corner(int line1, int line2) const {
+    const int lon_line = IsLongitudeLine(line1) ? line1 : line2;
+    const int lat_line = IsLongitudeLine(line1) ? line2 : line1;
+    ClipPoint out;
+    out.lon = LineValue(rect_, lon_line);
+    out.lat = LineValue(rect_, lat_line);
+    const Point2 q{out.lon, out.lat};
+    for (uint32_t t : candidates_) {  // ascending
+      const auto& v = s_.tin.triangles[t].v;
+      const TinVertex &a = vertices_[v[0]], &b = vertices_[v[1]], &c = vertices_[v[2]];
+      const Point2 pa{a.x, a.y}, pb{b.x, b.y}, pc{c.x, c.y};
+      if (Orientation(pa, pb, q) < 0 || Orientation(pb, pc, q) < 0 || Orientation(pc, pa, q) < 0)
+        continue;
+      const double area = (pb.x - pa.x) * (pc.y - pa.y) - (pb.y - pa.y) * (pc.x - pa.x);
+      const double wa = ((pb.x - q.x) * (pc.y - q.y) - (pb.y - q.y) * (pc.x - q.x)) / area;
+      const double wb = ((pc.x - q.x) * (pa.y - q.y) - (pc.y - q.y) * (pa.x - q.x)) / area;
+      const double wc = 1 - wa - wb;
+      out.h = wa * a.z + wb * b.z + wc * c.z;
+      if (!s_.normals.empty())
+        for (int k = 0; k < 3; ++k)
+          out.normal[k] =
+              wa * s_.normals[v[0]][k] + wb * s_.normals[v[1]][k] + wc * s_.normals[v[2]][k];
+      return out;
+    }
+    return out;  // not reached for a corner inside a clipped triangle
+  }
+
+  // The triangle clipped to the tile: a convex polygon, empty when it misses the tile.
+  std::vector<ClipPoint> Clip(uint32_t t) const {
+    const auto& v = s_.tin.triangles[t].v;
+    std::vector<PolygonVertex> polygon;
+    for (int i = 0; i < 3; ++i)
+      polygon.push_back({VertexPoint(v[i]), v[i], v[(i + 1) % 3], kNoLine});
+    for (int line : {kWest, kEast, kSouth, kNorth}) {
+      polygon = ClipAgainst(polygon, line);
+      if (polygon.empty()) break;
+    }
+    std::vector<ClipPoint> out;
+    for (const PolygonVertex& p : polygon) out.push_back(p.point);
+    return out;
+  }
+
+ private:
+  Ecef NormalOf(uint32_t v) const { return s_.normals.empty() ? Ecef{} : s_.normals[v]; }
+
+  ClipPoint Crossing(const PolygonVertex& from, int line) const {
+    if (from.edge_line != kNoLine) return Corner(from.edge_line, line);
+    return EdgeCrossing(from.edge_a, from.edge_b, line);
+  }
+
+  std::vector<PolygonVertex> ClipAgainst(const std::vector<PolygonVertex>& in, int line) const {
+    std::vector<PolygonVertex> out;
+    for (size_t i = 0; i < in.size(); ++i) {
+      const PolygonVertex& p = in[i];
+      const PolygonVertex& q = in[(i + 1) % in.size()];
+      const bool p_in = Inside(p.point, rect_, line);
+      const bool q_in = Inside(q.point, rect_, line);
+      if (p_in) out.push_back(p);
+      if (p_in && !q_in) {
+        out.push_back({Crossing(p, line), 0, 0, line});
+      } else if (!p_in && q_in) {
+        out.push_back({Crossing(p, line), p.edge_a, p.edge_b, p.edge_line});
+      }
+    }
+    return out;
+  }
+
+  const GeoSurface& s_;
+  const std::vector<TinVertex>& vertices_;
+  TileRect rect_;
+  const std::vector<uint32_t>& candidates_;
+};
+
+uint16_t Quantise(double value, double lo, double hi) {
+  if (!(hi > lo)) return 0;
+  const double q = std::round((value - lo) / (hi - lo) * kQuantizedMax);
+  return static_cast<uint16_t>(std::clamp(q, 0.0, static_cast<double>(kQuantizedMax)));
+}
+
+// Builds one tile's mesh from clipped polygons: vertices merged by quantised value, fans of
+// positive quantised area.
+class TileBuilder {
+ public:
+  TileBuilder(const GeoSurface& surface, const TileRect& rect) : s_(surface), rect_(rect) {}
+
+  void AddPolygon(const std::vector<ClipPoint>& polygon) {
+    std::vector<uint32_t> ids;
+    for (const ClipPoint& p : polygon) ids.push_back(VertexOf(p));
+    for (size_t i = 1; i + 1 < ids.size(); ++i) AddTriangle(ids[0], ids[i], ids[i + 1]);
+  }
+
+  std::optional<QuantizedMesh> Finish() {
+    if (mesh_.triangles.empty()) return std::nullopt;
+    for (uint32_t i = 0; i < mesh_.vertex_count(); ++i) {
+      if (mesh_.u[i] == 0) mesh_.west.push_back(i);
+      if (mesh_.u[i] == kQuantizedMax) mesh_.east.push_back(i);
+      if (mesh_.v[i] == 0) mesh_.south.push_back(i);
+      if (mesh_.v[i] == kQuantizedMax) mesh_.north.push_back(i);
+    }
+    if (!s_.normals.empty()) {
+      mesh_.normals.emplace(2 * mesh_.vertex_count());
+      for (size_t i = 0; i < normals_.size(); ++i) {
+        const Ecef& n = normals_[i];
+        OctEncodeNormal(n[0], n[1], n[2], &(*mesh_.normals)[2 * i]);
+      }
+    }
+    OrderVerticesByFirstUse(mesh_);
+    DropUnused();
+    SortEdges();
+    mesh_.header.min_height = static_cast<float>(s_.min_height);
+    mesh_.header.max_height = static_cast<float>(s_.max_height);
+    std::vector<Ecef> positions;
+    for (size_t i = 0; i < mesh_.vertex_count(); ++i) positions.push_back(Position(i));
+    SetTileBounds(positions,
+                  ToEcef((rect_.west + rect_.east) / 2, (rect_.south + rect_.north) / 2,
+                         (s_.min_height + s_.max_height) / 2),
+                  mesh_.header);
+    return std::move(mesh_);
+  }
+
+ private:
+  uint32_t VertexOf(const ClipPoint& p) {
+    const uint16_t u = Quantise(p.lon, rect_.west, rect_.east);
+    const uint16_t v = Quantise(p.lat, rect_.south, rect_.north);
+    const uint16_t h = Quantise(p.h, s_.min_height, s_.max_height);
+    const auto key = std::make_tuple(u, v, h);
+    if (auto it = index_.find(key); it != index_.end()) return it->second;
+    const auto id = static_cast<uint32_t>(mesh_.u.size());
+    mesh_.u.push_back(u);
+    mesh_.v.push_back(v);
+    mesh_.height.push_back(h);
+    double length = std::sqrt(p.normal[0] * p.normal[0] + p.normal[1] * p.normal[1] +
+                              p.normal[2] * p.normal[2]);
+    if (!(length > 0)) length = 1;
+    normals_.push_back({p.normal[0] / length, p.normal[1] / length, p.normal[2] / length});
+    index_.emplace(key, id);
+    return id;
+  }
+
+  void AddTriangle(uint32_t a, uint32_t b, uint32_t c) {
+    const int64_t cross = (int64_t{mesh_.u[b]} - mesh_.u[a]) * (int64_t{mesh_.v[c]} - mesh_.v[a]) -
+                          (int64_t{mesh_.v[b]} - mesh_.v[a]) * (int64_t{mesh_.u[c]} - mesh_.u[a]);
+    if (cross <= 0) return;  // collapsed by quantisation
+    mesh_.triangles.insert(mesh_.triangles.end(), {a, b, c});
+  }
+
+  // Vertices merged into others by quantisation or left by dropped slivers come last after
+  // OrderVerticesByFirstUse; cut them off.
+  void DropUnused() {
+    uint32_t used = 0;
+    for (uint32_t index : mesh_.triangles) used = std::max(used, index + 1);
+    mesh_.u.resize(used);
+    mesh_.v.resize(used);
+    mesh_.height.resize(used);
+    if (mesh_.normals) mesh_.normals->resize(2 * used);
+    for (auto* edge : {&mesh_.west, &mesh_.south, &mesh_.east, &mesh_.north})
+      edge->erase(
+          std::remove_if(edge->begin(), edge->end(), [used](uint32_t i) { return i >= used; }),
+          edge->end());
+  }
+
+  void SortEdges() {
+    const auto by = [](const std::vector<uint16_t>& c) {
+      return [&c](uint32_t a, uint32_t b) { return c[a] < c[b]; };
+    };
+    std::sort(mesh_.west.begin(), mesh_.west.end(), by(mesh_.v));
+    std::sort(mesh_.east.begin(), mesh_.east.end(), by(mesh_.v));
+    std::sort(mesh_.south.begin(), mesh_.south.end(), by(mesh_.u));
+    std::sort(mesh_.north.begin(), mesh_.north.end(), by(mesh_.u));
+  }
+
+  Ecef Position(size_t i) const {
+    const double lon = rect_.west + mesh_.u[i] / double{kQuantizedMax} * (rect_.east - rect_.west);
+    const double lat =
+        rect_.south + mesh_.v[i] / double{kQuantizedMax} * (rect_.north - rect_.south);
+    const double h =
+        s_.min_height + mesh_.height[i] / double{kQuantizedMax} * (s_.max_height - s_.min_height);
+    return ToEcef(lon, lat, h);
+  }
+
+  const GeoSurface& s_;
+  TileRect rect_;
+  QuantizedMesh mesh_;
+  std::vector<Ecef> normals_;
+  std::map<std::tuple<uint16_t, uint16_t, uint16_t>, uint32_t> index_;
+};
+
+}  // namespace
+
+std::vector<Ecef> VertexNormals(const Tin& tin) {
+  std::vector<Ecef> ecef;
+  ecef.reserve(tin.vertices.size());
+  for (const TinVertex& v : tin.vertices) ecef.push_back(ToEcef(v.x, v.y, v.z));
+  std::vector<Ecef> normals(tin.vertices.size(), Ecef{});
+  for (const TinTriangle& t : tin.triangles) {
+    const Ecef &a = ecef[t.v[0]], &b = ecef[t.v[1]], &c = ecef[t.v[2]];
+    const Ecef ab = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    const Ecef ac = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    // Twice the area times the unit normal: larger triangles weigh more.
+    const Ecef n = {ab[1] * ac[2] - ab[2] * ac[1], ab[2] * ac[0] - ab[0] * ac[2],
+                    ab[0] * ac[1] - ab[1] * ac[0]};
+    for (uint32_t v : t.v)
+      for (int k = 0; k < 3; ++k) normals[v][k] += n[k];
+  }
+  for (size_t i = 0; i < normals.size(); ++i) {
+    Ecef& n = normals[i];
+    double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    if (!(length > 0)) {  // an unused vertex: the ellipsoid's up
+      n = ecef[i];
+      length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    }
+    for (double& c : n) c /= length;
+  }
+  return normals;
+}
+
+namespace {
+
+// `value` moved exactly onto the nearest tile line of a level when it is within half a
+// quantisation step of it, so that a vertex that any tile would put on its edge lies on that
+// edge in the neighbour's eyes too. `origin` is -180 or -90.
+double SnapToTileLine(double value, double origin, int level) {
+  const double size = TileDegrees(level);
+  const double line = std::round((value - origin) / size);
+  const double snapped = origin + line * size;  // as RectOf computes it
+  return std::abs(value - snapped) < size / kQuantizedMax / 2 ? snapped : value;
+}
+
+}  // namespace
+
+TileCutter::TileCutter(const GeoSurface& surface, int level)
+    : surface_(surface), level_(level), vertices_(surface.tin.vertices) {
+  for (TinVertex& v : vertices_) {
+    v.x = SnapToTileLine(v.x, -180.0, level);
+    v.y = SnapToTileLine(v.y, -90.0, level);
+  }
+  const Tin& tin = surface.tin;
+  for (uint32_t t = 0; t < tin.triangles.size(); ++t) {
+    const TinTriangle& tri = tin.triangles[t];
+    if (!tri.visible) continue;
+    const TinVertex &a = vertices_[tri.v[0]], &b = vertices_[tri.v[1]], &c = vertices_[tri.v[2]];
+    const TileRange range =
+        TilesMeeting(level, std::min({a.x, b.x, c.x}), std::min({a.y, b.y, c.y}),
+                     std::max({a.x, b.x, c.x}), std::max({a.y, b.y, c.y}));
+    for (int64_t y = range.y0; y <= range.y1; ++y)
+      for (int64_t x = range.x0; x <= range.x1; ++x) triangles_of_tile_[{level, x, y}].push_back(t);
+  }
+}
+
+std::vector<TileKey> TileCutter::Tiles() const {
+  std::vector<TileKey> keys;
+  for (const auto& [key, triangles] : triangles_of_tile_) keys.push_back(key);
+  return keys;
+}
+
+std::optional<QuantizedMesh> TileCutter::Cut(const TileKey& key) const {
+  auto it = triangles_of_tile_.find(key);
+  if (it == triangles_of_tile_.end()) return std::nullopt;
+  const TileRect rect = RectOf(key);
+  TileClipper clipper(surface_, vertices_, rect, it->second);
+  TileBuilder builder(surface_, rect);
+  for (uint32_t t : it->second) {
+    const std::vector<ClipPoint> polygon = clipper.Clip(t);
+    if (polygon.size() >= 3) builder.AddPolygon(polygon);
+  }
+  return builder.Finish();
+}
+
+}  // namespace tinbase
