@@ -48,8 +48,7 @@ Ecef ToEcef(double lon, double lat, double height) {
   return p;
 }
 
-void SetTileBounds(const std::vector<Ecef>& positions, const Ecef& rect_center,
-                   QuantizedMeshHeader& header) {
+void SetTileBounds(const std::vector<Ecef>& positions, QuantizedMeshHeader& header) {
   Ecef lo = positions.front(), hi = positions.front();
   for (const Ecef& p : positions)
     for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], p[k]), hi[k] = std::max(hi[k], p[k]);
@@ -57,9 +56,9 @@ void SetTileBounds(const std::vector<Ecef>& positions, const Ecef& rect_center,
   double radius = 0;
   for (const Ecef& p : positions)
     radius = std::max(radius, Norm({p[0] - center[0], p[1] - center[1], p[2] - center[2]}));
-  header.center_x = rect_center[0];
-  header.center_y = rect_center[1];
-  header.center_z = rect_center[2];
+  header.center_x = center[0];
+  header.center_y = center[1];
+  header.center_z = center[2];
   header.sphere_x = center[0];
   header.sphere_y = center[1];
   header.sphere_z = center[2];

@@ -19,9 +19,8 @@ using Ecef = std::array<double, 3>;
 Ecef ToEcef(double lon, double lat, double height);
 
 // Fills centre, bounding sphere and horizon occlusion point of `header` from the ECEF positions
-// of the tile's vertices and the ECEF of the tile rectangle's centre. REQUIRES: `positions`
-// not empty.
-void SetTileBounds(const std::vector<Ecef>& positions, const Ecef& rect_center,
-                   QuantizedMeshHeader& header);
+// of the tile's vertices. The centre is the bounding sphere's: clients draw the tile relative to
+// it, so it is best near the vertices. REQUIRES: `positions` not empty.
+void SetTileBounds(const std::vector<Ecef>& positions, QuantizedMeshHeader& header);
 
 }  // namespace tinbase

@@ -185,6 +185,7 @@ class TileBuilder {
 
   std::optional<QuantizedMesh> Finish() {
     if (mesh_.triangles.empty()) return std::nullopt;
+    for (double h : heights_) mesh_.height.push_back(Quantise(h, s_.min_height, s_.max_height));
     for (uint32_t i = 0; i < mesh_.vertex_count(); ++i) {
       if (mesh_.u[i] == 0) mesh_.west.push_back(i);
       if (mesh_.u[i] == kQuantizedMax) mesh_.east.push_back(i);
@@ -205,28 +206,35 @@ class TileBuilder {
     mesh_.header.max_height = static_cast<float>(s_.max_height);
     std::vector<Ecef> positions;
     for (size_t i = 0; i < mesh_.vertex_count(); ++i) positions.push_back(Position(i));
-    SetTileBounds(positions,
-                  ToEcef((rect_.west + rect_.east) / 2, (rect_.south + rect_.north) / 2,
-                         (s_.min_height + s_.max_height) / 2),
-                  mesh_.header);
+    SetTileBounds(positions, mesh_.header);
     return std::move(mesh_);
   }
 
  private:
+  // Points that quantise to the same u, v are one vertex: the lowest of them (and its normal),
+  // whatever order they come in, so that the tile across an edge, which meets the same points
+  // there, makes the same vertex of them.
   uint32_t VertexOf(const ClipPoint& p) {
     const uint16_t u = Quantise(p.lon, rect_.west, rect_.east);
     const uint16_t v = Quantise(p.lat, rect_.south, rect_.north);
-    const uint16_t h = Quantise(p.h, s_.min_height, s_.max_height);
-    const auto key = std::make_tuple(u, v, h);
-    if (auto it = index_.find(key); it != index_.end()) return it->second;
-    const auto id = static_cast<uint32_t>(mesh_.u.size());
-    mesh_.u.push_back(u);
-    mesh_.v.push_back(v);
-    mesh_.height.push_back(h);
     double length = std::sqrt(p.normal[0] * p.normal[0] + p.normal[1] * p.normal[1] +
                               p.normal[2] * p.normal[2]);
     if (!(length > 0)) length = 1;
-    normals_.push_back({p.normal[0] / length, p.normal[1] / length, p.normal[2] / length});
+    const Ecef normal = {p.normal[0] / length, p.normal[1] / length, p.normal[2] / length};
+    const auto key = std::make_pair(u, v);
+    if (auto it = index_.find(key); it != index_.end()) {
+      const uint32_t id = it->second;
+      if (std::tie(p.h, normal) < std::tie(heights_[id], normals_[id])) {
+        heights_[id] = p.h;
+        normals_[id] = normal;
+      }
+      return id;
+    }
+    const auto id = static_cast<uint32_t>(mesh_.u.size());
+    mesh_.u.push_back(u);
+    mesh_.v.push_back(v);
+    heights_.push_back(p.h);
+    normals_.push_back(normal);
     index_.emplace(key, id);
     return id;
   }
@@ -238,19 +246,39 @@ class TileBuilder {
     mesh_.triangles.insert(mesh_.triangles.end(), {a, b, c});
   }
 
-  // Vertices merged into others by quantisation or left by dropped slivers come last after
-  // OrderVerticesByFirstUse; cut them off.
+  // Vertices no triangle uses come last after OrderVerticesByFirstUse. Those on the tile's edges
+  // stay (the tile across the edge may use them, and both must list the same edge vertices);
+  // the others go.
   void DropUnused() {
     uint32_t used = 0;
     for (uint32_t index : mesh_.triangles) used = std::max(used, index + 1);
-    mesh_.u.resize(used);
-    mesh_.v.resize(used);
-    mesh_.height.resize(used);
-    if (mesh_.normals) mesh_.normals->resize(2 * used);
+    const auto n = static_cast<uint32_t>(mesh_.vertex_count());
+    std::vector<uint32_t> remap(n);
+    uint32_t kept = used;
+    for (uint32_t i = 0; i < n; ++i) {
+      if (i < used) {
+        remap[i] = i;
+        continue;
+      }
+      const bool on_edge = mesh_.u[i] == 0 || mesh_.u[i] == kQuantizedMax || mesh_.v[i] == 0 ||
+                           mesh_.v[i] == kQuantizedMax;
+      remap[i] = on_edge ? kept++ : UINT32_MAX;
+      if (!on_edge) continue;
+      const uint32_t to = remap[i];
+      mesh_.u[to] = mesh_.u[i];
+      mesh_.v[to] = mesh_.v[i];
+      mesh_.height[to] = mesh_.height[i];
+      if (mesh_.normals) {
+        (*mesh_.normals)[2 * to] = (*mesh_.normals)[2 * i];
+        (*mesh_.normals)[2 * to + 1] = (*mesh_.normals)[2 * i + 1];
+      }
+    }
+    mesh_.u.resize(kept);
+    mesh_.v.resize(kept);
+    mesh_.height.resize(kept);
+    if (mesh_.normals) mesh_.normals->resize(2 * kept);
     for (auto* edge : {&mesh_.west, &mesh_.south, &mesh_.east, &mesh_.north})
-      edge->erase(
-          std::remove_if(edge->begin(), edge->end(), [used](uint32_t i) { return i >= used; }),
-          edge->end());
+      for (uint32_t& index : *edge) index = remap[index];
   }
 
   void SortEdges() {
@@ -275,8 +303,9 @@ class TileBuilder {
   const GeoSurface& s_;
   TileRect rect_;
   QuantizedMesh mesh_;
+  std::vector<double> heights_;  // metres, per vertex, quantised when the tile is finished
   std::vector<Ecef> normals_;
-  std::map<std::tuple<uint16_t, uint16_t, uint16_t>, uint32_t> index_;
+  std::map<std::pair<uint16_t, uint16_t>, uint32_t> index_;
 };
 
 }  // namespace
@@ -358,6 +387,45 @@ std::optional<QuantizedMesh> TileCutter::Cut(const TileKey& key) const {
     if (polygon.size() >= 3) builder.AddPolygon(polygon);
   }
   return builder.Finish();
+}
+
+}  // namespace tinbase
+
+namespace tinbase {
+
+std::vector<uint8_t> TileCutter::WaterMask(const TileKey& key, int32_t water_tag) const {
+  constexpr int kSize = 256;
+  std::vector<uint8_t> mask(kSize * kSize, 0);
+  auto it = triangles_of_tile_.find(key);
+  if (it != triangles_of_tile_.end() && water_tag != kNoTag) {
+    const TileRect r = RectOf(key);
+    const double step_x = (r.east - r.west) / kSize;
+    const double step_y = (r.north - r.south) / kSize;
+    for (uint32_t t : it->second) {
+      const TinTriangle& tri = surface_.tin.triangles[t];
+      if (tri.tag != water_tag) continue;
+      const Point2 a{vertices_[tri.v[0]].x, vertices_[tri.v[0]].y};
+      const Point2 b{vertices_[tri.v[1]].x, vertices_[tri.v[1]].y};
+      const Point2 c{vertices_[tri.v[2]].x, vertices_[tri.v[2]].y};
+      const auto col = [&](double lon) { return (lon - r.west) / step_x - 0.5; };
+      const auto row = [&](double lat) { return (r.north - lat) / step_y - 0.5; };
+      const int c0 = std::max(0, static_cast<int>(std::floor(col(std::min({a.x, b.x, c.x})))));
+      const int c1 =
+          std::min(kSize - 1, static_cast<int>(std::ceil(col(std::max({a.x, b.x, c.x})))));
+      const int r0 = std::max(0, static_cast<int>(std::floor(row(std::max({a.y, b.y, c.y})))));
+      const int r1 =
+          std::min(kSize - 1, static_cast<int>(std::ceil(row(std::min({a.y, b.y, c.y})))));
+      for (int y = r0; y <= r1; ++y)
+        for (int x = c0; x <= c1; ++x) {
+          const Point2 q{r.west + (x + 0.5) * step_x, r.north - (y + 0.5) * step_y};
+          if (Orientation(a, b, q) >= 0 && Orientation(b, c, q) >= 0 && Orientation(c, a, q) >= 0)
+            mask[static_cast<size_t>(y) * kSize + x] = 255;
+        }
+    }
+  }
+  if (std::all_of(mask.begin(), mask.end(), [&](uint8_t m) { return m == mask[0]; }))
+    return {mask[0]};
+  return mask;
 }
 
 }  // namespace tinbase

@@ -51,6 +51,11 @@ class TileCutter {
   // the surface has them); nullopt when no visible triangle meets it.
   std::optional<QuantizedMesh> Cut(const TileKey& key) const;
 
+  // The tile's water mask (the extension's layout): 256 x 256 bytes, rows north to south, 255
+  // where a cell centre lies in a visible triangle tagged `water_tag` (an index into the tin's
+  // tags), else 0; a single byte when every cell is the same.
+  std::vector<uint8_t> WaterMask(const TileKey& key, int32_t water_tag) const;
+
  private:
   const GeoSurface& surface_;
   int level_;

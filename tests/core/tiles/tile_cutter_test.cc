@@ -59,8 +59,8 @@ std::set<EdgePoint> EdgePoints(const QuantizedMesh& m, const std::vector<uint32_
 }
 
 TEST(TileCutterTest, NeighbouringTilesShareTheirEdgesExactly) {
-  for (int level : {9, 11, 12}) {
-    const GeoSurface s = MakeSurface(3000, 5, level);
+  for (const auto& [level, seed] : {std::pair{9, 5u}, {11, 5u}, {12, 5u}, {12, 6u}, {13, 7u}}) {
+    const GeoSurface s = MakeSurface(3000, seed, level);
     const TileCutter cutter(s, level);
     std::map<TileKey, QuantizedMesh> tiles;
     for (const TileKey& key : cutter.Tiles()) {

@@ -1,0 +1,308 @@
+// Tile pyramid: see tile_pyramid.h.
+#include "db/tiles/tile_pyramid.h"
+
+#include <tbb/parallel_for.h>
+#include <unistd.h>
+#include <zlib.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+
+#include "core/tiles/availability.h"
+#include "core/tiles/level_surfaces.h"
+#include "core/tiles/tile_cutter.h"
+
+namespace tinbase {
+
+namespace {
+
+// Tiles at levels that are multiples of this carry the availability of the levels below them
+// in the metadata extension, as Cesium's own terrain does.
+constexpr int kMetadataAvailability = 10;
+
+struct LevelTiles {
+  int level = 0;
+  double geometric_error = 0;
+  std::map<TileKey, QuantizedMesh> meshes;
+};
+
+Status CheckOptions(const TileBuildOptions& options) {
+  if (options.max_zoom && (*options.max_zoom < 0 || *options.max_zoom > kMaxTileLevel))
+    return Status::InvalidArgument("--max-zoom " + std::to_string(*options.max_zoom) +
+                                   " is outside 0.." + std::to_string(kMaxTileLevel));
+  if (options.extensions.water_mask && !options.water_tag)
+    return Status::InvalidArgument(
+        "the watermask extension needs --water-tag (the tag of the features that are water)");
+  if (options.water_tag && !options.extensions.water_mask)
+    return Status::InvalidArgument("--water-tag needs the watermask extension");
+  return Status::Ok();
+}
+
+int32_t TagIndex(const Tin& tin, const std::optional<std::string>& tag) {
+  if (!tag) return kNoTag;
+  for (size_t i = 0; i < tin.tags.size(); ++i)
+    if (tin.tags[i] == *tag) return static_cast<int32_t>(i);
+  return kNoTag;
+}
+
+// Cuts every tile of one level from `surface`; water masks from `finest` (the stored surface,
+// which alone has the tags).
+LevelTiles CutLevel(const GeoSurface& surface, const GeoSurface& finest, int level,
+                    double geometric_error, int32_t water_tag, bool water_mask) {
+  const TileCutter cutter(surface, level);
+  const std::vector<TileKey> keys = cutter.Tiles();
+  std::vector<std::optional<QuantizedMesh>> cut(keys.size());
+  tbb::parallel_for(size_t{0}, keys.size(), [&](size_t i) { cut[i] = cutter.Cut(keys[i]); });
+  LevelTiles out{level, geometric_error, {}};
+  std::optional<TileCutter> water;
+  if (water_mask) water.emplace(finest, level);
+  for (size_t i = 0; i < keys.size(); ++i) {
+    if (!cut[i]) continue;
+    if (water) cut[i]->water_mask = water->WaterMask(keys[i], water_tag);
+    out.meshes.emplace(keys[i], std::move(*cut[i]));
+  }
+  return out;
+}
+
+Result<GeoSurface> LevelSurface(const LoadedSurface& loaded, const GridGeometry& raster,
+                                const Crs& crs, const TilePyramidInfo& pyramid, bool normals,
+                                double error) {
+  TB_ASSIGN_OR_RETURN(Tin coarse, CoarserTin(loaded.tin, raster, error));
+  return GeographicSurface(coarse, crs, normals, pyramid.min_height, pyramid.max_height);
+}
+
+std::string MetadataOf(const std::set<TileKey>& all, const TileKey& key) {
+  const std::set<TileKey> below = SubtreeOf(all, key, kMetadataAvailability);
+  nlohmann::json available = AvailableJson(below, key.level + 1, key.level + kMetadataAvailability);
+  // Trailing levels without tiles say nothing; Cesium reads the array by level offset.
+  while (!available.empty() && available.back().empty()) available.erase(available.size() - 1);
+  return nlohmann::json{{"available", available}}.dump();
+}
+
+Status WritePyramid(Store& store, const TilePyramidInfo& pyramid, std::vector<LevelTiles>& levels,
+                    bool metadata, TileBuildReport* report) {
+  std::set<TileKey> all;
+  for (const LevelTiles& level : levels)
+    for (const auto& [key, mesh] : level.meshes) all.insert(key);
+  TB_ASSIGN_OR_RETURN(auto tx, store.BeginWrite());
+  TileStore tiles(store.db());
+  TB_RETURN_IF_ERROR(tiles.ReplacePyramid(pyramid));
+  for (LevelTiles& level : levels) {
+    TB_RETURN_IF_ERROR(tiles.PutLevel(pyramid.surface, level.level, level.geometric_error));
+    TileLevelReport line{level.level, level.geometric_error, 0, 0, 0};
+    for (auto& [key, mesh] : level.meshes) {
+      if (metadata && key.level % kMetadataAvailability == 0) mesh.metadata = MetadataOf(all, key);
+      TB_ASSIGN_OR_RETURN(const std::vector<uint8_t> bytes, EncodeQuantizedMesh(mesh));
+      TB_RETURN_IF_ERROR(tiles.PutTile(pyramid.surface, key, bytes, pyramid.tx));
+      ++line.tiles;
+      line.triangles += static_cast<int64_t>(mesh.triangles.size() / 3);
+      line.bytes += static_cast<int64_t>(bytes.size());
+    }
+    report->levels.push_back(line);
+  }
+  return tx->Commit();
+}
+
+Result<std::vector<uint8_t>> Gzip(const std::vector<uint8_t>& in) {
+  z_stream z{};
+  constexpr int kGzipWindow = 15 + 16;  // 16: a gzip header and trailer instead of zlib's
+  if (deflateInit2(&z, Z_BEST_COMPRESSION, Z_DEFLATED, kGzipWindow, 8, Z_DEFAULT_STRATEGY) != Z_OK)
+    return Status::IOError("zlib: deflateInit2 failed");
+  std::vector<uint8_t> out(deflateBound(&z, in.size()) + 32);
+  z.next_in = const_cast<Bytef*>(in.data());
+  z.avail_in = static_cast<uInt>(in.size());
+  z.next_out = out.data();
+  z.avail_out = static_cast<uInt>(out.size());
+  const int rc = deflate(&z, Z_FINISH);
+  out.resize(z.total_out);
+  deflateEnd(&z);
+  if (rc != Z_STREAM_END) return Status::IOError("zlib: deflate did not finish");
+  return out;
+}
+
+Status WriteFile(const std::filesystem::path& path, const std::vector<uint8_t>& bytes) {
+  std::ofstream out(path, std::ios::binary);
+  out.write(reinterpret_cast<const char*>(bytes.data()),
+            static_cast<std::streamsize>(bytes.size()));
+  out.close();
+  if (!out) return Status::IOError("cannot write '" + path.string() + "'");
+  return Status::Ok();
+}
+
+}  // namespace
+
+std::string TileExtensions::Names() const {
+  std::string out;
+  const auto add = [&out](const char* name) {
+    if (!out.empty()) out += ',';
+    out.append(name);
+  };
+  if (normals) add("octvertexnormals");
+  if (water_mask) add("watermask");
+  if (metadata) add("metadata");
+  return out;
+}
+
+Result<TileExtensions> ParseTileExtensions(const std::string& text) {
+  TileExtensions out;
+  size_t start = 0;
+  while (start <= text.size() && !text.empty()) {
+    const size_t comma = text.find(',', start);
+    const std::string name =
+        text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    if (name == "octvertexnormals") {
+      out.normals = true;
+    } else if (name == "watermask") {
+      out.water_mask = true;
+    } else if (name == "metadata") {
+      out.metadata = true;
+    } else {
+      return Status::InvalidArgument("unknown tile extension '" + name +
+                                     "' (expected octvertexnormals, watermask or metadata)");
+    }
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return out;
+}
+
+Result<TileBuildReport> BuildTilePyramid(Store& store, const SurfaceInfo& surface,
+                                         const TileBuildOptions& options) {
+  TB_RETURN_IF_ERROR(CheckOptions(options));
+  TB_ASSIGN_OR_RETURN(std::optional<Crs> crs, store.GetCrs());
+  if (!crs)
+    return Status::InvalidArgument(
+        "the store has no CRS: tiles need one that transforms to "
+        "EPSG:4326 (set it with tinbase init --crs)");
+  LoadedSurface loaded;
+  TilePyramidInfo pyramid;
+  {
+    TB_ASSIGN_OR_RETURN(auto snapshot, ReadSnapshot::Begin(store));
+    TB_ASSIGN_OR_RETURN(loaded, SurfaceStore(store).Load(surface));
+    TB_ASSIGN_OR_RETURN(pyramid.tx, LatestChange(store.db()));
+  }
+  if (loaded.tin.triangles.empty())
+    return Status::NotFound("surface '" + surface.name + "' has no triangles to tile");
+  const int32_t water_tag = TagIndex(loaded.tin, options.water_tag);
+  if (options.water_tag && water_tag == kNoTag)
+    return Status::InvalidArgument("no triangle of surface '" + surface.name + "' has tag '" +
+                                   *options.water_tag + "' (the --water-tag)");
+  pyramid.surface = surface.id;
+  pyramid.extensions = options.extensions.Names();
+  pyramid.water_tag = options.water_tag;
+  std::tie(pyramid.min_height, pyramid.max_height) = HeightRange(loaded.tin, *crs);
+  if (!(pyramid.max_height > pyramid.min_height)) pyramid.max_height = pyramid.min_height + 1;
+  const bool normals = options.extensions.normals;
+  TB_ASSIGN_OR_RETURN(
+      const GeoSurface finest,
+      GeographicSurface(loaded.tin, *crs, normals, pyramid.min_height, pyramid.max_height));
+  pyramid.max_zoom = options.max_zoom.value_or(NaturalMaxZoom(finest));
+
+  const double base_error = surface.tolerance.value_or(1.0);
+  const GridGeometry raster = LevelRaster(loaded.tin);
+  std::vector<LevelTiles> levels;
+  for (int level = 0; level <= pyramid.max_zoom; ++level) {
+    const bool water = options.extensions.water_mask;
+    if (level == pyramid.max_zoom) {
+      levels.push_back(CutLevel(finest, finest, level, 0.0, water_tag, water));
+      continue;
+    }
+    // One level up from the stored surface is within its tolerance of it; each level up doubles.
+    const double error = std::ldexp(base_error, pyramid.max_zoom - level - 1);
+    TB_ASSIGN_OR_RETURN(const GeoSurface coarse,
+                        LevelSurface(loaded, raster, *crs, pyramid, normals, error));
+    levels.push_back(CutLevel(coarse, finest, level, error, water_tag, water));
+  }
+  TileBuildReport report;
+  report.pyramid = pyramid;
+  TB_RETURN_IF_ERROR(WritePyramid(store, pyramid, levels, options.extensions.metadata, &report));
+  return report;
+}
+
+Result<nlohmann::json> LayerJson(Store& store, const SurfaceInfo& surface) {
+  TB_ASSIGN_OR_RETURN(auto snapshot, SnapshotUnlessInTransaction(store));
+  TileStore tiles(store.db());
+  TB_ASSIGN_OR_RETURN(const std::optional<TilePyramidInfo> pyramid, tiles.Pyramid(surface.id));
+  if (!pyramid)
+    return Status::NotFound("surface '" + surface.name +
+                            "' has no tiles (run tinbase tiles build first)");
+  TB_ASSIGN_OR_RETURN(const std::set<TileKey> keys, tiles.Keys(surface.id));
+  TB_ASSIGN_OR_RETURN(const auto levels, tiles.Levels(surface.id));
+  double west = 180, south = 90, east = -180, north = -90;
+  for (const TileKey& k : keys) {
+    if (k.level != pyramid->max_zoom) continue;
+    const TileRect r = RectOf(k);
+    west = std::min(west, r.west), south = std::min(south, r.south);
+    east = std::max(east, r.east), north = std::max(north, r.north);
+  }
+  nlohmann::json errors = nlohmann::json::array();
+  for (const auto& [level, error] : levels) errors.push_back(error);
+  nlohmann::json layer = {
+      {"tilejson", "2.1.0"},
+      {"name", surface.name},
+      {"description", "tinbase surface '" + surface.name + "'"},
+      {"version", "1.0.0"},
+      {"format", "quantized-mesh-1.0"},
+      {"scheme", "tms"},
+      {"tiles", {"{z}/{x}/{y}.terrain?v={version}"}},
+      {"projection", "EPSG:4326"},
+      {"bounds", {west, south, east, north}},
+      {"minzoom", 0},
+      {"maxzoom", pyramid->max_zoom},
+      {"available", AvailableJson(keys, 0, pyramid->max_zoom)},
+      {"tinbase", {{"geometricError", errors}, {"tx", pyramid->tx}}},
+  };
+  nlohmann::json extensions = nlohmann::json::array();
+  TB_ASSIGN_OR_RETURN(const TileExtensions built, ParseTileExtensions(pyramid->extensions));
+  if (built.normals) extensions.push_back("octvertexnormals");
+  if (built.water_mask) extensions.push_back("watermask");
+  if (built.metadata) {
+    extensions.push_back("metadata");
+    layer["metadataAvailability"] = kMetadataAvailability;
+  }
+  layer["extensions"] = extensions;
+  return layer;
+}
+
+Status ExportTiles(Store& store, const SurfaceInfo& surface, const std::string& dir, bool gzip) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::exists(dir, ec) && !(fs::is_directory(dir, ec) && fs::is_empty(dir, ec)))
+    return Status::IOError("cannot write tiles to '" + dir + "': it exists and is not empty");
+  TB_ASSIGN_OR_RETURN(auto snapshot, SnapshotUnlessInTransaction(store));
+  TB_ASSIGN_OR_RETURN(const nlohmann::json layer, LayerJson(store, surface));
+  const fs::path temp = dir + ".partial-" + std::to_string(getpid());
+  fs::remove_all(temp, ec);
+  Status written = [&]() -> Status {
+    fs::create_directories(temp, ec);
+    if (ec) return Status::IOError("cannot create '" + temp.string() + "': " + ec.message());
+    const std::string text = layer.dump(2);
+    TB_RETURN_IF_ERROR(
+        WriteFile(temp / "layer.json", std::vector<uint8_t>(text.begin(), text.end())));
+    TileStore tiles(store.db());
+    TB_ASSIGN_OR_RETURN(const std::set<TileKey> keys, tiles.Keys(surface.id));
+    for (const TileKey& key : keys) {
+      TB_ASSIGN_OR_RETURN(auto tile, tiles.Tile(surface.id, key));
+      if (!tile) return Status::Corruption("tile " + key.ToString() + " vanished during export");
+      const fs::path folder = temp / std::to_string(key.level) / std::to_string(key.x);
+      fs::create_directories(folder, ec);
+      if (ec) return Status::IOError("cannot create '" + folder.string() + "': " + ec.message());
+      std::vector<uint8_t> bytes = std::move(tile->first);
+      if (gzip) {
+        TB_ASSIGN_OR_RETURN(bytes, Gzip(bytes));
+      }
+      TB_RETURN_IF_ERROR(WriteFile(folder / (std::to_string(key.y) + ".terrain"), bytes));
+    }
+    fs::remove(dir, ec);  // an empty directory, or nothing
+    fs::rename(temp, dir, ec);
+    if (ec) return Status::IOError("cannot move the tiles to '" + dir + "': " + ec.message());
+    return Status::Ok();
+  }();
+  if (!written.ok()) fs::remove_all(temp, ec);
+  return written;
+}
+
+}  // namespace tinbase
