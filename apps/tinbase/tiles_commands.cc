@@ -1,4 +1,5 @@
-// Kernels: `tiles build` (a surface's quantized-mesh pyramid into the store), `tiles export`
+// Kernels: `tiles build` (a surface's quantized-mesh pyramid into the store), `tiles update`
+// (only the tiles the edits since touched), `tiles export`
 // (the pyramid as a static z/x/y.terrain tree with layer.json) and `tiles info` (what a pyramid
 // holds; with --verify every tile is decoded and checked).
 #include <iostream>
@@ -75,6 +76,41 @@ int RunBuild(const TilesArgs& args) {
   return kExitOk;
 }
 
+int RunUpdate(const TilesArgs& args) {
+  auto store = Store::Open(args.store);
+  if (!store.ok()) return ReportError(store.status());
+  auto surface = FindSurface(**store, args.surface);
+  if (!surface.ok()) return ReportError(surface.status());
+  Stopwatch watch;
+  auto report = UpdateTilePyramid(**store, *surface);
+  if (!report.ok()) return ReportError(report.status());
+  if (args.json) {
+    std::cout << nlohmann::json{{"surface", surface->name},
+                                {"since_tx", report->since_tx},
+                                {"tx", report->tx},
+                                {"changes", report->changes},
+                                {"full_rebuild", report->full_rebuild},
+                                {"tiles_meeting", report->tiles_meeting},
+                                {"tiles_rewritten", report->tiles_rewritten},
+                                {"tiles_deleted", report->tiles_deleted},
+                                {"seconds", watch.Seconds()}}
+                     .dump(2)
+              << "\n";
+    return kExitOk;
+  }
+  if (report->changes == 0) {
+    std::cout << "tiles of surface '" << surface->name << "' are up to date (transaction "
+              << report->tx << ")\n";
+    return kExitOk;
+  }
+  std::cout << "tiles of surface '" << surface->name << "': " << report->changes
+            << " change(s) since transaction " << report->since_tx << ", "
+            << (report->full_rebuild ? "the height range moved: all rebuilt, " : "")
+            << report->tiles_rewritten << " tiles rewritten, " << report->tiles_deleted
+            << " deleted in " << Num(watch.Seconds(), 3) << " s\n";
+  return kExitOk;
+}
+
 int RunExport(const TilesArgs& args) {
   auto store = Store::Open(args.store, Store::Access::kReadOnly);
   if (!store.ok()) return ReportError(store.status());
@@ -142,6 +178,14 @@ void RegisterTilesCommands(CLI::App& app, int* exit_code) {
                 "Tag of the features that are water (for the watermask extension)");
   b->add_flag("--json", build->json, "Print the report as JSON");
   b->callback([=] { *exit_code = RunBuild(*build); });
+
+  auto update = std::make_shared<TilesArgs>();
+  CLI::App* u = tiles->add_subcommand(
+      "update", "Rebuild the tiles the edits since the last build or update touched");
+  u->add_option("store", update->store, "Store file")->required();
+  u->add_option("--surface", update->surface, "Surface name")->required();
+  u->add_flag("--json", update->json, "Print the report as JSON");
+  u->callback([=] { *exit_code = RunUpdate(*update); });
 
   auto exp = std::make_shared<TilesArgs>();
   CLI::App* e = tiles->add_subcommand("export", "Write the tiles as a z/x/y.terrain tree");

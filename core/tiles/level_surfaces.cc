@@ -6,9 +6,6 @@
 #include <limits>
 
 #include "core/geometry/reproject.h"
-#include "core/raster/grid.h"
-#include "core/tin/greedy_builder.h"
-#include "core/tin/tin_raster.h"
 
 namespace tinbase {
 
@@ -31,41 +28,6 @@ PlanBox BoxOf(const Tin& tin) {
 constexpr double kMetresPerDegree = 111319.49;  // along the equator, WGS 84
 
 }  // namespace
-
-GridGeometry LevelRaster(const Tin& tin, int64_t max_cells) {
-  const PlanBox b = BoxOf(tin);
-  const double width = b.max_x - b.min_x;
-  const double height = b.max_y - b.min_y;
-  const auto cells = static_cast<double>(
-      std::min<int64_t>(max_cells, 4 * static_cast<int64_t>(tin.vertices.size())));
-  const double cell = std::max(std::sqrt(width * height / std::max(cells, 4.0)), 1e-9);
-  // Cell centres on a lattice whose first and last centres lie on the box's edges, where the
-  // surface is still defined.
-  GridGeometry g;
-  g.width = std::max<int64_t>(2, static_cast<int64_t>(std::ceil(width / cell)) + 1);
-  g.height = std::max<int64_t>(2, static_cast<int64_t>(std::ceil(height / cell)) + 1);
-  g.cell_x = width > 0 ? width / static_cast<double>(g.width - 1) : cell;
-  g.cell_y = -(height > 0 ? height / static_cast<double>(g.height - 1) : cell);
-  g.origin_x = b.min_x - g.cell_x / 2;
-  g.origin_y = b.max_y - g.cell_y / 2;
-  return g;
-}
-
-Result<Tin> CoarserTin(const Tin& tin, const GridGeometry& raster, double tolerance) {
-  if (!(tolerance > 0))
-    return Status::InvalidArgument("a level's error bound must be positive, not " +
-                                   std::to_string(tolerance));
-  Tin visible;
-  visible.vertices = tin.vertices;
-  for (const TinTriangle& t : tin.triangles)
-    if (t.visible) visible.triangles.push_back(t);
-  Grid grid;
-  grid.geometry = raster;
-  grid.cells = RasteriseTin(visible, raster);
-  GreedyOptions options;
-  options.tolerance = tolerance;
-  return BuildGreedyTin(grid, options);
-}
 
 std::pair<double, double> HeightRange(const Tin& tin, const Crs& crs) {
   double lo = std::numeric_limits<double>::infinity();

@@ -8,12 +8,16 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <set>
 
+#include "core/geometry/reproject.h"
 #include "core/tiles/availability.h"
+#include "core/tiles/coarse_tile.h"
 #include "core/tiles/level_surfaces.h"
 #include "core/tiles/tile_cutter.h"
+#include "db/change_log.h"
 
 namespace tinbase {
 
@@ -48,30 +52,98 @@ int32_t TagIndex(const Tin& tin, const std::optional<std::string>& tag) {
   return kNoTag;
 }
 
-// Cuts every tile of one level from `surface`; water masks from `finest` (the stored surface,
-// which alone has the tags).
-LevelTiles CutLevel(const GeoSurface& surface, const GeoSurface& finest, int level,
-                    double geometric_error, int32_t water_tag, bool water_mask) {
-  const TileCutter cutter(surface, level);
-  const std::vector<TileKey> keys = cutter.Tiles();
-  std::vector<std::optional<QuantizedMesh>> cut(keys.size());
-  tbb::parallel_for(size_t{0}, keys.size(), [&](size_t i) { cut[i] = cutter.Cut(keys[i]); });
-  LevelTiles out{level, geometric_error, {}};
-  std::optional<TileCutter> water;
-  if (water_mask) water.emplace(finest, level);
-  for (size_t i = 0; i < keys.size(); ++i) {
-    if (!cut[i]) continue;
-    if (water) cut[i]->water_mask = water->WaterMask(keys[i], water_tag);
-    out.meshes.emplace(keys[i], std::move(*cut[i]));
-  }
+// The tiles of one level that `wanted` accepts, each made from its own part of `finest`: the
+// finest level clipped to the tile, a coarser level simplified from that (core/tiles/
+// coarse_tile.h); water masks from `finest` (which alone has the tags). nullopt for a tile
+// that came out empty.
+std::map<TileKey, std::optional<QuantizedMesh>> MakeLevel(
+    const GeoSurface& finest, int level, bool finest_level, const CoarseTileOptions& coarse,
+    int32_t water_tag, bool water_mask, const std::function<bool(const TileKey&)>& wanted) {
+  const TileCutter cutter(finest, level);
+  std::vector<TileKey> keys;
+  for (const TileKey& key : cutter.Tiles())
+    if (wanted(key)) keys.push_back(key);
+  std::vector<std::optional<QuantizedMesh>> made(keys.size());
+  tbb::parallel_for(size_t{0}, keys.size(), [&](size_t i) {
+    made[i] = cutter.Cut(keys[i]);
+    if (made[i] && !finest_level) made[i] = SimplifyTile(*made[i], keys[i], coarse);
+    if (made[i] && water_mask) made[i]->water_mask = cutter.WaterMask(keys[i], water_tag);
+  });
+  std::map<TileKey, std::optional<QuantizedMesh>> out;
+  for (size_t i = 0; i < keys.size(); ++i) out.emplace(keys[i], std::move(made[i]));
   return out;
 }
 
-Result<GeoSurface> LevelSurface(const LoadedSurface& loaded, const GridGeometry& raster,
-                                const Crs& crs, const TilePyramidInfo& pyramid, bool normals,
-                                double error) {
-  TB_ASSIGN_OR_RETURN(Tin coarse, CoarserTin(loaded.tin, raster, error));
-  return GeographicSurface(coarse, crs, normals, pyramid.min_height, pyramid.max_height);
+// Everything a build or an update reads from the store and computes once.
+struct PyramidInputs {
+  TilePyramidInfo pyramid;
+  GeoSurface finest;
+  int32_t water_tag = kNoTag;
+  double base_error = 1;
+};
+
+// The vertical error bound of `level`: 0 for the finest; one level up, the surface's tolerance;
+// doubling per level up.
+double LevelError(const PyramidInputs& in, int level) {
+  if (level == in.pyramid.max_zoom) return 0;
+  return std::ldexp(in.base_error, in.pyramid.max_zoom - level - 1);
+}
+
+Result<PyramidInputs> ReadInputs(Store& store, const SurfaceInfo& surface,
+                                 const TileBuildOptions& options) {
+  TB_ASSIGN_OR_RETURN(std::optional<Crs> crs, store.GetCrs());
+  if (!crs)
+    return Status::InvalidArgument(
+        "the store has no CRS: tiles need one that transforms to "
+        "EPSG:4326 (set it with tinbase init --crs)");
+  LoadedSurface loaded;
+  PyramidInputs in;
+  {
+    TB_ASSIGN_OR_RETURN(auto snapshot, ReadSnapshot::Begin(store));
+    TB_ASSIGN_OR_RETURN(loaded, SurfaceStore(store).Load(surface));
+    TB_ASSIGN_OR_RETURN(in.pyramid.tx, LatestChange(store.db()));
+  }
+  if (loaded.tin.triangles.empty())
+    return Status::NotFound("surface '" + surface.name + "' has no triangles to tile");
+  in.water_tag = TagIndex(loaded.tin, options.water_tag);
+  if (options.water_tag && in.water_tag == kNoTag)
+    return Status::InvalidArgument("no triangle of surface '" + surface.name + "' has tag '" +
+                                   *options.water_tag + "' (the --water-tag)");
+  in.pyramid.surface = surface.id;
+  in.pyramid.extensions = options.extensions.Names();
+  in.pyramid.water_tag = options.water_tag;
+  std::tie(in.pyramid.min_height, in.pyramid.max_height) = HeightRange(loaded.tin, *crs);
+  if (!(in.pyramid.max_height > in.pyramid.min_height))
+    in.pyramid.max_height = in.pyramid.min_height + 1;
+  TB_ASSIGN_OR_RETURN(in.finest, GeographicSurface(loaded.tin, *crs, options.extensions.normals,
+                                                   in.pyramid.min_height, in.pyramid.max_height));
+  in.pyramid.max_zoom = options.max_zoom.value_or(NaturalMaxZoom(in.finest));
+  in.base_error = surface.tolerance.value_or(1.0);
+  return in;
+}
+
+// Every level's tiles that `wanted` accepts.
+std::vector<LevelTiles> MakeLevels(const PyramidInputs& in, const TileBuildOptions& options,
+                                   const std::function<bool(const TileKey&)>& wanted,
+                                   std::set<TileKey>* emptied) {
+  std::vector<LevelTiles> levels;
+  for (int level = 0; level <= in.pyramid.max_zoom; ++level) {
+    CoarseTileOptions coarse;
+    coarse.error = std::max(LevelError(in, level), 1e-9);
+    coarse.min_height = in.pyramid.min_height;
+    coarse.max_height = in.pyramid.max_height;
+    LevelTiles tiles{level, LevelError(in, level), {}};
+    for (auto& [key, mesh] : MakeLevel(in.finest, level, level == in.pyramid.max_zoom, coarse,
+                                       in.water_tag, options.extensions.water_mask, wanted)) {
+      if (mesh) {
+        tiles.meshes.emplace(key, std::move(*mesh));
+      } else if (emptied != nullptr) {
+        emptied->insert(key);
+      }
+    }
+    levels.push_back(std::move(tiles));
+  }
+  return levels;
 }
 
 std::string MetadataOf(const std::set<TileKey>& all, const TileKey& key) {
@@ -172,53 +244,116 @@ Result<TileExtensions> ParseTileExtensions(const std::string& text) {
 Result<TileBuildReport> BuildTilePyramid(Store& store, const SurfaceInfo& surface,
                                          const TileBuildOptions& options) {
   TB_RETURN_IF_ERROR(CheckOptions(options));
-  TB_ASSIGN_OR_RETURN(std::optional<Crs> crs, store.GetCrs());
-  if (!crs)
-    return Status::InvalidArgument(
-        "the store has no CRS: tiles need one that transforms to "
-        "EPSG:4326 (set it with tinbase init --crs)");
-  LoadedSurface loaded;
-  TilePyramidInfo pyramid;
-  {
-    TB_ASSIGN_OR_RETURN(auto snapshot, ReadSnapshot::Begin(store));
-    TB_ASSIGN_OR_RETURN(loaded, SurfaceStore(store).Load(surface));
-    TB_ASSIGN_OR_RETURN(pyramid.tx, LatestChange(store.db()));
-  }
-  if (loaded.tin.triangles.empty())
-    return Status::NotFound("surface '" + surface.name + "' has no triangles to tile");
-  const int32_t water_tag = TagIndex(loaded.tin, options.water_tag);
-  if (options.water_tag && water_tag == kNoTag)
-    return Status::InvalidArgument("no triangle of surface '" + surface.name + "' has tag '" +
-                                   *options.water_tag + "' (the --water-tag)");
-  pyramid.surface = surface.id;
-  pyramid.extensions = options.extensions.Names();
-  pyramid.water_tag = options.water_tag;
-  std::tie(pyramid.min_height, pyramid.max_height) = HeightRange(loaded.tin, *crs);
-  if (!(pyramid.max_height > pyramid.min_height)) pyramid.max_height = pyramid.min_height + 1;
-  const bool normals = options.extensions.normals;
-  TB_ASSIGN_OR_RETURN(
-      const GeoSurface finest,
-      GeographicSurface(loaded.tin, *crs, normals, pyramid.min_height, pyramid.max_height));
-  pyramid.max_zoom = options.max_zoom.value_or(NaturalMaxZoom(finest));
-
-  const double base_error = surface.tolerance.value_or(1.0);
-  const GridGeometry raster = LevelRaster(loaded.tin);
-  std::vector<LevelTiles> levels;
-  for (int level = 0; level <= pyramid.max_zoom; ++level) {
-    const bool water = options.extensions.water_mask;
-    if (level == pyramid.max_zoom) {
-      levels.push_back(CutLevel(finest, finest, level, 0.0, water_tag, water));
-      continue;
-    }
-    // One level up from the stored surface is within its tolerance of it; each level up doubles.
-    const double error = std::ldexp(base_error, pyramid.max_zoom - level - 1);
-    TB_ASSIGN_OR_RETURN(const GeoSurface coarse,
-                        LevelSurface(loaded, raster, *crs, pyramid, normals, error));
-    levels.push_back(CutLevel(coarse, finest, level, error, water_tag, water));
-  }
+  TB_ASSIGN_OR_RETURN(const PyramidInputs in, ReadInputs(store, surface, options));
+  std::vector<LevelTiles> levels = MakeLevels(
+      in, options, [](const TileKey&) { return true; }, nullptr);
   TileBuildReport report;
-  report.pyramid = pyramid;
-  TB_RETURN_IF_ERROR(WritePyramid(store, pyramid, levels, options.extensions.metadata, &report));
+  report.pyramid = in.pyramid;
+  TB_RETURN_IF_ERROR(WritePyramid(store, in.pyramid, levels, options.extensions.metadata, &report));
+  return report;
+}
+
+namespace {
+
+// The options a pyramid was built with, from its row.
+Result<TileBuildOptions> OptionsOf(const TilePyramidInfo& pyramid) {
+  TileBuildOptions options;
+  options.max_zoom = pyramid.max_zoom;
+  TB_ASSIGN_OR_RETURN(options.extensions, ParseTileExtensions(pyramid.extensions));
+  options.water_tag = pyramid.water_tag;
+  return options;
+}
+
+// The longitude/latitude box of the union of the changes' regions (store CRS), its edges
+// densified so a curved image of a straight edge stays inside, grown by a hair for round-off.
+Result<TileRect> ChangedRegion(const std::vector<Change>& changes, const Crs& crs) {
+  TB_ASSIGN_OR_RETURN(Crs wgs84, Crs::FromUserInput("EPSG:4326"));
+  std::vector<TinVertex> ring;
+  constexpr int kSteps = 16;
+  for (const Change& c : changes)
+    for (int i = 0; i <= kSteps; ++i) {
+      const double t = static_cast<double>(i) / kSteps;
+      const double x = c.min_x + t * (c.max_x - c.min_x);
+      const double y = c.min_y + t * (c.max_y - c.min_y);
+      for (const auto& [px, py] : {std::pair{x, c.min_y}, std::pair{x, c.max_y},
+                                   std::pair{c.min_x, y}, std::pair{c.max_x, y}})
+        ring.push_back({px, py, 0, VertexKind::kDem});
+    }
+  TB_RETURN_IF_ERROR(ReprojectXy(crs, wgs84, ring));
+  TileRect box{180, 90, -180, -90};
+  for (const TinVertex& v : ring) {
+    box.west = std::min(box.west, v.x), box.east = std::max(box.east, v.x);
+    box.south = std::min(box.south, v.y), box.north = std::max(box.north, v.y);
+  }
+  constexpr double kHair = 1e-6;  // degrees, about 0.1 m
+  box.west -= kHair, box.south -= kHair, box.east += kHair, box.north += kHair;
+  return box;
+}
+
+bool Meets(const TileRect& a, const TileRect& b) {
+  return a.west <= b.east && b.west <= a.east && a.south <= b.north && b.south <= a.north;
+}
+
+}  // namespace
+
+Result<TileUpdateReport> UpdateTilePyramid(Store& store, const SurfaceInfo& surface) {
+  TileStore tiles(store.db());
+  TB_ASSIGN_OR_RETURN(const std::optional<TilePyramidInfo> old, tiles.Pyramid(surface.id));
+  if (!old)
+    return Status::InvalidArgument("surface '" + surface.name +
+                                   "' has no tiles to update (run tinbase tiles build first)");
+  TileUpdateReport report;
+  report.since_tx = report.tx = old->tx;
+  TB_ASSIGN_OR_RETURN(const std::vector<Change> all, ChangesSince(store, old->tx));
+  std::vector<Change> changes;
+  for (const Change& c : all)
+    if (c.surface == surface.id) changes.push_back(c);
+  report.changes = static_cast<int64_t>(changes.size());
+  if (changes.empty()) return report;
+
+  TB_ASSIGN_OR_RETURN(const TileBuildOptions options, OptionsOf(*old));
+  TB_ASSIGN_OR_RETURN(const PyramidInputs in, ReadInputs(store, surface, options));
+  report.tx = in.pyramid.tx;
+  if (in.pyramid.min_height != old->min_height || in.pyramid.max_height != old->max_height) {
+    TB_ASSIGN_OR_RETURN(const TileBuildReport rebuilt, BuildTilePyramid(store, surface, options));
+    report.full_rebuild = true;
+    for (const TileLevelReport& l : rebuilt.levels) report.tiles_rewritten += l.tiles;
+    return report;
+  }
+  TB_ASSIGN_OR_RETURN(std::optional<Crs> crs, store.GetCrs());
+  TB_ASSIGN_OR_RETURN(const TileRect region, ChangedRegion(changes, *crs));
+  const auto wanted = [&](const TileKey& key) { return Meets(RectOf(key), region); };
+  std::vector<LevelTiles> levels = MakeLevels(in, options, wanted, nullptr);
+
+  TB_ASSIGN_OR_RETURN(std::set<TileKey> keys, tiles.Keys(surface.id));
+  std::set<TileKey> stale;
+  for (const TileKey& key : keys)
+    if (wanted(key)) stale.insert(key);
+  for (const TileKey& key : stale) keys.erase(key);
+  for (const LevelTiles& level : levels)
+    for (const auto& [key, mesh] : level.meshes) keys.insert(key);
+
+  TB_ASSIGN_OR_RETURN(auto tx, store.BeginWrite());
+  for (const TileKey& key : stale) {
+    bool remade = false;
+    for (const LevelTiles& level : levels) remade = remade || level.meshes.count(key) > 0;
+    if (remade) continue;
+    TB_RETURN_IF_ERROR(tiles.DeleteTile(surface.id, key));
+    ++report.tiles_deleted;
+  }
+  std::set<TileKey> meeting = stale;
+  for (LevelTiles& level : levels)
+    for (auto& [key, mesh] : level.meshes) {
+      if (options.extensions.metadata && key.level % kMetadataAvailability == 0)
+        mesh.metadata = MetadataOf(keys, key);
+      TB_ASSIGN_OR_RETURN(const std::vector<uint8_t> bytes, EncodeQuantizedMesh(mesh));
+      TB_RETURN_IF_ERROR(tiles.PutTile(surface.id, key, bytes, in.pyramid.tx));
+      ++report.tiles_rewritten;
+      meeting.insert(key);
+    }
+  TB_RETURN_IF_ERROR(tiles.SetPyramidTx(surface.id, in.pyramid.tx));
+  TB_RETURN_IF_ERROR(tx->Commit());
+  report.tiles_meeting = static_cast<int64_t>(meeting.size());
   return report;
 }
 

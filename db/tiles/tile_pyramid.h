@@ -58,6 +58,24 @@ struct TileBuildReport {
 Result<TileBuildReport> BuildTilePyramid(Store& store, const SurfaceInfo& surface,
                                          const TileBuildOptions& options);
 
+struct TileUpdateReport {
+  int64_t since_tx = 0;         // the pyramid's transaction before the update
+  int64_t tx = 0;               // and after
+  int64_t changes = 0;          // changes of the surface read from the log
+  bool full_rebuild = false;    // the height range changed: every tile was rebuilt
+  int64_t tiles_meeting = 0;    // tiles, before or after, whose bounds meet the changed region
+  int64_t tiles_rewritten = 0;  // of those, written again
+  int64_t tiles_deleted = 0;    // of those, gone (now empty)
+};
+
+// Brings the surface's pyramid up to date with the change log: every tile, at every level, whose
+// closed bounds meet the region of a change since the pyramid's transaction is made again (or
+// deleted when it came out empty); no other tile is touched, and the result equals a fresh build
+// with the same options byte for byte (docs/tiles.md, "Updates"). When an edit moved the
+// surface's height range, every tile's quantisation changes: then the whole pyramid is rebuilt.
+// InvalidArgument "surface 's' has no tiles to update" when none was built.
+Result<TileUpdateReport> UpdateTilePyramid(Store& store, const SurfaceInfo& surface);
+
 // Cesium's layer.json of the surface's pyramid: exact `available` rectangles per level, the
 // extensions, and under "tinbase" the levels' error bounds and the pyramid's transaction.
 // NotFound "surface 's' has no tiles (run tinbase tiles build)" when none was built.

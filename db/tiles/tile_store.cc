@@ -65,6 +65,20 @@ Status TileStore::PutTile(int64_t surface, const TileKey& key, const std::vector
   return s->Run();
 }
 
+Status TileStore::DeleteTile(int64_t surface, const TileKey& key) {
+  TB_ASSIGN_OR_RETURN(Statement * s, db_.Cached("DELETE FROM tiles WHERE surface = ? AND level = ? "
+                                                "AND x = ? AND y = ?"));
+  s->Bind(1, surface).Bind(2, int64_t{key.level}).Bind(3, key.x).Bind(4, key.y);
+  return s->Run();
+}
+
+Status TileStore::SetPyramidTx(int64_t surface, int64_t tx) {
+  TB_ASSIGN_OR_RETURN(Statement * s,
+                      db_.Cached("UPDATE tile_pyramids SET tx = ? WHERE surface = ?"));
+  s->Bind(1, tx).Bind(2, surface);
+  return s->Run();
+}
+
 Result<std::optional<std::pair<std::vector<uint8_t>, int64_t>>> TileStore::Tile(
     int64_t surface, const TileKey& key) {
   using Answer = std::optional<std::pair<std::vector<uint8_t>, int64_t>>;

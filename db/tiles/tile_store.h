@@ -42,6 +42,9 @@ class TileStore {
   Status DeletePyramid(int64_t surface);
   Status PutLevel(int64_t surface, int level, double geometric_error);
   Status PutTile(int64_t surface, const TileKey& key, const std::vector<uint8_t>& data, int64_t tx);
+  Status DeleteTile(int64_t surface, const TileKey& key);
+  // Records that the pyramid now shows the state after transaction `tx`.
+  Status SetPyramidTx(int64_t surface, int64_t tx);
   // The tile's bytes and transaction; nullopt when the pyramid has no such tile.
   Result<std::optional<std::pair<std::vector<uint8_t>, int64_t>>> Tile(int64_t surface,
                                                                        const TileKey& key);

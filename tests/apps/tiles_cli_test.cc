@@ -8,9 +8,12 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <nlohmann/json.hpp>
 
 #include "core/tiles/quantized_mesh.h"
+#include "db/surface_store.h"
+#include "db/tiles/tile_store.h"
 #include "tests/support/cli_support.h"
 #include "tests/support/test_support.h"
 
@@ -157,6 +160,80 @@ TEST_F(TilesCliTest, ExportedTilesDecodeWithTheNpmDecoderAsWithOurs) {
   }
 }
 
+// Every tile of the store's pyramid: key -> (bytes, transaction).
+std::map<TileKey, std::pair<std::vector<uint8_t>, int64_t>> TilesOf(const std::string& path) {
+  std::map<TileKey, std::pair<std::vector<uint8_t>, int64_t>> out;
+  auto store = Store::Open(path, Store::Access::kReadOnly);
+  EXPECT_TRUE(store.ok());
+  auto surface = SurfaceStore(**store).Find("t");
+  EXPECT_TRUE(surface.ok());
+  TileStore tiles((*store)->db());
+  auto keys = tiles.Keys(surface->id);
+  EXPECT_TRUE(keys.ok());
+  for (const TileKey& key : *keys) {
+    auto tile = tiles.Tile(surface->id, key);
+    EXPECT_TRUE(tile.ok() && tile->has_value());
+    out.emplace(key, std::move(**tile));
+  }
+  return out;
+}
+
+TEST_F(TilesCliTest, UpdateRewritesOnlyTheTilesAnEditTouchedAndEqualsAFreshBuild) {
+  const std::string build_args =
+      " --surface t --max-zoom 11 --extensions octvertexnormals,metadata";
+  RunWrite(store_, "tiles build " + Quote(store_) + build_args);
+  const auto before = TilesOf(store_);
+  // A 1 km square in the mountains (small triangles: the change's region stays small) flattened to
+  // a level inside the surface's height range.
+  const nlohmann::json info = Json(RunCli("info --json " + Quote(store_)));
+  const auto& bbox = info["dems"][0]["bbox"];
+  const double x = bbox[0].get<double>() + 0.5 * (bbox[2].get<double>() - bbox[0].get<double>());
+  const double y = bbox[1].get<double>() + 0.9 * (bbox[3].get<double>() - bbox[1].get<double>());
+  const std::string square = dir_.Path("square.geojson");
+  std::ofstream(square) << R"({"type":"FeatureCollection","crs":{"type":"name","properties":)"
+                        << R"({"name":")" << info["crs"].get<std::string>()
+                        << R"("}},"features":[{"type":"Feature","properties":{},)"
+                        << R"("geometry":{"type":"Polygon","coordinates":[[)"
+                        << "[" << x << "," << y << "],[" << x + 1000 << "," << y << "],["
+                        << x + 1000 << "," << y + 1000 << "],[" << x << "," << y + 1000 << "],["
+                        << x << "," << y << "]]]}}]}";
+  RunWrite(store_, "polygon add " + Quote(store_) + " " + Quote(square) +
+                       " --surface t --mode replace --level 1500");
+  const nlohmann::json update =
+      Json(RunWrite(store_, "tiles update " + Quote(store_) + " --surface t --json"));
+  EXPECT_EQ(update["changes"], 1);
+  EXPECT_FALSE(update["full_rebuild"].get<bool>()) << update.dump();
+  EXPECT_GT(update["tiles_rewritten"].get<int64_t>(), 0);
+  EXPECT_EQ(update["tiles_rewritten"].get<int64_t>() + update["tiles_deleted"].get<int64_t>(),
+            update["tiles_meeting"].get<int64_t>());
+  const auto after = TilesOf(store_);
+
+  // A fresh build of the edited surface, in a copy of the store.
+  const std::string fresh = dir_.Path("fresh.tinbase");
+  std::filesystem::copy_file(store_, fresh);
+  RunWrite(fresh, "tiles build " + Quote(fresh) + build_args);
+  const auto rebuilt = TilesOf(fresh);
+  ASSERT_EQ(after.size(), rebuilt.size());
+  int untouched = 0;
+  for (const auto& [key, tile] : after) {
+    auto it = rebuilt.find(key);
+    ASSERT_NE(it, rebuilt.end()) << key.ToString();
+    EXPECT_EQ(tile.first, it->second.first) << key.ToString() << " differs from a fresh build";
+    auto old = before.find(key);
+    if (old != before.end() && tile.second == old->second.second) {
+      EXPECT_EQ(tile.first, old->second.first) << key.ToString();
+      ++untouched;
+    }
+  }
+  EXPECT_EQ(untouched + update["tiles_rewritten"].get<int64_t>(),
+            static_cast<int64_t>(after.size()));
+  EXPECT_GT(untouched, update["tiles_rewritten"].get<int64_t>()) << "most tiles stay as they were";
+  // Nothing left to do.
+  const nlohmann::json again =
+      Json(RunCli("tiles update " + Quote(store_) + " --surface t --json"));
+  EXPECT_EQ(again["changes"], 0);
+}
+
 TEST_F(TilesCliTest, BadRequestsAreRefusedWithOneLine) {
   ExpectRejected(store_,
                  "tiles export " + Quote(store_) + " --surface t -o " + Quote(dir_.Path("x")),
@@ -166,6 +243,8 @@ TEST_F(TilesCliTest, BadRequestsAreRefusedWithOneLine) {
   ExpectRejected(store_, "tiles build " + Quote(store_) + " --surface t --extensions normals",
                  "unknown tile extension 'normals'");
   ExpectRejected(store_, "tiles build " + Quote(store_) + " --surface nope", "nope");
+  ExpectRejected(store_, "tiles update " + Quote(store_) + " --surface t",
+                 "has no tiles to update");
   EXPECT_FALSE(std::filesystem::exists(dir_.Path("x")));
 }
 
