@@ -13,7 +13,6 @@ namespace {
 constexpr uint8_t kExtensionNormals = 1;
 constexpr uint8_t kExtensionWaterMask = 2;
 constexpr uint8_t kExtensionMetadata = 4;
-constexpr size_t kHeaderBytes = 88;
 constexpr size_t kWaterMaskCells = 256 * 256;
 // Above this vertex count indices take four bytes instead of two (the specification's 64 * 1024).
 constexpr size_t kMaxShortIndexVertices = 65536;

@@ -207,7 +207,7 @@ double SnapToTileLine(double value, double origin, int level) {
 }  // namespace
 
 TileCutter::TileCutter(const GeoSurface& surface, int level)
-    : surface_(surface), level_(level), vertices_(surface.tin.vertices) {
+    : surface_(surface), vertices_(surface.tin.vertices) {
   for (TinVertex& v : vertices_) {
     v.x = SnapToTileLine(v.x, -180.0, level);
     v.y = SnapToTileLine(v.y, -90.0, level);

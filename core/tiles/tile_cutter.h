@@ -58,7 +58,6 @@ class TileCutter {
 
  private:
   const GeoSurface& surface_;
-  int level_;
   std::vector<TinVertex> vertices_;  // the surface's, snapped onto the level's tile lines
   std::map<TileKey, std::vector<uint32_t>> triangles_of_tile_;
 };

@@ -19,6 +19,7 @@ struct TileKey {
   int level = 0;
   int64_t x = 0;
   int64_t y = 0;  // from the south (TMS)
+  // NOLINTNEXTLINE(modernize-use-nullptr): a false finding on a defaulted <=>
   friend auto operator<=>(const TileKey&, const TileKey&) = default;
   std::string ToString() const;  // "level/x/y"
 };

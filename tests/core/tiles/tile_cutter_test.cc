@@ -48,6 +48,7 @@ GeoSurface MakeSurface(int points, uint32_t seed, int level) {
 struct EdgePoint {
   uint16_t along;
   uint16_t height;
+  // NOLINTNEXTLINE(modernize-use-nullptr): a false finding on a defaulted <=>
   friend auto operator<=>(const EdgePoint&, const EdgePoint&) = default;
 };
 

@@ -22,6 +22,7 @@ using testing::TempDir;
 struct EdgePoint {
   uint16_t along;
   uint16_t height;
+  // NOLINTNEXTLINE(modernize-use-nullptr): a false finding on a defaulted <=>
   friend auto operator<=>(const EdgePoint&, const EdgePoint&) = default;
 };
 
