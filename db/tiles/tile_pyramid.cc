@@ -52,26 +52,52 @@ int32_t TagIndex(const Tin& tin, const std::optional<std::string>& tag) {
   return kNoTag;
 }
 
-// The tiles of one level that `wanted` accepts, each made from its own part of `finest`: the
-// finest level clipped to the tile, a coarser level simplified from that (core/tiles/
-// coarse_tile.h); water masks from `finest` (which alone has the tags). nullopt for a tile
-// that came out empty.
-std::map<TileKey, std::optional<QuantizedMesh>> MakeLevel(
-    const GeoSurface& finest, int level, bool finest_level, const CoarseTileOptions& coarse,
-    int32_t water_tag, bool water_mask, const std::function<bool(const TileKey&)>& wanted) {
+// The finest level's tiles that `wanted` accepts, and those of `also` at this level, each the
+// surface clipped to the tile, with its water mask. nullopt for a tile that came out empty.
+std::map<TileKey, std::optional<QuantizedMesh>> CutFinest(
+    const GeoSurface& finest, int level, int32_t water_tag, bool water_mask,
+    const std::function<bool(const TileKey&)>& wanted, const std::set<TileKey>& also) {
   const TileCutter cutter(finest, level);
-  std::vector<TileKey> keys;
+  std::set<TileKey> wanted_keys;
   for (const TileKey& key : cutter.Tiles())
-    if (wanted(key)) keys.push_back(key);
+    if (wanted(key)) wanted_keys.insert(key);
+  for (const TileKey& key : also)
+    if (key.level == level) wanted_keys.insert(key);
+  const std::vector<TileKey> keys(wanted_keys.begin(), wanted_keys.end());
   std::vector<std::optional<QuantizedMesh>> made(keys.size());
   tbb::parallel_for(size_t{0}, keys.size(), [&](size_t i) {
     made[i] = cutter.Cut(keys[i]);
-    if (made[i] && !finest_level) made[i] = SimplifyTile(*made[i], keys[i], coarse);
     if (made[i] && water_mask) made[i]->water_mask = cutter.WaterMask(keys[i], water_tag);
   });
   std::map<TileKey, std::optional<QuantizedMesh>> out;
   for (size_t i = 0; i < keys.size(); ++i) out.emplace(keys[i], std::move(made[i]));
   return out;
+}
+
+// The tiles of one coarser level whose keys are `parents`, each from its four children, which
+// `child` finds (null when the child does not exist).
+std::map<TileKey, std::optional<QuantizedMesh>> MergeLevel(
+    const std::set<TileKey>& parents, const CoarseTileOptions& coarse, bool water_mask,
+    const std::function<const QuantizedMesh*(const TileKey&)>& child) {
+  const std::vector<TileKey> keys(parents.begin(), parents.end());
+  std::vector<std::array<const QuantizedMesh*, 4>> children(keys.size());
+  for (size_t i = 0; i < keys.size(); ++i)
+    for (int c = 0; c < 4; ++c)
+      children[i][c] = child({keys[i].level + 1, 2 * keys[i].x + c % 2, 2 * keys[i].y + c / 2});
+  std::vector<std::optional<QuantizedMesh>> made(keys.size());
+  tbb::parallel_for(size_t{0}, keys.size(), [&](size_t i) {
+    made[i] = MergeChildren(children[i], keys[i], coarse);
+    if (made[i] && water_mask) made[i]->water_mask = MergeWaterMasks(children[i]);
+  });
+  std::map<TileKey, std::optional<QuantizedMesh>> out;
+  for (size_t i = 0; i < keys.size(); ++i) out.emplace(keys[i], std::move(made[i]));
+  return out;
+}
+
+std::set<TileKey> ParentsOf(const std::set<TileKey>& keys) {
+  std::set<TileKey> parents;
+  for (const TileKey& k : keys) parents.insert({k.level - 1, k.x / 2, k.y / 2});
+  return parents;
 }
 
 // Everything a build or an update reads from the store and computes once.
@@ -122,28 +148,53 @@ Result<PyramidInputs> ReadInputs(Store& store, const SurfaceInfo& surface,
   return in;
 }
 
-// Every level's tiles that `wanted` accepts.
-std::vector<LevelTiles> MakeLevels(const PyramidInputs& in, const TileBuildOptions& options,
-                                   const std::function<bool(const TileKey&)>& wanted,
-                                   std::set<TileKey>* emptied) {
-  std::vector<LevelTiles> levels;
-  for (int level = 0; level <= in.pyramid.max_zoom; ++level) {
-    CoarseTileOptions coarse;
-    coarse.error = std::max(LevelError(in, level), 1e-9);
-    coarse.min_height = in.pyramid.min_height;
-    coarse.max_height = in.pyramid.max_height;
-    LevelTiles tiles{level, LevelError(in, level), {}};
-    for (auto& [key, mesh] : MakeLevel(in.finest, level, level == in.pyramid.max_zoom, coarse,
-                                       in.water_tag, options.extensions.water_mask, wanted)) {
-      if (mesh) {
-        tiles.meshes.emplace(key, std::move(*mesh));
-      } else if (emptied != nullptr) {
-        emptied->insert(key);
-      }
-    }
-    levels.push_back(std::move(tiles));
+CoarseTileOptions CoarseOptions(const PyramidInputs& in, int level) {
+  CoarseTileOptions coarse;
+  coarse.error = LevelError(in, level);
+  coarse.min_height = in.pyramid.min_height;
+  coarse.max_height = in.pyramid.max_height;
+  return coarse;
+}
+
+// The tiles that `wanted` accepts at the finest level and those of `also` (at any level), and
+// their ancestors, each coarser tile from its children: those made here, else from `stored` (an
+// update's unchanged tiles). Empty tiles are nullopt.
+std::vector<std::map<TileKey, std::optional<QuantizedMesh>>> MakeLevels(
+    const PyramidInputs& in, const TileBuildOptions& options,
+    const std::function<bool(const TileKey&)>& wanted, const std::set<TileKey>& also,
+    const std::function<const QuantizedMesh*(const TileKey&)>& stored) {
+  const int max = in.pyramid.max_zoom;
+  std::vector<std::map<TileKey, std::optional<QuantizedMesh>>> levels(max + 1);
+  levels[max] =
+      CutFinest(in.finest, max, in.water_tag, options.extensions.water_mask, wanted, also);
+  for (int level = max - 1; level >= 0; --level) {
+    const auto& below = levels[level + 1];
+    std::set<TileKey> keys;
+    for (const auto& [key, mesh] : below) keys.insert(key);
+    std::set<TileKey> parents = ParentsOf(keys);
+    for (const TileKey& key : also)
+      if (key.level == level) parents.insert(key);
+    const auto child = [&](const TileKey& key) -> const QuantizedMesh* {
+      if (auto it = below.find(key); it != below.end()) return it->second ? &*it->second : nullptr;
+      return stored ? stored(key) : nullptr;
+    };
+    levels[level] =
+        MergeLevel(parents, CoarseOptions(in, level), options.extensions.water_mask, child);
   }
   return levels;
+}
+
+// The made tiles as LevelTiles (empty ones left out), coarsest first.
+std::vector<LevelTiles> NonEmpty(std::vector<std::map<TileKey, std::optional<QuantizedMesh>>> made,
+                                 const PyramidInputs& in) {
+  std::vector<LevelTiles> out;
+  for (int level = 0; level < static_cast<int>(made.size()); ++level) {
+    LevelTiles tiles{level, LevelError(in, level), {}};
+    for (auto& [key, mesh] : made[level])
+      if (mesh) tiles.meshes.emplace(key, std::move(*mesh));
+    out.push_back(std::move(tiles));
+  }
+  return out;
 }
 
 std::string MetadataOf(const std::set<TileKey>& all, const TileKey& key) {
@@ -245,8 +296,10 @@ Result<TileBuildReport> BuildTilePyramid(Store& store, const SurfaceInfo& surfac
                                          const TileBuildOptions& options) {
   TB_RETURN_IF_ERROR(CheckOptions(options));
   TB_ASSIGN_OR_RETURN(const PyramidInputs in, ReadInputs(store, surface, options));
-  std::vector<LevelTiles> levels = MakeLevels(
-      in, options, [](const TileKey&) { return true; }, nullptr);
+  std::vector<LevelTiles> levels =
+      NonEmpty(MakeLevels(
+                   in, options, [](const TileKey&) { return true; }, {}, nullptr),
+               in);
   TileBuildReport report;
   report.pyramid = in.pyramid;
   TB_RETURN_IF_ERROR(WritePyramid(store, in.pyramid, levels, options.extensions.metadata, &report));
@@ -323,12 +376,36 @@ Result<TileUpdateReport> UpdateTilePyramid(Store& store, const SurfaceInfo& surf
   TB_ASSIGN_OR_RETURN(std::optional<Crs> crs, store.GetCrs());
   TB_ASSIGN_OR_RETURN(const TileRect region, ChangedRegion(changes, *crs));
   const auto wanted = [&](const TileKey& key) { return Meets(RectOf(key), region); };
-  std::vector<LevelTiles> levels = MakeLevels(in, options, wanted, nullptr);
-
   TB_ASSIGN_OR_RETURN(std::set<TileKey> keys, tiles.Keys(surface.id));
   std::set<TileKey> stale;
   for (const TileKey& key : keys)
     if (wanted(key)) stale.insert(key);
+  // Unchanged children of the tiles made again are read from the store, decoded once.
+  std::map<TileKey, std::optional<QuantizedMesh>> read;
+  Status read_error;
+  const auto stored = [&](const TileKey& key) -> const QuantizedMesh* {
+    auto it = read.find(key);
+    if (it == read.end()) {
+      std::optional<QuantizedMesh> mesh;
+      Result<std::optional<std::pair<std::vector<uint8_t>, int64_t>>> tile =
+          tiles.Tile(surface.id, key);
+      if (!tile.ok()) {
+        read_error = tile.status();
+      } else if (tile->has_value()) {
+        Result<QuantizedMesh> decoded = DecodeQuantizedMesh((*tile)->first, key.ToString());
+        if (decoded.ok()) {
+          mesh = std::move(*decoded);
+        } else {
+          read_error = Status::Corruption("stored tile " + decoded.status().message());
+        }
+      }
+      it = read.emplace(key, std::move(mesh)).first;
+    }
+    return it->second ? &*it->second : nullptr;
+  };
+  std::vector<LevelTiles> levels = NonEmpty(MakeLevels(in, options, wanted, stale, stored), in);
+  TB_RETURN_IF_ERROR(read_error);
+
   for (const TileKey& key : stale) keys.erase(key);
   for (const LevelTiles& level : levels)
     for (const auto& [key, mesh] : level.meshes) keys.insert(key);
