@@ -1,4 +1,4 @@
--- 0010: terrain tiles kept in the store (docs/tiles.md): one pyramid per surface, its levels,
+-- 0011: terrain tiles kept in the store (docs/tiles.md): one pyramid per surface, its levels,
 -- and the quantized-mesh tiles themselves, each with the transaction whose state it shows.
 CREATE TABLE tile_pyramids(
   surface    INTEGER PRIMARY KEY REFERENCES surfaces(id) ON DELETE CASCADE,
