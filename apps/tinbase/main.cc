@@ -97,6 +97,7 @@ int main(int argc, char** argv) {
   tinbase::cli::RegisterImportCommands(app, &exit_code);
   tinbase::cli::RegisterPolygonCommands(app, &exit_code);
   tinbase::cli::RegisterPointsCommands(app, &exit_code);
+  tinbase::cli::RegisterTilesCommands(app, &exit_code);
   tinbase::cli::RegisterDemoCommand(app, &exit_code);
   tinbase::cli::RegisterMeasureCommands(app, &exit_code);
   try {

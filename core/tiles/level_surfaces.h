@@ -1,0 +1,28 @@
+// Level surfaces: the surface a tile pyramid is cut from, in longitude/latitude, its height
+// range, and the finest level it needs (docs/tiles.md, "Levels"). Every level, the finest and the
+// coarser ones (core/tiles/coarse_tile.h), is made from this one surface. Pure functions.
+#pragma once
+
+#include <cstdint>
+
+#include "core/base/status.h"
+#include "core/geometry/crs.h"
+#include "core/tiles/tile_cutter.h"
+#include "core/tin/tin.h"
+
+namespace tinbase {
+
+// `tin` (of `crs`) with x longitude, y latitude (degrees, WGS 84) and z in metres, the vertex
+// normals when `normals`, and the height range [min_height, max_height] the pyramid quantises
+// against. InvalidArgument naming the CRS when it cannot be transformed to EPSG:4326.
+Result<GeoSurface> GeographicSurface(const Tin& tin, const Crs& crs, bool normals,
+                                     double min_height, double max_height);
+
+// The lowest and highest z of `tin`'s vertices, converted to metres.
+std::pair<double, double> HeightRange(const Tin& tin, const Crs& crs);
+
+// The level at which one tile holds about 128 of `tin`'s mean vertex spacings across (the
+// finest level a pyramid needs), from 0 to kMaxTileLevel.
+int NaturalMaxZoom(const GeoSurface& surface);
+
+}  // namespace tinbase

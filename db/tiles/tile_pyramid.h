@@ -1,0 +1,90 @@
+// Tile pyramid: a surface's quantized-mesh tiles built into the store, and read back out as
+// Cesium expects them (layer.json, a z/x/y.terrain tree). docs/tiles.md says what a client gets.
+//
+// A build loads the surface, turns it into longitude/latitude (core/tiles/level_surfaces.h),
+// cuts every level (core/tiles/tile_cutter.h) on TBB's threads, and writes the pyramid, its
+// levels' error bounds and every tile in one write transaction: a failed build leaves the old
+// pyramid as it was. Thread-safety: as the Store.
+#pragma once
+
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/base/status.h"
+#include "db/store.h"
+#include "db/surface_store.h"
+#include "db/tiles/tile_store.h"
+
+namespace tinbase {
+
+struct TileExtensions {
+  bool normals = false;       // "octvertexnormals"
+  bool water_mask = false;    // "watermask"
+  bool metadata = false;      // "metadata"
+  std::string Names() const;  // "octvertexnormals,watermask,metadata" (those set), or ""
+};
+// "octvertexnormals,metadata,watermask" in any order, or ""; InvalidArgument naming an unknown
+// extension and listing the known ones.
+Result<TileExtensions> ParseTileExtensions(const std::string& text);
+
+struct TileBuildOptions {
+  std::optional<int> max_zoom;  // default: the surface's natural zoom (NaturalMaxZoom)
+  TileExtensions extensions;
+  // The tag whose visible triangles are water in the water mask (e.g. a reservoir's feature tag).
+  // REQUIRES with extensions.water_mask.
+  std::optional<std::string> water_tag;
+};
+
+struct TileLevelReport {
+  int level = 0;
+  double geometric_error = 0;  // the level's vertical error bound, metres
+  int64_t tiles = 0;
+  int64_t triangles = 0;
+  int64_t bytes = 0;
+};
+
+struct TileBuildReport {
+  TilePyramidInfo pyramid;
+  std::vector<TileLevelReport> levels;  // coarsest first
+};
+
+// Builds the pyramid of `surface` from level 0 to the max zoom, replacing any pyramid it had.
+// InvalidArgument for: a store without CRS or one with no transformation to EPSG:4326, a max
+// zoom outside 0..24, a water mask without water tag or a water tag with no triangles; NotFound
+// for an empty surface. REQUIRES: not inside a transaction (it opens its own).
+Result<TileBuildReport> BuildTilePyramid(Store& store, const SurfaceInfo& surface,
+                                         const TileBuildOptions& options);
+
+struct TileUpdateReport {
+  int64_t since_tx = 0;         // the pyramid's transaction before the update
+  int64_t tx = 0;               // and after
+  int64_t changes = 0;          // changes of the surface read from the log
+  bool full_rebuild = false;    // the height range changed: every tile was rebuilt
+  int64_t tiles_meeting = 0;    // tiles, before or after, whose bounds meet the changed region
+  int64_t tiles_rewritten = 0;  // of those, written again
+  int64_t tiles_deleted = 0;    // of those, gone (now empty)
+};
+
+// Brings the surface's pyramid up to date with the change log: every tile, at every level, whose
+// closed bounds meet the region of a change since the pyramid's transaction is made again (or
+// deleted when it came out empty); no other tile is touched, and the result equals a fresh build
+// with the same options byte for byte (docs/tiles.md, "Updates"). When an edit moved the
+// surface's height range, every tile's quantisation changes: then the whole pyramid is rebuilt.
+// InvalidArgument "surface 's' has no tiles to update" when none was built.
+Result<TileUpdateReport> UpdateTilePyramid(Store& store, const SurfaceInfo& surface);
+
+// Cesium's layer.json of the surface's pyramid: exact `available` rectangles per level, the
+// extensions, and under "tinbase" the levels' error bounds and the pyramid's transaction.
+// NotFound "surface 's' has no tiles (run tinbase tiles build)" when none was built.
+Result<nlohmann::json> LayerJson(Store& store, const SurfaceInfo& surface);
+
+// Writes DIR/layer.json and DIR/z/x/y.terrain for every tile (gzipped when `gzip`, as static
+// hosts serve them with Content-Encoding: gzip). The tree is written beside DIR and renamed onto
+// it when complete. IOError when DIR exists and is not empty, or cannot be written; NotFound as
+// LayerJson.
+Status ExportTiles(Store& store, const SurfaceInfo& surface, const std::string& dir, bool gzip);
+
+}  // namespace tinbase
