@@ -73,8 +73,9 @@ Result<ExportFormat> ResolveFormat(const ExportArgs& args) {
 Result<SurfaceFilter> FilterOf(const ExportArgs& args) {
   SurfaceFilter filter;
   if (!args.bbox.empty()) {
-    TB_ASSIGN_OR_RETURN(Box box, ParseBbox(args.bbox));
-    filter.bbox = box;
+    Result<Box> box = ParseBbox(args.bbox);
+    if (!box.ok()) return box.status().WithContext("--bbox");
+    filter.bbox = *box;
   }
   filter.feature = args.feature;
   filter.visible_only = args.visible_only;
