@@ -315,8 +315,7 @@ struct RunArgs {
   int64_t walk_sample = 2000;
   int64_t jump_points = 1000000;
   int rounds = 2;
-  std::string methods =
-      "tinbase,tinbase+cache,tinbase-bulk,tinbase-jump,cgal-walk,cgal-hierarchy";
+  std::string methods = "tinbase,tinbase+cache,tinbase-bulk,tinbase-jump,cgal-walk,cgal-hierarchy";
 };
 
 // A hierarchy face's store id: the stored triangle holding its centroid (the same triangle

@@ -1,6 +1,7 @@
 // Kernel: `export` (a surface, or the part of it a selection picks, to obj, ply, stl, glb,
-// geojson, gpkg, landxml or vdb). The selection options mean what they mean everywhere (db/query/surface_selection.h);
-// the file goes through OutputFile, so a failed export leaves nothing behind.
+// geojson, gpkg, landxml or vdb). The selection options mean what they mean everywhere
+// (db/query/surface_selection.h); the file goes through OutputFile, so a failed export leaves
+// nothing behind.
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -45,8 +46,7 @@ std::string StoreFormat(const ExportArgs& args) {
     return args.output.size() > e.size() &&
            args.output.compare(args.output.size() - e.size(), e.size(), e) == 0;
   };
-  if (args.format == "gpkg" || args.format == "landxml" || args.format == "vdb")
-    return args.format;
+  if (args.format == "gpkg" || args.format == "landxml" || args.format == "vdb") return args.format;
   if (args.format.empty() && ends_with(".gpkg")) return "gpkg";
   if (args.format.empty() && ends_with(".xml")) return "landxml";
   if (args.format.empty() && ends_with(".vdb")) return "vdb";
@@ -210,8 +210,7 @@ int RunExport(const ExportArgs& args) {
 
 void RegisterExportCommands(CLI::App& app, int* exit_code) {
   auto args = std::make_shared<ExportArgs>();
-  CLI::App* cmd =
-      app.add_subcommand("export", "Write a surface to a file (" + AllFormats() + ")");
+  CLI::App* cmd = app.add_subcommand("export", "Write a surface to a file (" + AllFormats() + ")");
   cmd->add_option("store", args->store, "Store file")->required();
   cmd->add_option("--surface", args->surface,
                   "Surface name (may be left out with --feature: the feature's surface)");
