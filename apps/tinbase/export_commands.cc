@@ -9,6 +9,7 @@
 #include "apps/tinbase/command.h"
 #include "apps/tinbase/landxml_vdb_export.h"
 #include "apps/tinbase/output.h"
+#include "apps/tinbase/progress.h"
 #include "core/base/output_file.h"
 #include "core/export/export_format.h"
 #include "core/export/tin_export.h"
@@ -178,10 +179,13 @@ int RunExport(const ExportArgs& args) {
   auto crs = (*store)->GetCrs();
   if (!crs.ok()) return ReportError(crs.status());
   Stopwatch watch;
+  // Two stages, reading the selection and writing the file; the bar shows which one runs.
+  ProgressBar bar(std::string("export ") + ExportFormatName(*format));
   auto surface = ResolveSurface(**store, args);
   if (!surface.ok()) return ReportError(surface.status());
   auto selected = SelectSurface(**store, *surface, *filter);
   if (!selected.ok()) return ReportError(selected.status());
+  bar.Update(0.5);
 
   ExportOptions options;
   options.format = *format;
@@ -192,6 +196,7 @@ int RunExport(const ExportArgs& args) {
   }
   auto report = ExportTin(selected->tin, crs->has_value() ? &**crs : nullptr, args.output, options);
   if (!report.ok()) return ReportError(report.status());
+  bar.Finish();
   if (args.json) {
     const nlohmann::json j = {{"output", args.output},        {"format", ExportFormatName(*format)},
                               {"surface", surface->name},     {"selection", filter->Describe()},

@@ -2,6 +2,7 @@
 // (only the tiles the edits since touched), `tiles export`
 // (the pyramid as a static z/x/y.terrain tree with layer.json) and `tiles info` (what a pyramid
 // holds; with --verify every tile is decoded and checked).
+#include <functional>
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -9,6 +10,7 @@
 
 #include "apps/tinbase/command.h"
 #include "apps/tinbase/output.h"
+#include "apps/tinbase/progress.h"
 #include "core/tiles/quantized_mesh.h"
 #include "db/tiles/tile_pyramid.h"
 
@@ -45,7 +47,10 @@ int RunBuild(const TilesArgs& args) {
   auto surface = FindSurface(**store, args.surface);
   if (!surface.ok()) return ReportError(surface.status());
   Stopwatch watch;
-  auto report = BuildTilePyramid(**store, *surface, options);
+  auto report = WithProgress("tiles build", [&](std::function<void(double)> progress) {
+    options.progress = std::move(progress);
+    return BuildTilePyramid(**store, *surface, options);
+  });
   if (!report.ok()) return ReportError(report.status());
   int64_t tiles = 0, bytes = 0;
   nlohmann::json levels = nlohmann::json::array();

@@ -167,6 +167,11 @@ std::vector<std::map<TileKey, std::optional<QuantizedMesh>>> MakeLevels(
   std::vector<std::map<TileKey, std::optional<QuantizedMesh>>> levels(max + 1);
   levels[max] =
       CutFinest(in.finest, max, in.water_tag, options.extensions.water_mask, wanted, also);
+  // The finest level is most of the work; the write counts as one more level.
+  const auto report = [&](int done) {
+    if (options.progress) options.progress(0.5 * done / (max + 2.0) + (done > 0 ? 0.4 : 0.0));
+  };
+  report(1);
   for (int level = max - 1; level >= 0; --level) {
     const auto& below = levels[level + 1];
     std::set<TileKey> keys;

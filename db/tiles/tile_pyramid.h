@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -36,6 +37,8 @@ struct TileBuildOptions {
   // The tag whose visible triangles are water in the water mask (e.g. a reservoir's feature tag).
   // REQUIRES with extensions.water_mask.
   std::optional<std::string> water_tag;
+  // Told the fraction done after each level and after the write; may be empty.
+  std::function<void(double fraction)> progress;
 };
 
 struct TileLevelReport {
