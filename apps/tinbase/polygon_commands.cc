@@ -6,13 +6,27 @@
 #include "apps/tinbase/output.h"
 #include "apps/tinbase/progress.h"
 #include "db/polygon_editor.h"
+#include "db/tiles/tile_pyramid.h"
 
 namespace tinbase::cli {
 
 namespace {
 
+// With --update-tiles, after the edit committed: every pyramid brought up to date in its own
+// transaction (a failure there leaves the tiles as they were; `tiles update` catches up).
+int UpdateTilesAfterEdit(Store& store, bool wanted, int exit_code) {
+  if (!wanted || exit_code != kExitOk) return exit_code;
+  auto updated = UpdateAllTilePyramids(store);
+  if (!updated.ok()) return ReportError(updated.status().WithContext("the edit committed; tiles"));
+  for (const auto& [surface, r] : *updated)
+    std::cout << "tiles of '" << surface.name << "': " << r.tiles_rewritten << " rewritten, "
+              << r.tiles_deleted << " deleted" << (r.full_rebuild ? " (all rebuilt)" : "") << "\n";
+  return kExitOk;
+}
+
 struct AddArgs {
   std::string store;
+  bool update_tiles = false;
   PolygonAddOptions options;
   std::string mode;  // parsed into options.mode by the handler
   double level = 0;
@@ -43,11 +57,13 @@ int RunAdd(AddArgs args, bool level_given) {
             << " draped ring vertices): " << report->removed << " triangles replaced by "
             << report->added << ", " << report->visible << " of them visible; transaction "
             << report->tx << " in " << Num(watch.Seconds(), 3) << " s\n";
-  return report->failures.empty() ? kExitOk : kExitFailure;
+  return UpdateTilesAfterEdit(**store, args.update_tiles,
+                              report->failures.empty() ? kExitOk : kExitFailure);
 }
 
 struct EditArgs {
   std::string store;
+  bool update_tiles = false;
   int64_t id = 0;
   PolygonAddOptions options;
   std::string mode;  // update: parsed into options.mode by the handler; empty keeps the old one
@@ -67,7 +83,7 @@ int RunRemove(const EditArgs& args) {
   auto report = RemovePolygon(**store, args.id);
   if (!report.ok()) return ReportError(report.status());
   PrintEdit("removed", args.id, *report, watch.Seconds());
-  return kExitOk;
+  return UpdateTilesAfterEdit(**store, args.update_tiles, kExitOk);
 }
 
 int RunUpdate(EditArgs args, bool level_given) {
@@ -80,7 +96,7 @@ int RunUpdate(EditArgs args, bool level_given) {
   if (!report.ok()) return ReportError(report.status());
   PrintEdit("updated", args.id, *report, watch.Seconds());
   std::cout << "the new geometry is feature " << report->first_feature_id << "\n";
-  return kExitOk;
+  return UpdateTilesAfterEdit(**store, args.update_tiles, kExitOk);
 }
 
 }  // namespace
@@ -104,6 +120,8 @@ void RegisterPolygonCommands(CLI::App& app, int* exit_code) {
                 "Repair invalid polygons with GEOS MakeValid before validating them");
   add->add_flag("--each", args->options.each,
                 "Commit feature by feature; report the features that failed and why");
+  add->add_flag("--update-tiles", args->update_tiles,
+                "Then bring the tile pyramids up to date (tinbase tiles update)");
   add->callback([=] { *exit_code = RunAdd(*args, level->count() > 0); });
 
   auto remove_args = std::make_shared<EditArgs>();
@@ -111,6 +129,8 @@ void RegisterPolygonCommands(CLI::App& app, int* exit_code) {
       polygon->add_subcommand("remove", "Remove a feature, re-triangulating locally");
   remove->add_option("store", remove_args->store, "Store file")->required();
   remove->add_option("id", remove_args->id, "Feature id")->required();
+  remove->add_flag("--update-tiles", remove_args->update_tiles,
+                   "Then bring the tile pyramids up to date (tinbase tiles update)");
   remove->callback([=] { *exit_code = RunRemove(*remove_args); });
 
   auto update_args = std::make_shared<EditArgs>();
@@ -128,6 +148,8 @@ void RegisterPolygonCommands(CLI::App& app, int* exit_code) {
                    "Repair invalid polygons with GEOS MakeValid before validating them");
   CLI::Option* update_level =
       update->add_option("--level", update_args->level, "replace: the flat z in metres");
+  update->add_flag("--update-tiles", update_args->update_tiles,
+                   "Then bring the tile pyramids up to date (tinbase tiles update)");
   update->callback([=] { *exit_code = RunUpdate(*update_args, update_level->count() > 0); });
 }
 

@@ -439,6 +439,19 @@ Result<TileUpdateReport> UpdateTilePyramid(Store& store, const SurfaceInfo& surf
   return report;
 }
 
+Result<std::vector<std::pair<SurfaceInfo, TileUpdateReport>>> UpdateAllTilePyramids(Store& store) {
+  TB_ASSIGN_OR_RETURN(const std::vector<SurfaceInfo> surfaces, SurfaceStore(store).List());
+  std::vector<std::pair<SurfaceInfo, TileUpdateReport>> out;
+  TileStore tiles(store.db());
+  for (const SurfaceInfo& surface : surfaces) {
+    TB_ASSIGN_OR_RETURN(const std::optional<TilePyramidInfo> pyramid, tiles.Pyramid(surface.id));
+    if (!pyramid) continue;
+    TB_ASSIGN_OR_RETURN(TileUpdateReport report, UpdateTilePyramid(store, surface));
+    out.emplace_back(surface, report);
+  }
+  return out;
+}
+
 Result<nlohmann::json> LayerJson(Store& store, const SurfaceInfo& surface) {
   TB_ASSIGN_OR_RETURN(auto snapshot, SnapshotUnlessInTransaction(store));
   TileStore tiles(store.db());

@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/base/status.h"
@@ -78,6 +79,10 @@ struct TileUpdateReport {
 // surface's height range, every tile's quantisation changes: then the whole pyramid is rebuilt.
 // InvalidArgument "surface 's' has no tiles to update" when none was built.
 Result<TileUpdateReport> UpdateTilePyramid(Store& store, const SurfaceInfo& surface);
+
+// UpdateTilePyramid for every surface that has a pyramid, in surface order: what an edit run with
+// --update-tiles does after it commits. Returns each updated surface with its report.
+Result<std::vector<std::pair<SurfaceInfo, TileUpdateReport>>> UpdateAllTilePyramids(Store& store);
 
 // Cesium's layer.json of the surface's pyramid: exact `available` rectangles per level, the
 // extensions, and under "tinbase" the levels' error bounds and the pyramid's transaction.

@@ -234,6 +234,37 @@ TEST_F(TilesCliTest, UpdateRewritesOnlyTheTilesAnEditTouchedAndEqualsAFreshBuild
   EXPECT_EQ(again["changes"], 0);
 }
 
+TEST_F(TilesCliTest, AnEditWithUpdateTilesLeavesNothingForTilesUpdate) {
+  const std::string build_args = " --surface t --max-zoom 10";
+  RunWrite(store_, "tiles build " + Quote(store_) + build_args);
+  const nlohmann::json info = Json(RunCli("info --json " + Quote(store_)));
+  const auto& bbox = info["dems"][0]["bbox"];
+  const double x = bbox[0].get<double>() + 0.5 * (bbox[2].get<double>() - bbox[0].get<double>());
+  const double y = bbox[1].get<double>() + 0.9 * (bbox[3].get<double>() - bbox[1].get<double>());
+  const std::string square = dir_.Path("square.geojson");
+  std::ofstream(square) << R"({"type":"FeatureCollection","crs":{"type":"name","properties":)"
+                        << R"({"name":")" << info["crs"].get<std::string>()
+                        << R"("}},"features":[{"type":"Feature","properties":{},)"
+                        << R"("geometry":{"type":"Polygon","coordinates":[[)"
+                        << "[" << x << "," << y << "],[" << x + 800 << "," << y << "],[" << x + 800
+                        << "," << y + 800 << "],[" << x << "," << y + 800 << "],[" << x << "," << y
+                        << "]]]}}]}";
+  const CliResult add = RunWrite(store_, "polygon add " + Quote(store_) + " " + Quote(square) +
+                                             " --surface t --mode erase --update-tiles");
+  EXPECT_NE(add.out.find("tiles of 't': "), std::string::npos) << add.out;
+  const nlohmann::json again =
+      Json(RunCli("tiles update " + Quote(store_) + " --surface t --json"));
+  EXPECT_EQ(again["changes"], 0) << "the edit brought the tiles up to date";
+  const std::string fresh = dir_.Path("fresh.tinbase");
+  std::filesystem::copy_file(store_, fresh);
+  RunWrite(fresh, "tiles build " + Quote(fresh) + build_args);
+  const auto edited = TilesOf(store_);
+  const auto rebuilt = TilesOf(fresh);
+  ASSERT_EQ(edited.size(), rebuilt.size());
+  for (const auto& [key, tile] : edited)
+    EXPECT_EQ(tile.first, rebuilt.at(key).first) << key.ToString() << " differs from a fresh build";
+}
+
 TEST_F(TilesCliTest, BadRequestsAreRefusedWithOneLine) {
   ExpectRejected(store_,
                  "tiles export " + Quote(store_) + " --surface t -o " + Quote(dir_.Path("x")),
