@@ -223,10 +223,6 @@ std::optional<QuantizedMesh> MergeChildren(const std::array<const QuantizedMesh*
   return builder.Finish();
 }
 
-}  // namespace tinbase
-
-namespace tinbase {
-
 std::vector<uint8_t> MergeWaterMasks(const std::array<const QuantizedMesh*, 4>& children) {
   constexpr int kSize = 256;
   constexpr int kHalf = kSize / 2;

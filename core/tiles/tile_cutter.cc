@@ -245,10 +245,6 @@ std::optional<QuantizedMesh> TileCutter::Cut(const TileKey& key) const {
   return builder.Finish();
 }
 
-}  // namespace tinbase
-
-namespace tinbase {
-
 std::vector<uint8_t> TileCutter::WaterMask(const TileKey& key, int32_t water_tag) const {
   constexpr int kSize = 256;
   std::vector<uint8_t> mask(kSize * kSize, 0);

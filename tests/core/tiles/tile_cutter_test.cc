@@ -10,6 +10,7 @@
 #include <set>
 
 #include "core/geometry/cdt.h"
+#include "tests/support/tile_seams.h"
 #include "tests/support/tin_fixtures.h"
 
 namespace tinbase {
@@ -45,20 +46,6 @@ GeoSurface MakeSurface(int points, uint32_t seed, int level) {
   return s;
 }
 
-struct EdgePoint {
-  uint16_t along;
-  uint16_t height;
-  // NOLINTNEXTLINE(modernize-use-nullptr): a false finding on a defaulted <=>
-  friend auto operator<=>(const EdgePoint&, const EdgePoint&) = default;
-};
-
-std::set<EdgePoint> EdgePoints(const QuantizedMesh& m, const std::vector<uint32_t>& edge,
-                               bool along_v) {
-  std::set<EdgePoint> out;
-  for (uint32_t i : edge) out.insert({along_v ? m.v[i] : m.u[i], m.height[i]});
-  return out;
-}
-
 TEST(TileCutterTest, NeighbouringTilesShareTheirEdgesExactly) {
   for (const auto& [level, seed] : {std::pair{9, 5u}, {11, 5u}, {12, 5u}, {12, 6u}, {13, 7u}}) {
     const GeoSurface s = MakeSurface(3000, seed, level);
@@ -72,21 +59,7 @@ TEST(TileCutterTest, NeighbouringTilesShareTheirEdgesExactly) {
       tiles.emplace(key, std::move(*mesh));
     }
     ASSERT_GE(tiles.size(), level >= 11 ? 4u : 1u);
-    int pairs = 0;
-    for (const auto& [key, mesh] : tiles) {
-      if (auto east = tiles.find({level, key.x + 1, key.y}); east != tiles.end()) {
-        EXPECT_EQ(EdgePoints(mesh, mesh.east, true),
-                  EdgePoints(east->second, east->second.west, true))
-            << key.ToString() << " and its east neighbour";
-        ++pairs;
-      }
-      if (auto north = tiles.find({level, key.x, key.y + 1}); north != tiles.end()) {
-        EXPECT_EQ(EdgePoints(mesh, mesh.north, false),
-                  EdgePoints(north->second, north->second.south, false))
-            << key.ToString() << " and its north neighbour";
-        ++pairs;
-      }
-    }
+    const int pairs = testing::ExpectSeamsMatch(tiles);
     if (level >= 11) {
       EXPECT_GT(pairs, 2) << "level " << level;
     }

@@ -11,6 +11,7 @@
 #include "core/geometry/reproject.h"
 #include "core/tiles/quantized_mesh.h"
 #include "tests/support/test_support.h"
+#include "tests/support/tile_seams.h"
 #include "tests/support/tin_fixtures.h"
 
 namespace tinbase {
@@ -18,20 +19,6 @@ namespace {
 
 using testing::TableChecksums;
 using testing::TempDir;
-
-struct EdgePoint {
-  uint16_t along;
-  uint16_t height;
-  // NOLINTNEXTLINE(modernize-use-nullptr): a false finding on a defaulted <=>
-  friend auto operator<=>(const EdgePoint&, const EdgePoint&) = default;
-};
-
-std::set<EdgePoint> EdgePoints(const QuantizedMesh& m, const std::vector<uint32_t>& edge,
-                               bool along_v) {
-  std::set<EdgePoint> out;
-  for (uint32_t i : edge) out.insert({along_v ? m.v[i] : m.u[i], m.height[i]});
-  return out;
-}
 
 class TilePyramidTest : public ::testing::Test {
  protected:
@@ -88,23 +75,11 @@ TEST_F(TilePyramidTest, EveryLevelIsCrackFreeAndLayerJsonIsExact) {
   ASSERT_TRUE(report.ok()) << report.status().ToString();
   ASSERT_EQ(report->levels.size(), 15u);
   const auto tiles = Decoded();
-  int pairs = 0;
   for (const auto& [key, mesh] : tiles) {
     EXPECT_TRUE(mesh.normals.has_value()) << key.ToString();
     EXPECT_EQ(mesh.metadata.has_value(), key.level % 10 == 0) << key.ToString();
-    if (auto east = tiles.find({key.level, key.x + 1, key.y}); east != tiles.end()) {
-      EXPECT_EQ(EdgePoints(mesh, mesh.east, true),
-                EdgePoints(east->second, east->second.west, true))
-          << key.ToString() << " and its east neighbour";
-      ++pairs;
-    }
-    if (auto north = tiles.find({key.level, key.x, key.y + 1}); north != tiles.end()) {
-      EXPECT_EQ(EdgePoints(mesh, mesh.north, false),
-                EdgePoints(north->second, north->second.south, false))
-          << key.ToString() << " and its north neighbour";
-      ++pairs;
-    }
   }
+  const int pairs = testing::ExpectSeamsMatch(tiles);
   EXPECT_GT(pairs, 20);
 
   auto layer = LayerJson(*store_, info_);
