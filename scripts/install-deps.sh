@@ -11,7 +11,7 @@ PACKAGES=(
   libsqlite3-dev sqlite3 libblosc-dev libzstd-dev zlib1g-dev
   nlohmann-json3-dev libcli11-dev
   libtbb-dev
-  libtinygltf-dev libmeshoptimizer-dev
+  libtinygltf-dev libmeshoptimizer-dev libcpp-httplib-dev
   nodejs
   libgtest-dev libgmock-dev librapidcheck-dev libbenchmark-dev
   clang-format clang-tidy

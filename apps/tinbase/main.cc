@@ -100,6 +100,7 @@ int main(int argc, char** argv) {
   tinbase::cli::RegisterTilesCommands(app, &exit_code);
   tinbase::cli::RegisterDemoCommand(app, &exit_code);
   tinbase::cli::RegisterMeasureCommands(app, &exit_code);
+  tinbase::cli::RegisterServeCommand(app, &exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,99 @@
+// Helpers for the service's tests: a store made once per test binary and copied per test, and a
+// service running on it in this process, on loopback at a free port, reached through a real
+// socket with cpp-httplib's client.
+#pragma once
+
+#include <gtest/gtest.h>
+#include <httplib.h>
+
+#include <filesystem>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <thread>
+
+#include "service/http_server.h"
+#include "tests/support/cli_support.h"
+#include "tests/support/test_support.h"
+
+namespace tinbase::testing {
+
+// A copy, at `path`, of a store holding the DEM N43E007 (SRTM, 1201 x 1201) and the surface
+// "t" built on it with tolerance 20 m. The original is made once per test binary via the CLI.
+inline void CopyDemoStore(const std::string& path) {
+  static TempDir* shared = nullptr;
+  static std::string original;
+  if (shared == nullptr) {
+    shared = new TempDir();  // lives until the binary exits
+    original = shared->Path("demo.tinbase");
+    RunWrite(original, "init " + Quote(original));
+    RunWrite(original, "dem import " + Quote(original) + " " + Quote(DataPath("dem/N43E007.hgt")));
+    RunWrite(original, "tin build " + Quote(original) + " --surface t --tolerance 20");
+  }
+  std::filesystem::copy_file(original, path);
+}
+
+// A service running in this process until destroyed.
+class TestService {
+ public:
+  // Starts serving options.store_path on 127.0.0.1 at a free port (options.port is ignored).
+  explicit TestService(service::ServiceOptions options) {
+    options.host = "127.0.0.1";
+    options.port = 0;
+    auto server = service::HttpServer::Start(options);
+    if (!server.ok()) {
+      ADD_FAILURE() << "service did not start: " << server.status().ToString();
+      return;
+    }
+    server_ = std::move(*server);
+    thread_ = std::thread([this] { run_status_ = server_->Run(); });
+  }
+  ~TestService() {
+    if (server_ == nullptr) return;
+    server_->Stop();
+    thread_.join();
+    EXPECT_TRUE(run_status_.ok()) << run_status_.ToString();
+  }
+  TestService(const TestService&) = delete;
+  TestService& operator=(const TestService&) = delete;
+
+  bool running() const { return server_ != nullptr; }
+  int port() const { return server_->port(); }
+  service::HttpServer& server() { return *server_; }
+  // A client of this service with short timeouts, so a hung route fails the test.
+  std::unique_ptr<httplib::Client> Client() const {
+    auto client = std::make_unique<httplib::Client>("127.0.0.1", port());
+    client->set_connection_timeout(5, 0);
+    client->set_read_timeout(60, 0);
+    return client;
+  }
+
+ private:
+  std::unique_ptr<service::HttpServer> server_;
+  std::thread thread_;
+  Status run_status_;
+};
+
+// The JSON body of an answer that must have `status`; null JSON (and a failure) otherwise.
+inline nlohmann::json JsonAnswer(const httplib::Result& r, int status = 200) {
+  if (!r) {
+    ADD_FAILURE() << "no answer: " << httplib::to_string(r.error());
+    return nullptr;
+  }
+  EXPECT_EQ(r->status, status) << r->body;
+  EXPECT_EQ(r->get_header_value("Content-Type"), "application/json") << r->body;
+  auto j = nlohmann::json::parse(r->body, nullptr, false);
+  EXPECT_FALSE(j.is_discarded()) << "not JSON: " << r->body;
+  return j;
+}
+
+// A JSON error answer with `status` whose message contains `expected`.
+inline void ExpectJsonError(const httplib::Result& r, int status, const std::string& expected) {
+  const nlohmann::json j = JsonAnswer(r, status);
+  ASSERT_TRUE(j.is_object() && j.contains("error")) << j.dump();
+  EXPECT_EQ(j["error"]["status"], status);
+  const std::string message = j["error"]["message"].get<std::string>();
+  EXPECT_NE(message.find(expected), std::string::npos) << message;
+}
+
+}  // namespace tinbase::testing
