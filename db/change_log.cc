@@ -20,7 +20,7 @@ Result<int64_t> AppendChange(Store& store, const Change& change) {
   TB_ASSIGN_OR_RETURN(Statement * stmt,
                       store.db().Cached("INSERT INTO changes(time, surface, feature, action, "
                                         "removed, added, min_x, min_y, max_x, max_y) "
-                                        "VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?)"));
+                                        "VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?) RETURNING tx"));
   stmt->Bind(1, UtcNow());
   if (change.surface)
     stmt->Bind(2, *change.surface);
@@ -32,8 +32,7 @@ Result<int64_t> AppendChange(Store& store, const Change& change) {
     stmt->BindNull(3);
   stmt->Bind(4, change.action).Bind(5, change.removed).Bind(6, change.added);
   stmt->Bind(7, change.min_x).Bind(8, change.min_y).Bind(9, change.max_x).Bind(10, change.max_y);
-  TB_RETURN_IF_ERROR(stmt->Run());
-  return store.db().LastInsertRowId();
+  return RunReturningId(*stmt);
 }
 
 Result<std::vector<Change>> ChangesSince(Store& store, int64_t since) {

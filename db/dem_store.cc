@@ -461,10 +461,13 @@ Status DemStore::Impl::WriteBlock(const DemInfo& dem, int level, int64_t bx, int
     return AfterBlockWrite();
   }
   const std::vector<uint8_t> bytes = EncodeBlock(cells, dem.block_size);
-  TB_ASSIGN_OR_RETURN(Statement * stmt,
-                      store.db().Cached("INSERT OR REPLACE INTO dem_blocks"
-                                        "(dem, level, bx, by, codec, data, zmin, zmax) "
-                                        "VALUES (?, ?, ?, ?, ?, ?, ?, ?)"));
+  TB_ASSIGN_OR_RETURN(
+      Statement * stmt,
+      store.db().Cached("INSERT INTO dem_blocks(dem, level, bx, by, codec, data, zmin, zmax) "
+                        "VALUES (?, ?, ?, ?, ?, ?, ?, ?) "
+                        "ON CONFLICT (dem, level, bx, by) DO UPDATE SET "
+                        "codec = excluded.codec, data = excluded.data, "
+                        "zmin = excluded.zmin, zmax = excluded.zmax"));
   stmt->Bind(1, dem.id).Bind(2, static_cast<int64_t>(level)).Bind(3, bx).Bind(4, by);
   stmt->Bind(5, static_cast<int64_t>(BlockCodec::kPlanarBloscZstd));
   stmt->BindBlob(6, bytes.data(), bytes.size());
@@ -664,7 +667,7 @@ Result<int64_t> DemStore::Impl::UpsertDem(const DemInfo& dem,
     TB_ASSIGN_OR_RETURN(upsert, store.db().Cached("UPDATE dems SET origin_x = ?1, origin_y = ?2, "
                                                   "width = ?3, height = ?4, sources = ?5, "
                                                   "levels = ?6, block_col0 = ?7, block_row0 = ?8 "
-                                                  "WHERE id = ?9"));
+                                                  "WHERE id = ?9 RETURNING id"));
     upsert->Bind(9, existing->id);
   } else {
     TB_ASSIGN_OR_RETURN(upsert,
@@ -672,7 +675,7 @@ Result<int64_t> DemStore::Impl::UpsertDem(const DemInfo& dem,
                                           "sources, levels, block_col0, block_row0, name, "
                                           "crs_wkt, cell_x, cell_y, block_size, nodata) "
                                           "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, "
-                                          "?12, ?13, ?14)"));
+                                          "?12, ?13, ?14) RETURNING id"));
     upsert->Bind(9, dem.name).Bind(10, dem.crs_wkt).Bind(11, dem.geometry.cell_x);
     upsert->Bind(12, dem.geometry.cell_y).Bind(13, static_cast<int64_t>(dem.block_size));
     if (dem.nodata) {
@@ -685,8 +688,7 @@ Result<int64_t> DemStore::Impl::UpsertDem(const DemInfo& dem,
   upsert->Bind(3, dem.geometry.width).Bind(4, dem.geometry.height).Bind(5, sources.dump());
   upsert->Bind(6, static_cast<int64_t>(dem.levels));
   upsert->Bind(7, dem.block_col0).Bind(8, dem.block_row0);
-  TB_RETURN_IF_ERROR(upsert->Run());
-  return existing ? dem.id : store.db().LastInsertRowId();
+  return RunReturningId(*upsert);
 }
 
 Result<std::vector<float>> DemStore::Impl::AssembleBlock(const DemInfo& dem,

@@ -20,7 +20,8 @@ Result<std::vector<EditorFeature>> SelectFeatures(Store& store, const SurfaceInf
                       store.db().Cached("SELECT f.id, f.name, f.mode, f.level, t.value, "
                                         "f.geometry, f.attributes FROM features f LEFT JOIN tags t "
                                         "ON t.id = f.tag WHERE f.surface = ?1 "
-                                        "AND (?2 IS NULL OR f.id = ?2) ORDER BY f.id"));
+                                        "AND (CAST(?2 AS BIGINT) IS NULL OR f.id = ?2) "
+                                        "ORDER BY f.id"));
   stmt->Bind(1, surface.id);
   if (only)
     stmt->Bind(2, *only);
@@ -77,8 +78,9 @@ Result<std::vector<EditorFeature>> SelectFeatures(Store& store, const SurfaceInf
 }  // namespace
 
 Result<int64_t> InternTag(Store& store, const std::string& value) {
-  TB_ASSIGN_OR_RETURN(Statement * insert,
-                      store.db().Cached("INSERT OR IGNORE INTO tags(value) VALUES (?)"));
+  TB_ASSIGN_OR_RETURN(
+      Statement * insert,
+      store.db().Cached("INSERT INTO tags(value) VALUES (?) ON CONFLICT (value) DO NOTHING"));
   insert->Bind(1, value);
   TB_RETURN_IF_ERROR(insert->Run());
   TB_ASSIGN_OR_RETURN(Statement * select, store.db().Cached("SELECT id FROM tags WHERE value = ?"));
@@ -129,10 +131,11 @@ Result<EditorFeature> LoadFeature(Store& store, const SurfaceInfo& surface, int6
 }
 
 Status WriteFeature(Store& store, const SurfaceInfo& surface, int64_t tx, EditorFeature& f) {
-  TB_ASSIGN_OR_RETURN(Statement * stmt,
-                      store.db().Cached("INSERT INTO features(surface, name, mode, level, tag, "
-                                        "attributes, geometry, min_x, min_y, max_x, max_y, tx) "
-                                        "VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)"));
+  TB_ASSIGN_OR_RETURN(
+      Statement * stmt,
+      store.db().Cached("INSERT INTO features(surface, name, mode, level, tag, "
+                        "attributes, geometry, min_x, min_y, max_x, max_y, tx) "
+                        "VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?) RETURNING id"));
   std::optional<int64_t> tag_id;
   if (f.tag) {
     TB_ASSIGN_OR_RETURN(tag_id, InternTag(store, *f.tag));
@@ -151,8 +154,7 @@ Status WriteFeature(Store& store, const SurfaceInfo& surface, int64_t tx, Editor
     stmt->BindNull(5);
   stmt->Bind(6, f.attributes.dump()).BindBlob(7, wkb.data(), wkb.size());
   stmt->Bind(8, box.min_x).Bind(9, box.min_y).Bind(10, box.max_x).Bind(11, box.max_y).Bind(12, tx);
-  TB_RETURN_IF_ERROR(stmt->Run());
-  f.id = store.db().LastInsertRowId();
+  TB_ASSIGN_OR_RETURN(f.id, RunReturningId(*stmt));
   return Status::Ok();
 }
 

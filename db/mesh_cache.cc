@@ -19,7 +19,7 @@ const std::vector<int64_t>& NoOwners() {
 
 }  // namespace
 
-Result<int64_t> MeshCache::DataVersion() { return store_.db().QueryInt("PRAGMA data_version"); }
+Result<int64_t> MeshCache::DataVersion() { return store_.db().DataVersion(); }
 
 Result<bool> MeshCache::Begin(int64_t tx) {
   const bool was_current = committed_tx_ >= 0 && tx == committed_tx_ + 1;

@@ -5,25 +5,36 @@
 
 namespace tinbase {
 
-const std::vector<Migration>& SqliteMigrations() {
-  static const std::vector<Migration> migrations = [] {
-    std::vector<Migration> list;
-    for (const auto& m : kEmbeddedSqliteMigrations) list.push_back({m.version, m.name, m.sql});
-    return list;
-  }();
-  return migrations;
+namespace {
+
+template <typename Embedded>
+std::vector<Migration> ListOf(const Embedded& embedded) {
+  std::vector<Migration> list;
+  for (const auto& m : embedded) list.push_back({m.version, m.name, m.sql});
+  return list;
 }
 
-int LatestSchemaVersion() { return static_cast<int>(SqliteMigrations().size()); }
+static_assert(kEmbeddedSqliteMigrations.size() == kEmbeddedPostgresqlMigrations.size(),
+              "every migration needs its SQLite and its PostgreSQL form");
 
-Status MigrateSqlite(Connection& db, int target_version) {
+}  // namespace
+
+const std::vector<Migration>& MigrationsFor(Backend backend) {
+  static const std::vector<Migration> sqlite = ListOf(kEmbeddedSqliteMigrations);
+  static const std::vector<Migration> postgresql = ListOf(kEmbeddedPostgresqlMigrations);
+  return backend == Backend::kPostgres ? postgresql : sqlite;
+}
+
+int LatestSchemaVersion() { return static_cast<int>(kEmbeddedSqliteMigrations.size()); }
+
+Status MigrateStore(Connection& db, int target_version) {
   TB_ASSIGN_OR_RETURN(int64_t current, db.SchemaVersion());
   if (target_version < current || target_version > LatestSchemaVersion())
     return Status::InvalidArgument("cannot migrate schema from version " + std::to_string(current) +
                                    " to " + std::to_string(target_version));
   if (current == target_version) return Status::Ok();
   TB_ASSIGN_OR_RETURN(Transaction tx, Transaction::Begin(db));
-  for (const Migration& m : SqliteMigrations()) {
+  for (const Migration& m : MigrationsFor(db.backend())) {
     if (m.version <= current || m.version > target_version) continue;
     TB_RETURN_IF_ERROR(db.Exec(m.sql).WithContext("migration " + m.name));
   }

@@ -37,7 +37,7 @@ Result<std::unique_ptr<Store>> Store::Create(const std::string& path, const std:
   TB_ASSIGN_OR_RETURN(auto db, Connection::Open(path, Connection::Mode::kCreate));
   Status status = db->ConfigureForStore(Settings(/*create=*/true, Access::kReadWrite));
   if (status.ok()) status = db->SetApplicationId(kTinbaseApplicationId);
-  if (status.ok()) status = MigrateSqlite(*db, LatestSchemaVersion());
+  if (status.ok()) status = MigrateStore(*db, LatestSchemaVersion());
   std::unique_ptr<Store> store(new Store(std::move(db), LatestSchemaVersion()));
   if (status.ok() && crs) {
     auto tx = store->BeginWrite();
@@ -68,7 +68,7 @@ Result<std::unique_ptr<Store>> Store::Open(const std::string& path, Access acces
     if (access == Access::kReadOnly)
       return Status::InvalidArgument(path + " has schema version " + std::to_string(version) +
                                      " and needs migrating: open it read-write once");
-    TB_RETURN_IF_ERROR(MigrateSqlite(*db, LatestSchemaVersion()).WithContext(path));
+    TB_RETURN_IF_ERROR(MigrateStore(*db, LatestSchemaVersion()).WithContext(path));
   }
   return std::unique_ptr<Store>(new Store(std::move(db), LatestSchemaVersion()));
 }

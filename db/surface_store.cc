@@ -103,7 +103,7 @@ Result<SurfaceInfo> InsertSurfaceRow(Connection& db, const SurfaceInfo& spec,
   TB_ASSIGN_OR_RETURN(
       Statement * insert,
       db.Cached("INSERT INTO surfaces(name, kind, method, tolerance, dem, block_origin_x, "
-                "block_origin_y, block_size) VALUES (?, ?, ?, ?, ?, ?, ?, ?)"));
+                "block_origin_y, block_size) VALUES (?, ?, ?, ?, ?, ?, ?, ?) RETURNING id"));
   insert->Bind(1, info.name).Bind(2, std::string_view(SurfaceKindName(info.kind)));
   insert->Bind(3, info.method);
   if (info.tolerance)
@@ -115,8 +115,9 @@ Result<SurfaceInfo> InsertSurfaceRow(Connection& db, const SurfaceInfo& spec,
   else
     insert->BindNull(5);
   insert->Bind(6, info.blocks.origin_x).Bind(7, info.blocks.origin_y).Bind(8, info.blocks.size);
-  TB_RETURN_IF_ERROR(insert->Run().WithContext("creating surface " + Quoted(info.name)));
-  info.id = db.LastInsertRowId();
+  auto id = RunReturningId(*insert);
+  if (!id.ok()) return id.status().WithContext("creating surface " + Quoted(info.name));
+  info.id = *id;
   return info;
 }
 

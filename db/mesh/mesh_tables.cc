@@ -799,7 +799,7 @@ Result<int64_t> MeshTables::RepaintIds(bool visible, const std::optional<int64_t
   int64_t repainted = 0;
   TB_RETURN_IF_ERROR(RunOverIds(
       db_, "UPDATE triangles SET visible = ?1, tag = ?2 WHERE id IN",
-      " AND (visible IS NOT ?1 OR tag IS NOT ?2)", 2, ids,
+      " AND (visible IS DISTINCT FROM ?1 OR tag IS DISTINCT FROM ?2)", 2, ids,
       [&](Statement& stmt) { BindPaint(stmt, visible, tag); }, &repainted));
   return repainted;
 }
@@ -809,7 +809,7 @@ Result<int64_t> MeshTables::RepaintRange(int64_t first, int64_t last, bool visib
   TB_ASSIGN_OR_RETURN(Statement * repaint_run,
                       db_.Cached("UPDATE triangles SET visible = ?1, tag = ?2 WHERE "
                                  "id BETWEEN ?3 AND ?4 AND "
-                                 "(visible IS NOT ?1 OR tag IS NOT ?2)"));
+                                 "(visible IS DISTINCT FROM ?1 OR tag IS DISTINCT FROM ?2)"));
   BindPaint(*repaint_run, visible, tag);
   TB_RETURN_IF_ERROR(repaint_run->Bind(3, first).Bind(4, last).Run());
   return db_.Changes();

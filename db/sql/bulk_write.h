@@ -12,6 +12,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -117,20 +118,22 @@ Status RunOverIds(Connection& db, const std::string& statement_head,
 // As InsertRows, for rows whose ids are to be first_id, first_id + 1, ... in row order, where
 // first_id is 1 + the largest id in the table (NextId): `table_and_columns` leaves the id out and
 // SQLite numbers each row 1 + the largest rowid before it, as it does for an INTEGER PRIMARY KEY
-// without AUTOINCREMENT (sqlite.org/autoinc.html). That is the same number, without the
-// uniqueness seek SQLite makes for an id that is given and without its parameter, a good part of
-// a bulk row's cost. Corruption, after the rows are written, when the last row did not get the id
-// it was meant to (another row was inserted between NextId and these); the caller's transaction
-// then rolls back.
+// without AUTOINCREMENT (sqlite.org/autoinc.html; the PostgreSQL schema gives its id columns a
+// trigger that does the same). That is the same number, without the uniqueness seek SQLite makes
+// for an id that is given and without its parameter, a good part of a bulk row's cost. Corruption,
+// after the rows are written, when the last row did not get the id it was meant to (another row was
+// inserted between NextId and these); the caller's transaction then rolls back.
 template <typename BindRow>
 Status InsertNumberedRows(Connection& db, const char* table_and_columns, int columns, size_t rows,
                           int64_t first_id, BindRow bind_row) {
   TB_RETURN_IF_ERROR(InsertRows(db, table_and_columns, columns, rows, bind_row));
+  if (rows == 0) return Status::Ok();
   const int64_t last = first_id + static_cast<int64_t>(rows) - 1;
-  if (rows > 0 && db.LastInsertRowId() != last)
+  const std::string table(table_and_columns, std::strcspn(table_and_columns, "("));
+  TB_ASSIGN_OR_RETURN(int64_t largest, db.QueryInt("SELECT max(id) FROM " + table));
+  if (largest != last)
     return Status::Corruption(std::string(table_and_columns) + ": rows numbered up to " +
-                              std::to_string(db.LastInsertRowId()) + " instead of " +
-                              std::to_string(last));
+                              std::to_string(largest) + " instead of " + std::to_string(last));
   return Status::Ok();
 }
 

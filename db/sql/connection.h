@@ -75,6 +75,10 @@ class Statement {
   std::string sql_;
 };
 
+// Runs `insert`, an INSERT (or UPDATE) ending in "RETURNING id", and gives the id of its row;
+// then resets it. Both backends speak RETURNING, where a last-insert id is SQLite's alone.
+Result<int64_t> RunReturningId(Statement& insert);
+
 // How a store's connection is set up (Store::Create and Store::Open pass it on).
 struct StoreSettings {
   bool create = false;  // the store was just created: make its durable settings (a log mode)
@@ -83,6 +87,10 @@ struct StoreSettings {
   // ignore it.
   int64_t memory_map_bytes = 0;
 };
+
+// The database systems behind the seam. Only the migrations differ by backend; no code above the
+// seam asks.
+enum class Backend { kSqlite, kPostgres };
 
 class Connection {
  public:
@@ -111,11 +119,12 @@ class Connection {
   // The single integer a query returns (first column of the first row); NotFound for no row.
   Result<int64_t> QueryInt(std::string_view sql);
 
-  // The id of the row the last INSERT of this connection made.
-  virtual int64_t LastInsertRowId() const = 0;
   // Rows changed by the last statement, and by all statements since the connection opened.
   virtual int64_t Changes() const = 0;
   virtual int64_t TotalChanges() const = 0;
+  // A number that changes when another connection commits a change to the store (it may also
+  // change after this connection's own commits): caches compare it to know they are stale.
+  virtual Result<int64_t> DataVersion() = 0;
 
   // --- transactions (use db/sql/transaction.h rather than these) ----------------------------
 
@@ -166,6 +175,9 @@ class Connection {
   // before it (every caller rolls its transaction back on error), e.g. "INSERT INTO ". Used by
   // db/sql/bulk_write.h.
   virtual std::string_view BulkInsertHead() const = 0;
+
+  // Which list of migrations this store takes (db/migrations.h).
+  virtual Backend backend() const = 0;
 
   // What Open was given.
   virtual const std::string& path() const = 0;

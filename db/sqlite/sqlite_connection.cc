@@ -190,9 +190,9 @@ Result<Statement*> SqliteConnection::Cached(std::string_view sql) {
   return static_cast<Statement*>(raw);
 }
 
-int64_t SqliteConnection::LastInsertRowId() const { return sqlite3_last_insert_rowid(db_); }
 int64_t SqliteConnection::Changes() const { return sqlite3_changes64(db_); }
 int64_t SqliteConnection::TotalChanges() const { return sqlite3_total_changes64(db_); }
+Result<int64_t> SqliteConnection::DataVersion() { return QueryInt("PRAGMA data_version"); }
 
 Status SqliteConnection::BeginWrite() { return Exec("BEGIN IMMEDIATE"); }
 

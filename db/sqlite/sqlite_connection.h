@@ -69,9 +69,10 @@ class SqliteConnection final : public Connection {
   Result<std::unique_ptr<Statement>> Prepare(std::string_view sql) override;
   Result<Statement*> Cached(std::string_view sql) override;
 
-  int64_t LastInsertRowId() const override;
   int64_t Changes() const override;
   int64_t TotalChanges() const override;
+  // PRAGMA data_version.
+  Result<int64_t> DataVersion() override;
 
   // BEGIN IMMEDIATE: the write lock is taken at once, so a second writer waits (busy timeout)
   // here rather than failing at its first write.
@@ -102,6 +103,7 @@ class SqliteConnection final : public Connection {
   std::unique_ptr<Scope> BeginLargeWrite(size_t rows) override;
   // INSERT OR FAIL (db/sql/bulk_write.h says why).
   std::string_view BulkInsertHead() const override { return "INSERT OR FAIL INTO "; }
+  Backend backend() const override { return Backend::kSqlite; }
   const std::string& path() const override { return path_; }
 
   // The C handle, for the rest of db/sqlite/ (WalCheckpointer) only.

@@ -49,17 +49,21 @@ Status TileStore::ReplacePyramid(const TilePyramidInfo& info) {
 }
 
 Status TileStore::PutLevel(int64_t surface, int level, double geometric_error) {
-  TB_ASSIGN_OR_RETURN(Statement * s, db_.Cached("INSERT OR REPLACE INTO tile_levels(surface, "
-                                                "level, geometric_error) VALUES (?,?,?)"));
+  TB_ASSIGN_OR_RETURN(Statement * s, db_.Cached("INSERT INTO tile_levels(surface, level, "
+                                                "geometric_error) VALUES (?,?,?) "
+                                                "ON CONFLICT (surface, level) DO UPDATE SET "
+                                                "geometric_error = excluded.geometric_error"));
   s->Bind(1, surface).Bind(2, int64_t{level}).Bind(3, geometric_error);
   return s->Run();
 }
 
 Status TileStore::PutTile(int64_t surface, const TileKey& key, const std::vector<uint8_t>& data,
                           int64_t tx) {
-  TB_ASSIGN_OR_RETURN(Statement * s,
-                      db_.Cached("INSERT OR REPLACE INTO tiles(surface, level, x, y, data, tx) "
-                                 "VALUES (?,?,?,?,?,?)"));
+  TB_ASSIGN_OR_RETURN(
+      Statement * s,
+      db_.Cached("INSERT INTO tiles(surface, level, x, y, data, tx) VALUES (?,?,?,?,?,?) "
+                 "ON CONFLICT (surface, level, x, y) DO UPDATE SET "
+                 "data = excluded.data, tx = excluded.tx"));
   s->Bind(1, surface).Bind(2, int64_t{key.level}).Bind(3, key.x).Bind(4, key.y);
   s->BindBlob(5, data.data(), data.size()).Bind(6, tx);
   return s->Run();

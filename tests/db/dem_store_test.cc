@@ -521,7 +521,7 @@ TEST(DemStore, Migration0003FillsTheBlockAnchorFromTheFirstSource) {
     ASSERT_TRUE(db.ok());
     ASSERT_TRUE(
         (*db)->Exec("PRAGMA application_id = " + std::to_string(kTinbaseApplicationId)).ok());
-    ASSERT_TRUE(MigrateSqlite(**db, 2).ok());
+    ASSERT_TRUE(MigrateStore(**db, 2).ok());
     // Grid corner (1000, 9000), 10 m cells: the first sheet's origin (1500.0000001, 8200) is
     // 50 columns east and 80 rows south of it.
     ASSERT_TRUE((*db)

@@ -67,7 +67,7 @@ TEST(Store, OlderStoreIsMigratedForward) {
     ASSERT_TRUE(db.ok());
     ASSERT_TRUE(
         (*db)->Exec("PRAGMA application_id = " + std::to_string(kTinbaseApplicationId)).ok());
-    ASSERT_TRUE(MigrateSqlite(**db, 1).ok());
+    ASSERT_TRUE(MigrateStore(**db, 1).ok());
     ASSERT_TRUE((*db)->Exec("INSERT INTO meta(key, value) VALUES ('note', 'kept')").ok());
   }
   auto store = Store::Open(path);
@@ -102,7 +102,7 @@ TEST(Store, Migration0009KeepsTheTriangleRows) {
     ASSERT_TRUE(db.ok());
     Connection& d = **db;
     ASSERT_TRUE(d.Exec("PRAGMA application_id = " + std::to_string(kTinbaseApplicationId)).ok());
-    ASSERT_TRUE(MigrateSqlite(d, 8).ok());
+    ASSERT_TRUE(MigrateStore(d, 8).ok());
     ASSERT_TRUE(d.Exec("INSERT INTO surfaces(id, name, kind, method, block_origin_x, "
                        "block_origin_y, block_size) VALUES (3, 's', 'free', 'test', 0, 0, 1);"
                        "INSERT INTO tags(id, value) VALUES (7, 'granite');"
