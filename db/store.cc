@@ -54,9 +54,10 @@ Result<std::unique_ptr<Store>> Store::Open(const std::string& path, Access acces
                                                                   : Connection::Mode::kReadWrite));
   auto app_id = db->ApplicationId();
   if (!app_id.ok())
-    return Status::InvalidArgument(path + " is not a tinbase store (not an SQLite database)");
+    return Status::InvalidArgument(path + " is not a tinbase store (" + app_id.status().message() +
+                                   ")");
   if (*app_id != kTinbaseApplicationId)
-    return Status::InvalidArgument(path + " is not a tinbase store (SQLite application_id " +
+    return Status::InvalidArgument(path + " is not a tinbase store (application_id " +
                                    std::to_string(*app_id) + ")");
   TB_RETURN_IF_ERROR(db->ConfigureForStore(Settings(/*create=*/false, access)));
   TB_ASSIGN_OR_RETURN(int64_t version, db->SchemaVersion());

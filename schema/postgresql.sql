@@ -181,6 +181,14 @@ END $$;
 CREATE TRIGGER changes_tx BEFORE INSERT ON changes
   FOR EACH ROW EXECUTE FUNCTION tinbase_changes_tx();
 
+DO $$
+BEGIN
+  IF NOT EXISTS (SELECT 1 FROM pg_extension WHERE extname = 'postgis') THEN
+    RAISE EXCEPTION 'PostGIS is not installed in this database: run CREATE EXTENSION postgis '
+                    'as a user allowed to (Debian: postgresql-15-postgis-3)';
+  END IF;
+END $$;
+
 CREATE FUNCTION tinbase_srid() RETURNS integer LANGUAGE sql STABLE AS $$
   SELECT coalesce((SELECT substr(value, 6)::integer FROM meta
                    WHERE key = 'crs_label' AND value ~ '^EPSG:[0-9]+$'), 0)

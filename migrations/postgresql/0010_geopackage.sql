@@ -4,6 +4,14 @@
 -- views need PostGIS (CREATE EXTENSION postgis, once per database, by a user allowed to).
 -- The layers' SRID: the EPSG code of the store's CRS when it has one, 0 before the first DEM or
 -- for a CRS without a code.
+DO $$
+BEGIN
+  IF NOT EXISTS (SELECT 1 FROM pg_extension WHERE extname = 'postgis') THEN
+    RAISE EXCEPTION 'PostGIS is not installed in this database: run CREATE EXTENSION postgis '
+                    'as a user allowed to (Debian: postgresql-15-postgis-3)';
+  END IF;
+END $$;
+
 CREATE FUNCTION tinbase_srid() RETURNS integer LANGUAGE sql STABLE AS $$
   SELECT coalesce((SELECT substr(value, 6)::integer FROM meta
                    WHERE key = 'crs_label' AND value ~ '^EPSG:[0-9]+$'), 0)

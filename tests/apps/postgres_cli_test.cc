@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "tests/support/cli_support.h"
+#include "tests/support/gdal_tools.h"
 #include "tests/support/postgres_support.h"
 #include "tests/support/test_support.h"
 
@@ -66,6 +67,23 @@ TEST(PostgresCliTest, TheSameCommandsMakeTheSameSurfaceAsOnSqlite) {
   on_postgres.erase("steps");
   on_sqlite.erase("steps");
   EXPECT_EQ(on_postgres, on_sqlite);
+
+  // psql and ogrinfo see the surface and the map as PostGIS layers of the store's schema.
+  const std::string schema = postgres.substr(postgres.find("?schema=") + 8);
+  const std::string url = postgres.substr(0, postgres.find('?'));
+  ASSERT_TRUE(HaveTool("psql", "postgresql-client-15"));
+  const ToolResult counted = RunTool(
+      "psql " + Quote(url) + " -qXAt -v ON_ERROR_STOP=1 -c " +
+      Quote("SET search_path TO " + schema +
+            ", public; SELECT count(*) || chr(32) || min(ST_NPoints(geom)) || chr(32) || "
+            "max(ST_SRID(geom)) FROM tinbase_triangles; SELECT count(*) FROM tinbase_features"));
+  ASSERT_EQ(counted.exit_code, 0) << counted.out;
+  EXPECT_EQ(counted.out, SurfaceCounts(sqlite)[1].dump() + " 4 28350\n61\n");
+  ASSERT_TRUE(HaveTool("ogrinfo"));
+  const ToolResult layer = RunTool("ogrinfo -ro -so " + Quote("PG:" + url) +
+                                   " -oo ACTIVE_SCHEMA=" + schema + " tinbase_features");
+  ASSERT_EQ(layer.exit_code, 0) << layer.out;
+  EXPECT_EQ(ValueAfter(layer.out, "Feature Count: "), "61") << layer.out;
 
   // A removal is local and transactional there too.
   RunWrite(sqlite, "polygon remove " + Quote(sqlite) + " 7");

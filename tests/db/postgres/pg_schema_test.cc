@@ -1,6 +1,7 @@
 // The PostgreSQL migrations produce exactly schema/postgresql.sql, as the SQLite ones produce
 // schema/sqlite.sql; a PostgreSQL store opens, refuses and reports as an SQLite one does.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <fstream>
 #include <set>
@@ -93,6 +94,37 @@ TEST(PgSchemaTest, ASchemaThatIsNotAStoreIsRefused) {
   ASSERT_FALSE(store.ok());
   EXPECT_NE(store.status().message().find("is not a tinbase store"), std::string::npos)
       << store.status().message();
+}
+
+// A database without PostGIS: the store can neither be made nor opened, and the message says what
+// to install. An unknown user cannot connect, and the message says so.
+TEST(PgSchemaTest, ADatabaseWithoutPostgisOrAnUnknownUserIsNamed) {
+  const std::string url = testing::PostgresUrl();
+  ASSERT_FALSE(url.empty());
+  const std::string server = url.substr(0, url.rfind('/'));
+  const std::string database = "nopostgis_" + std::to_string(getpid());
+  {
+    auto admin = Connection::Open(server + "/postgres", Connection::Mode::kReadWrite);
+    ASSERT_TRUE(admin.ok()) << admin.status().ToString();
+    ASSERT_TRUE((*admin)->Exec("CREATE DATABASE " + database).ok());
+  }
+  const std::string target = server + "/" + database + "?schema=maps";
+  auto store = Store::Create(target, "");
+  ASSERT_FALSE(store.ok());
+  EXPECT_NE(store.status().message().find("PostGIS is not installed in this database"),
+            std::string::npos)
+      << store.status().message();
+  auto left = Store::Open(target);
+  EXPECT_FALSE(left.ok()) << "a failed create left a store that opens";
+
+  const std::string stranger = "postgresql://nobody_here@" + url.substr(url.find('@') + 1);
+  auto refused = Connection::Open(stranger, Connection::Mode::kReadWrite);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_EQ(refused.status().code(), StatusCode::kIOError);
+  EXPECT_NE(refused.status().message().find("cannot connect"), std::string::npos)
+      << refused.status().message();
+  EXPECT_NE(refused.status().message().find("nobody_here"), std::string::npos)
+      << refused.status().message();
 }
 
 }  // namespace
