@@ -166,7 +166,7 @@ record() {  # round, case, "wrk,requests,seconds,bytes,p50,p99,max,non_2xx,socke
 run_wrk() {  # script, wrk args after the URL...
   local script=$1
   shift
-  wrk -t "$clients" -c "$clients" -d "${duration}s" -s "bench/$script" "http://127.0.0.1:$port" \
+  wrk -t "$clients" -c "$clients" -d "${duration}s" --timeout 10s -s "bench/$script" "http://127.0.0.1:$port" \
     -- "$@" | grep '^wrk,'
 }
 locate() {  # round, case, notes
@@ -214,7 +214,7 @@ for round in $(seq 1 "$rounds"); do
   locate_with_writes "$round"
   stop_server
   start_server "$out/tiles.tinbase"
-  record "$round" tiles-cold "$(wrk -t "$clients" -c "$clients" -d "${duration}s" \
+  record "$round" tiles-cold "$(wrk -t "$clients" -c "$clients" -d "${duration}s" --timeout 10s \
     -s bench/serve_tiles_cold.lua "http://127.0.0.1:$port" -- "$out/tiles.txt" "$clients" |
     grep '^wrk,')" "every tile once after the start"
   record "$round" tiles-warm "$(run_wrk serve_tiles_warm.lua "$out/tiles.txt")" ""
