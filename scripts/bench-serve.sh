@@ -157,67 +157,96 @@ SELECT id, ST_AsGeoJSON(geom), ST_AsGeoJSON(ST_Transform(geom, 4326)), n0, n1, n
                  LIMIT 1) t) u;
 SQL
 
+# CPU time of the serving processes, in clock ticks: tinbase serve's own; PostgreSQL's backends,
+# which exit with their pgbench clients and are reaped by the postmaster, so they are counted in
+# its children's time. On a shared machine this says more than requests/s.
+tck=$(getconf CLK_TCK)
+server_ticks() { awk '{print $14 + $15}' "/proc/$server_pid/stat"; }
+pg_ticks() { awk '{print $16 + $17}' "/proc/$(head -1 "$pg_data/postmaster.pid")/stat"; }
+
 runs=$out/runs.csv
-echo "round,case,requests,seconds,requests_per_s,mib_per_s,p50_ms,p99_ms,max_ms,non_2xx,socket_errors,notes" >"$runs"
-record() {  # round, case, "wrk,requests,seconds,bytes,p50,p99,max,non_2xx,socket_errors", notes
+echo "round,case,requests,seconds,requests_per_s,mib_per_s,p50_ms,p99_ms,max_ms,non_2xx,$(
+  )socket_errors,server_cpu_us_per_request,notes" >"$runs"
+record() {  # round, case, "wrk,requests,seconds,bytes,p50,p99,max,non_2xx,socket_errors", ticks, notes
+  local n s bytes p50 p99 max bad sock
   IFS=, read -r _ n s bytes p50 p99 max bad sock <<<"$3"
-  echo "$1,$2,$n,$s,$(echo "scale=1; $n / $s" | bc),$(echo "scale=2; $bytes / $s / 1048576" | bc),$p50,$p99,$max,$bad,$sock,$4" >>"$runs"
+  echo "$1,$2,$n,$s,$(echo "scale=1; $n / $s" | bc),$(echo "scale=2; $bytes / $s / 1048576" | bc),$(
+    )$p50,$p99,$max,$bad,$sock,$(echo "scale=1; $4 * 1000000 / $tck / $n" | bc),$5" >>"$runs"
 }
-run_wrk() {  # script, wrk args after the URL...
+wrk_run() {  # script, wrk args after the URL...: the script's "wrk,..." line
   local script=$1
   shift
-  wrk -t "$clients" -c "$clients" -d "${duration}s" --timeout 10s -s "bench/$script" "http://127.0.0.1:$port" \
-    -- "$@" | grep '^wrk,'
+  wrk -t "$clients" -c "$clients" -d "${duration}s" --timeout 10s -s "bench/$script" \
+    "http://127.0.0.1:$port" -- "$@" | grep '^wrk,'
 }
-locate() {  # round, case, notes
-  record "$1" "$2" "$(run_wrk serve_locate.lua "$surface" "$minx" "$miny" "$maxx" "$maxy")" "$3"
+wrk_case() {  # round, case, notes, script, script args...
+  local round=$1 case=$2 notes=$3 cpu0 line
+  shift 3
+  cpu0=$(server_ticks)
+  line=$(wrk_run "$@")
+  record "$round" "$case" "$line" "$(($(server_ticks) - cpu0))" "$notes"
 }
-postgis() {  # round
+pgbench_case() {  # round, case, sql file, notes
   rm -f "$out"/pgbench_log*
-  local tps
+  local cpu0 tps
+  cpu0=$(pg_ticks)
   tps=$(cd "$out" && pg_bench_run -n -c "$clients" -j "$clients" -T "$duration" -M prepared \
-    -l --log-prefix=pgbench_log -f "$out/pgbench_locate.sql" 2>/dev/null |
-    sed -n 's/^tps = \([0-9.]*\).*/\1/p')
-  python3 - "$1" "$tps" "$duration" "$out"/pgbench_log* >>"$runs" <<'PY'
+    -l --log-prefix=pgbench_log -f "$3" 2>/dev/null | sed -n 's/^tps = \([0-9.]*\).*/\1/p')
+  sleep 0.5  # the backends exit after their clients
+  python3 - "$tps" "$duration" "$out"/pgbench_log* <<'PY' | { read -r line; record "$1" "$2" "$line" "$(($(pg_ticks) - cpu0))" "$4"; }
 import sys
-round_, tps, seconds = sys.argv[1], float(sys.argv[2]), float(sys.argv[3])
-lat = sorted(int(line.split()[2]) for f in sys.argv[4:] for line in open(f))  # µs
+tps, seconds = float(sys.argv[1]), float(sys.argv[2])
+lat = sorted(int(line.split()[2]) for f in sys.argv[3:] for line in open(f))  # µs
 q = lambda p: lat[min(len(lat) - 1, int(p * len(lat)))] / 1e3
-print(f"{round_},postgis,{len(lat)},{seconds},{tps:.1f},,{q(0.5):.3f},{q(0.99):.3f},"
-      f"{lat[-1] / 1e3:.3f},0,0,pgbench -M prepared")
+# As the wrk scripts' line; the seconds make the rate pgbench's tps.
+print(f"wrk,{len(lat)},{len(lat) / tps:.3f},0,{q(0.5):.3f},{q(0.99):.3f},{lat[-1] / 1e3:.3f},0,0")
 PY
 }
+locate() {  # round
+  wrk_case "$1" locate "" serve_locate.lua "$surface" "$minx" "$miny" "$maxx" "$maxy"
+}
+postgis() {  # round
+  pgbench_case "$1" postgis "$out/pgbench_locate.sql" "pgbench -M prepared"
+}
 locate_with_writes() {  # round
-  local wfile=$out/writer.txt
+  local wfile=$out/writer.txt posts created other wp50 wmax werr
   python3 bench/serve_writer.py "$port" "$surface" "$minx" "$miny" "$maxx" "$maxy" \
     "$((duration + 1))" >"$wfile" &
   local writer=$!
   sleep 0.5
-  local line
-  line=$(run_wrk serve_locate.lua "$surface" "$minx" "$miny" "$maxx" "$maxy")
+  wrk_case "$1" locate+writes "" serve_locate.lua "$surface" "$minx" "$miny" "$maxx" "$maxy"
   wait "$writer"
   IFS=, read -r _ posts created other wp50 wmax werr <"$wfile"
-  record "$1" locate+writes "$line" \
-    "writer: $posts posts; $created created; $other refused; p50 $wp50 ms; max $wmax ms${werr:+; $werr}"
+  sed -i "\$s/\$/writer: $posts posts; $created created; $other refused; p50 $wp50 ms; $(
+    )max $wmax ms${werr:+; ${werr//\//\\/}}/" "$runs"
+}
+# The floors: an answer with no store work (httplib's 404 with a JSON body) and SELECT 1.
+echo /bench-floor >"$out/floor.txt"
+echo "SELECT 1;" >"$out/pgbench_floor.sql"
+floors() {  # round
+  wrk_case "$1" floor-http "404 of an unknown path" serve_tiles_warm.lua "$out/floor.txt"
+  pgbench_case "$1" floor-sql "$out/pgbench_floor.sql" "SELECT 1"
 }
 
 for round in $(seq 1 "$rounds"); do
   copy_store "$out/base.tinbase" "$out/run.tinbase"
   start_server "$out/run.tinbase"
   if [ $((round % 2)) = 1 ]; then
-    locate "$round" locate ""
+    locate "$round"
     postgis "$round"
   else
     postgis "$round"
-    locate "$round" locate ""
+    locate "$round"
   fi
   locate_with_writes "$round"
+  [ "${FLOORS:-1}" = 0 ] || floors "$round"
   stop_server
   start_server "$out/tiles.tinbase"
+  cpu0=$(server_ticks)
   record "$round" tiles-cold "$(wrk -t "$clients" -c "$clients" -d "${duration}s" --timeout 10s \
     -s bench/serve_tiles_cold.lua "http://127.0.0.1:$port" -- "$out/tiles.txt" "$clients" |
-    grep '^wrk,')" "every tile once after the start"
-  record "$round" tiles-warm "$(run_wrk serve_tiles_warm.lua "$out/tiles.txt")" ""
+    grep '^wrk,')" "$(($(server_ticks) - cpu0))" "every tile once after the start"
+  wrk_case "$round" tiles-warm "" serve_tiles_warm.lua "$out/tiles.txt"
   stop_server
   tail -n +2 "$runs" | grep "^$round,"
 done
@@ -228,17 +257,20 @@ rows = list(csv.DictReader(open(sys.argv[1])))
 by = {}
 for r in rows:
     by.setdefault(r["case"], {})[r["round"]] = r
-print("\ncase,rounds,median requests/s,median p50 ms,median p99 ms,non-2xx,socket errors")
+print("\ncase,rounds,median requests/s,median p50 ms,median p99 ms,median server CPU us/request,"
+      "non-2xx,socket errors")
 for case, v in by.items():
     med = lambda k: statistics.median(float(r[k]) for r in v.values())
     print(f"{case},{len(v)},{med('requests_per_s'):.0f},{med('p50_ms'):.3f},{med('p99_ms'):.3f},"
-          f"{sum(int(r['non_2xx']) for r in v.values())},"
+          f"{med('server_cpu_us_per_request'):.1f},{sum(int(r['non_2xx']) for r in v.values())},"
           f"{sum(int(r['socket_errors']) for r in v.values())}")
 def ratios(a, b, key):
     return [float(by[a][k][key]) / float(by[b][k][key]) for k in by.get(a, {}) if k in by.get(b, {})]
 print("\nratio per round [goal]")
 for a, b, key, goal in [("locate", "postgis", "requests_per_s", ">= 5"),
+                        ("postgis", "locate", "server_cpu_us_per_request", ""),
                         ("locate+writes", "locate", "p99_ms", "< 3"),
+                        ("floor-http", "floor-sql", "requests_per_s", ""),
                         ("tiles-warm", "tiles-cold", "requests_per_s", "")]:
     v = ratios(a, b, key)
     if v:
