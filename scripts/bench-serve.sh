@@ -20,7 +20,9 @@
 #   locate_bench builds one in OUTDIR), DURATION (s per run, 15), CLIENTS (wrk threads, each with
 #   one connection, and pgbench clients: 4), SERVER_THREADS (8), MAX_ZOOM (19; tiles build's
 #   default, 17, gives 84 tiles, too few for a cold pass; 19 gives 798).
-# Writes OUTDIR/runs.csv (every run of every round) and prints the summary.
+# Writes OUTDIR/runs.csv (every run of every round) and prints the summary; with RESULTS=FILE
+# (bench/results/issue26_serve.csv) also appends every run to FILE as date,what,value,unit,notes,
+# with NOTE (say what else the machine was doing) as the notes.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 . scripts/throwaway-postgis.sh
@@ -275,4 +277,19 @@ for a, b, key, goal in [("locate", "postgis", "requests_per_s", ">= 5"),
     v = ratios(a, b, key)
     if v:
         print(f"{a} / {b} {key}: " + ", ".join(f"{x:.2f}" for x in v) + f" [{goal}]")
+PY
+
+[ -z "${RESULTS:-}" ] || python3 - "$runs" "$RESULTS" "${NOTE:-}" <<'PY'
+import csv, datetime, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+today, note = datetime.date.today().isoformat(), sys.argv[3]
+with open(sys.argv[2], "a", newline="") as f:
+    w = csv.writer(f)
+    for r in rows:
+        what = f"serve {r['case']}, round {r['round']}"
+        for key, unit in [("requests_per_s", "1/s"), ("p50_ms", "ms"), ("p99_ms", "ms"),
+                          ("server_cpu_us_per_request", "us"), ("non_2xx", "")]:
+            w.writerow([today, f"{what}, {key}", r[key], unit, note])
+        if r["notes"]:
+            w.writerow([today, f"{what}, notes", "", "", r["notes"]])
 PY
