@@ -61,6 +61,34 @@ inline void CopyDemoStoreWithFeature(const std::string& path) {
   std::filesystem::copy_file(original, path);
 }
 
+// Where CopyDemoStoreWithTiles puts its lake, in the store's CRS (EPSG:32632, metres): a fill
+// polygon of 12 sides tagged "water" around this centre.
+inline constexpr double kDemoLakeX = 380000, kDemoLakeY = 4840000, kDemoLakeRadius = 3000;
+// The finest level of its pyramid.
+inline constexpr int kDemoTilesMaxZoom = 10;
+
+// A copy, at `path`, of CopyDemoStore's store with the lake added and the tile pyramid of
+// surface "t" built at levels 0-10 (of which 0-2 hold no tile: the surface is
+// too small to show there) with every extension (octvertexnormals, watermask with water
+// tag "water", metadata). The original is made once per test binary via the CLI.
+inline void CopyDemoStoreWithTiles(const std::string& path) {
+  static TempDir* shared = nullptr;
+  static std::string original;
+  if (shared == nullptr) {
+    shared = new TempDir();  // lives until the binary exits
+    original = shared->Path("demo-tiles.tinbase");
+    CopyDemoStore(original);
+    const std::string lake = WritePolygons(
+        *shared, "lake.geojson", {{Ngon(kDemoLakeX, kDemoLakeY, kDemoLakeRadius, 12)}}, 32632);
+    RunWrite(original, "polygon add " + Quote(original) + " " + Quote(lake) +
+                           " --surface t --mode fill --tag water");
+    RunWrite(original, "tiles build " + Quote(original) + " --surface t --max-zoom " +
+                           std::to_string(kDemoTilesMaxZoom) +
+                           " --extensions octvertexnormals,watermask,metadata --water-tag water");
+  }
+  std::filesystem::copy_file(original, path);
+}
+
 // A service running in this process until destroyed.
 class TestService {
  public:
