@@ -116,6 +116,7 @@ void LongPoll(ServiceContext& context, const httplib::Request& req, httplib::Res
 struct Stream {
   ChangeJson describe;
   int64_t since = 0;
+  bool started = false;
   Clock::time_point last_write = Clock::now();
 };
 
@@ -131,6 +132,10 @@ bool StreamStep(ServiceContext& context, Stream& stream, httplib::DataSink& sink
     sink.done();
     return true;
   }
+  // The reconnection delay an EventSource should use; it also tells the client that the stream
+  // is open before the first change.
+  if (!stream.started && !WriteText(sink, "retry: 2000\n\n", stream)) return false;
+  stream.started = true;
   auto batch = ReadChanges(context, stream.describe, stream.since);
   if (!batch.ok()) {
     nlohmann::json error = {{"status", HttpStatusFor(batch.status().code())},
