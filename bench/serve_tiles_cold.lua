@@ -2,7 +2,8 @@
 -- the server started (its connections' SQLite page caches empty), as CesiumJS asks for them.
 -- Thread k of N (run wrk with as many connections as threads, so each thread's requests are in
 -- order) takes lines k, k + N, ... and stops after the answer to its last one. wrk itself runs
--- for its whole -d, so the rate is timed here: from the first request sent to the last answer.
+-- for its whole -d, so the rate is timed here: from the first request sent to the last answer
+-- (of those that came within -d: the line's count says how many).
 --   wrk -t N -c N -d S -s bench/serve_tiles_cold.lua http://127.0.0.1:PORT -- TILE_LIST N
 -- Prints one line: "wrk,requests,seconds,bytes,p50_ms,p99_ms,max_ms,non_2xx,socket_errors" (p50 and
 -- p99 from wrk's histogram, which holds these requests only).
@@ -35,8 +36,8 @@ function init(args)
     i = i + 1
   end
   next_path, answered, non_200, first_sent, last_answer = 1, 0, 0, 0, 0
-  wrk.headers["Accept"] =
-    "application/vnd.quantized-mesh;extensions=octvertexnormals-metadata,application/octet-stream;q=0.9"
+  wrk.headers["Accept"] = "application/vnd.quantized-mesh;extensions=octvertexnormals-metadata," ..
+    "application/octet-stream;q=0.9"
   wrk.headers["Accept-Encoding"] = "gzip"
 end
 
@@ -49,11 +50,9 @@ end
 
 function response(status, headers, body)
   answered = answered + 1
+  last_answer = now()
   if status ~= 200 then non_200 = non_200 + 1 end
-  if answered >= #paths then
-    last_answer = now()
-    wrk.thread:stop()
-  end
+  if answered >= #paths then wrk.thread:stop() end
 end
 
 function done(summary, latency, requests)
@@ -65,7 +64,8 @@ function done(summary, latency, requests)
     t1 = math.max(t1, thread:get("last_answer"))
   end
   local e = summary.errors
-  io.write(string.format("wrk,%d,%.3f,%d,%.3f,%.3f,%.3f,%d,%d\n", count, t1 - t0, summary.bytes,
+  io.write(string.format("wrk,%d,%.3f,%d,%.3f,%.3f,%.3f,%d,%d\n", count, t1 - t0,
+    summary.bytes,
     latency:percentile(50) / 1e3, latency:percentile(99) / 1e3, latency.max / 1e3, bad,
     e.connect + e.read + e.write + e.timeout))
 end

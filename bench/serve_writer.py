@@ -15,8 +15,8 @@ import time
 
 
 def polygon(cx, cy, radius):
-    ring = [[cx + radius * math.cos(2 * math.pi * k / 16), cy + radius * math.sin(2 * math.pi * k / 16)]
-            for k in range(16)]
+    angles = [2 * math.pi * k / 16 for k in range(16)]
+    ring = [[cx + radius * math.cos(a), cy + radius * math.sin(a)] for a in angles]
     ring.append(ring[0])
     return {"type": "Feature", "properties": {"mode": "fill", "tag": "bench"},
             "geometry": {"type": "Polygon", "coordinates": [ring]}}

@@ -8,9 +8,14 @@
 #                  z), from pgbench with as many clients and prepared statements: transactions/s,
 #                  p50, p99 (from its per-transaction log);
 #   locate+writes  locate again while bench/serve_writer.py POSTs a small polygon every 100 ms;
+#   locate-nocrs   locate on a copy of the store with its CRS taken out of meta, so the answers
+#                  carry no lon/lat: what the lon/lat part of an answer costs;
+#   floor-http     an answer with no store work (httplib's JSON 404 of an unknown path), and
+#   floor-sql      SELECT 1 through pgbench: what the two sides cost before any query;
 #   tiles-cold     every tile of the pyramid once, right after the server started, in random
-#                  order (bench/serve_tiles_cold.lua);
-#   tiles-warm     tiles drawn at random from the same list, for DURATION (serve_tiles_warm.lua).
+#                  order (bench/serve_tiles_cold.lua; it gets 4 x DURATION to finish);
+#   tiles-warm     tiles drawn at random from the same list, for DURATION (serve_tiles_warm.lua),
+#                  gzip accepted as browsers do, and tiles-identity the same without gzip.
 # Each round runs them all in turn (tinbase and PostGIS in alternating order), on a fresh copy of
 # the store, so the ratios within a round compare runs that shared the machine alike. PostGIS is
 # a throwaway PostgreSQL 15 + PostGIS 3 cluster (scripts/throwaway-postgis.sh).
@@ -61,6 +66,11 @@ if [ ! -f "$out/base.tinbase" ]; then
   fi
   copy_store "$source_store" "$out/base.tinbase.part"
   mv "$out/base.tinbase.part" "$out/base.tinbase"
+fi
+if [ ! -f "$out/nocrs.tinbase" ]; then
+  copy_store "$out/base.tinbase" "$out/nocrs.tinbase.part"
+  sqlite3 "$out/nocrs.tinbase.part" "DELETE FROM meta WHERE key IN ('crs_wkt', 'crs_label')"
+  mv "$out/nocrs.tinbase.part" "$out/nocrs.tinbase"
 fi
 if [ ! -f "$out/tiles.tinbase" ]; then
   copy_store "$out/base.tinbase" "$out/tiles.tinbase.part"
@@ -241,14 +251,21 @@ for round in $(seq 1 "$rounds"); do
     locate "$round"
   fi
   locate_with_writes "$round"
-  [ "${FLOORS:-1}" = 0 ] || floors "$round"
+  floors "$round"
+  stop_server
+  start_server "$out/nocrs.tinbase"
+  wrk_case "$round" locate-nocrs "no lon/lat in the answers" \
+    serve_locate.lua "$surface" "$minx" "$miny" "$maxx" "$maxy"
   stop_server
   start_server "$out/tiles.tinbase"
   cpu0=$(server_ticks)
-  record "$round" tiles-cold "$(wrk -t "$clients" -c "$clients" -d "${duration}s" --timeout 10s \
+  line=$(wrk -t "$clients" -c "$clients" -d "$((4 * duration))s" --timeout 10s \
     -s bench/serve_tiles_cold.lua "http://127.0.0.1:$port" -- "$out/tiles.txt" "$clients" |
-    grep '^wrk,')" "$(($(server_ticks) - cpu0))" "every tile once after the start"
-  wrk_case "$round" tiles-warm "" serve_tiles_warm.lua "$out/tiles.txt"
+    grep '^wrk,')
+  record "$round" tiles-cold "$line" "$(($(server_ticks) - cpu0))" \
+    "$(echo "$line" | cut -d, -f2) of $(wc -l <"$out/tiles.txt") tiles once each after the start"
+  wrk_case "$round" tiles-warm "gzip" serve_tiles_warm.lua "$out/tiles.txt"
+  wrk_case "$round" tiles-identity "no gzip" serve_tiles_warm.lua "$out/tiles.txt" identity
   stop_server
   tail -n +2 "$runs" | grep "^$round,"
 done
@@ -271,9 +288,12 @@ def ratios(a, b, key):
 print("\nratio per round [goal]")
 for a, b, key, goal in [("locate", "postgis", "requests_per_s", ">= 5"),
                         ("postgis", "locate", "server_cpu_us_per_request", ""),
+                        ("locate-nocrs", "postgis", "requests_per_s", ""),
+                        ("postgis", "locate-nocrs", "server_cpu_us_per_request", ""),
                         ("locate+writes", "locate", "p99_ms", "< 3"),
                         ("floor-http", "floor-sql", "requests_per_s", ""),
-                        ("tiles-warm", "tiles-cold", "requests_per_s", "")]:
+                        ("tiles-warm", "tiles-cold", "requests_per_s", ""),
+                        ("tiles-identity", "tiles-warm", "requests_per_s", "")]:
     v = ratios(a, b, key)
     if v:
         print(f"{a} / {b} {key}: " + ", ".join(f"{x:.2f}" for x in v) + f" [{goal}]")
