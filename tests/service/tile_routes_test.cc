@@ -145,6 +145,17 @@ class TileRoutesTest : public ::testing::Test {
     return keys;
   }
 
+  // Every tile the store holds.
+  std::vector<TileKey> StoredKeys() {
+    auto store = Store::Open(store_, Store::Access::kReadOnly);
+    EXPECT_TRUE(store.ok()) << store.status().ToString();
+    auto surface = SurfaceStore(**store).Find("t");
+    EXPECT_TRUE(surface.ok());
+    auto keys = TileStore((*store)->db()).Keys(surface->id);
+    EXPECT_TRUE(keys.ok());
+    return {keys->begin(), keys->end()};
+  }
+
   // The tile as the store holds it.
   QuantizedMesh Stored(const TileKey& key) {
     auto store = Store::Open(store_, Store::Access::kReadOnly);
@@ -186,12 +197,12 @@ TEST_F(TileRoutesTest, LayerJsonDescribesThePyramidForCesium) {
   ASSERT_TRUE(again);
   EXPECT_EQ(again->status, 304);
   EXPECT_TRUE(again->body.empty());
-  // The default pyramid may be named.
-  JsonAnswer(service_->Client()->Get("/surfaces/t/tiles/layer.json?pyramid=default"));
+  // The pyramid may be named (after its surface, as GET /surfaces lists it).
+  JsonAnswer(service_->Client()->Get("/surfaces/t/tiles/layer.json?pyramid=t"));
 }
 
 TEST_F(TileRoutesTest, EveryTileDecodesWithTheNpmDecoderAsStoredLessWhatWasNotAskedFor) {
-  const std::vector<TileKey> keys = AvailableTiles();
+  const std::vector<TileKey> keys = StoredKeys();
   ASSERT_GT(keys.size(), 10u);
   std::vector<std::string> files;
   std::map<std::string, std::pair<TileKey, bool>> asked_all;  // file -> key, all extensions
@@ -234,7 +245,7 @@ TEST_F(TileRoutesTest, EveryTileDecodesWithTheNpmDecoderAsStoredLessWhatWasNotAs
 TEST_F(TileRoutesTest, SendsOnlyTheExtensionsBothThePyramidHasAndTheClientAskedFor) {
   // A tile of the finest level, where metadata is, with the lake's water mask.
   TileKey key;
-  for (const TileKey& k : AvailableTiles())
+  for (const TileKey& k : StoredKeys())
     if (k.level == kDemoTilesMaxZoom && Stored(k).water_mask->size() > 1) key = k;
   ASSERT_EQ(key.level, kDemoTilesMaxZoom);
   struct Case {
@@ -387,8 +398,8 @@ TEST_F(TileRoutesTest, BadCoordinatesAre400AndMissingTiles404) {
   ExpectJsonError(client->Get("/surfaces/t/tiles/1/1/0.5.terrain"), 400, "not a whole number");
   ExpectJsonError(client->Get("/surfaces/t/tiles/9/99999999999999999999/0.terrain"), 400,
                   "out of range");
-  // In the scheme but not in the pyramid: the western hemisphere, a level below the finest.
-  ExpectJsonError(client->Get("/surfaces/t/tiles/0/0/0.terrain"), 404, "no tile 0/0/0");
+  // In the scheme but not in the pyramid: away from the surface, a level below the finest.
+  ExpectJsonError(client->Get("/surfaces/t/tiles/10/0/0.terrain"), 404, "no tile 10/0/0");
   ExpectJsonError(client->Get("/surfaces/t/tiles/11/2130/1400.terrain"), 404,
                   "the finest level of surface 't' is 10");
   ExpectJsonError(client->Get("/surfaces/nope/tiles/0/1/0.terrain"), 404, "no surface named");
@@ -398,6 +409,48 @@ TEST_F(TileRoutesTest, BadCoordinatesAre400AndMissingTiles404) {
                   "no tile pyramid 'other'");
   // The service still serves.
   EXPECT_EQ(Get(PathOf(AvailableTiles().front()), {}).status, 200);
+}
+
+TEST_F(TileRoutesTest, FillerTilesAboveTheCoarsestStoredLevelLetCesiumStartAtTheRoots) {
+  // The one-degree surface has no stored tile at the coarsest levels.
+  int coarsest = kMaxTileLevel;
+  for (const TileKey& key : StoredKeys()) coarsest = std::min(coarsest, key.level);
+  ASSERT_GE(coarsest, 3);
+  const nlohmann::json layer = JsonAnswer(service_->Client()->Get("/surfaces/t/tiles/layer.json"));
+  for (int level = 0; level < coarsest; ++level) {
+    const nlohmann::json whole = {{{"endX", TilesAcross(level) - 1},
+                                   {"endY", TilesDown(level) - 1},
+                                   {"startX", 0},
+                                   {"startY", 0}}};
+    EXPECT_EQ(layer["available"][level], whole) << level;
+  }
+  EXPECT_EQ(layer["available"][coarsest].size(), 1u);
+
+  std::vector<std::string> files;
+  const std::vector<TileKey> fillers = {{0, 0, 0}, {0, 1, 0}, {2, 1, 3}, {2, 4, 2}};
+  for (const TileKey& key : fillers) {
+    const TileAnswer a = Get(PathOf(key), {{"Accept", kCesiumAccept}});
+    ASSERT_EQ(a.status, 200) << key.ToString() << " " << a.body;
+    EXPECT_EQ(a.content_type, "application/vnd.quantized-mesh;extensions=octvertexnormals");
+    EXPECT_FALSE(a.etag.empty());
+    files.push_back(dir_.Path("filler_" + std::to_string(key.level) + "_" + std::to_string(key.x) +
+                              "_" + std::to_string(key.y) + ".terrain"));
+    WriteFile(files.back(), a.body);
+  }
+  const nlohmann::json npm = DecodeWithNpm(files);
+  for (const std::string& f : files) {
+    const nlohmann::json& t = npm[f];
+    ASSERT_TRUE(t.is_object()) << f;
+    // A 16 x 16 grid, flat at the pyramid's lowest height, with the ellipsoid's normals.
+    EXPECT_EQ(t["vertices"], 17 * 17) << f;
+    EXPECT_EQ(t["triangles"], 2 * 16 * 16) << f;
+    EXPECT_EQ(t["west"].size(), 17u) << f;
+    EXPECT_EQ(t["north"].size(), 17u) << f;
+    for (const auto& h : t["height"]) EXPECT_EQ(h, 0) << f;
+    EXPECT_EQ(t["normals"].size(), 2u * 17 * 17) << f;
+    EXPECT_TRUE(t["waterMask"].is_null()) << f;
+    EXPECT_TRUE(t["metadata"].is_null()) << f;
+  }
 }
 
 TEST(TileRoutesWithoutTilesTest, ASurfaceWithoutTilesSaysHowToBuildThem) {
