@@ -5,7 +5,7 @@
 #include <map>
 #include <mutex>
 #include <set>
-#include <tuple>
+#include <utility>
 #include <vector>
 
 #include "core/tiles/tile_bounds.h"
@@ -29,18 +29,26 @@ Ecef EllipsoidNormal(double lon, double lat) {
 
 Result<int> CoarsestStoredLevel(Store& store, const std::string& store_path,
                                 const TilePyramidInfo& pyramid) {
-  using Key = std::tuple<std::string, int64_t, int64_t, int>;
+  // One entry per store and surface, for the pyramid state it was read at: an edit's new state
+  // replaces it, so the cache stays as small as the set of surfaces served.
+  struct Entry {
+    int64_t tx = -1;
+    int max_zoom = -1;
+    int coarsest = 0;
+  };
   static std::mutex mutex;
-  static std::map<Key, int> cache;
-  const Key key{store_path, pyramid.surface, pyramid.tx, pyramid.max_zoom};
+  static std::map<std::pair<std::string, int64_t>, Entry> cache;
+  const std::pair<std::string, int64_t> key{store_path, pyramid.surface};
   {
     std::lock_guard<std::mutex> lock(mutex);
-    if (auto it = cache.find(key); it != cache.end()) return it->second;
+    const auto it = cache.find(key);
+    if (it != cache.end() && it->second.tx == pyramid.tx && it->second.max_zoom == pyramid.max_zoom)
+      return it->second.coarsest;
   }
   TB_ASSIGN_OR_RETURN(const std::set<TileKey> keys, TileStore(store.db()).Keys(pyramid.surface));
   const int coarsest = keys.empty() ? pyramid.max_zoom + 1 : keys.begin()->level;
   std::lock_guard<std::mutex> lock(mutex);
-  cache[key] = coarsest;
+  cache[key] = Entry{pyramid.tx, pyramid.max_zoom, coarsest};
   return coarsest;
 }
 

@@ -3,6 +3,7 @@
 // when the client accepts it, with an entity tag from the stored tile (a tile an edit rewrote
 // gets a new one) so a repeated request is a cheap 304; the levels above the pyramid's coarsest
 // stored one answered with filler tiles (filler_tiles.h). docs/api.md, "Tiles".
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -11,6 +12,7 @@
 #include "core/tiles/quantized_mesh.h"
 #include "core/tiles/tiling_scheme.h"
 #include "db/tiles/tile_pyramid.h"
+#include "service/body_cache.h"
 #include "service/entity_tag.h"
 #include "service/filler_tiles.h"
 #include "service/gzip_body.h"
@@ -24,6 +26,14 @@
 namespace tinbase::service {
 
 namespace {
+
+// Answers made from stored tiles, by store, tile and entity tag (which changes with the tile):
+// the bytes a warm request sends without decoding, encoding or deflating again. A fixed budget;
+// a tile is a few to a few hundred kilobytes.
+BodyCache& TileBodies() {
+  static BodyCache cache(size_t{64} << 20);
+  return cache;
+}
 
 // Tiles and layer.json are static data to a Cesium app on another origin; let it read them.
 void AllowAnyOrigin(httplib::Response& res) { res.set_header("Access-Control-Allow-Origin", "*"); }
@@ -82,6 +92,14 @@ Result<std::optional<std::pair<std::string, TileExtensions>>> TileSource(
   return Source({std::string(bytes.begin(), bytes.end()), has});
 }
 
+// The body of a tile answer: `stored` with only `sent` of its extensions, gzipped when asked.
+Result<std::string> MakeTileBody(const std::string& stored, const TileExtensions& has,
+                                 const TileExtensions& sent, bool gzip, const std::string& source) {
+  TB_ASSIGN_OR_RETURN(std::string body, TileKeeping(stored, has, sent, source));
+  if (!gzip) return body;
+  return Gzip(body);
+}
+
 void GetTile(ServiceContext& context, const httplib::Request& req, httplib::Response& res) {
   auto key = TileKeyFromPath(req);
   if (!key.ok()) return ReplyStatus(res, key.status());
@@ -115,15 +133,18 @@ void GetTile(ServiceContext& context, const httplib::Request& req, httplib::Resp
   res.set_header("Vary", "Accept, Accept-Encoding");
   const TileExtensions sent = CommonTileExtensions(has, keep);
   const std::string variant = TileExtensionsCode(sent) + (gzip ? ".gz" : "");
-  if (ReplyNotModified(req, res, EntityTag(stored, variant), kRevalidate)) return;
-  auto body = TileKeeping(stored, has, sent, "tile " + key->ToString());
-  if (!body.ok()) return ReplyStatus(res, body.status());
-  if (gzip) {
-    auto zipped = Gzip(*body);
-    if (!zipped.ok()) return ReplyStatus(res, zipped.status());
-    *body = std::move(*zipped);
-    res.set_header("Content-Encoding", "gzip");
+  const std::string tag = EntityTag(stored, variant);
+  if (ReplyNotModified(req, res, tag, kRevalidate)) return;
+  const std::string cache_key =
+      context.stores().path() + "\n" + surface->name + "\n" + key->ToString() + "\n" + tag;
+  std::shared_ptr<const std::string> body = TileBodies().Find(cache_key);
+  if (body == nullptr) {
+    auto made = MakeTileBody(stored, has, sent, gzip, "tile " + key->ToString());
+    if (!made.ok()) return ReplyStatus(res, made.status());
+    body = std::make_shared<const std::string>(std::move(*made));
+    TileBodies().Put(cache_key, body);
   }
+  if (gzip) res.set_header("Content-Encoding", "gzip");
   res.set_content(*body, TerrainContentType(sent));
 }
 

@@ -156,6 +156,17 @@ class TileRoutesTest : public ::testing::Test {
     return {keys->begin(), keys->end()};
   }
 
+  // The tile's bytes as the store holds them.
+  std::string StoredBytes(const TileKey& key) {
+    auto store = Store::Open(store_, Store::Access::kReadOnly);
+    EXPECT_TRUE(store.ok()) << store.status().ToString();
+    auto surface = SurfaceStore(**store).Find("t");
+    EXPECT_TRUE(surface.ok());
+    auto tile = TileStore((*store)->db()).Tile(surface->id, key);
+    EXPECT_TRUE(tile.ok() && tile->has_value()) << key.ToString();
+    return std::string((**tile).first.begin(), (**tile).first.end());
+  }
+
   // The tile as the store holds it.
   QuantizedMesh Stored(const TileKey& key) {
     auto store = Store::Open(store_, Store::Access::kReadOnly);
@@ -363,7 +374,12 @@ TEST_F(TileRoutesTest, AnEditGivesTheTilesItRewroteNewTagsAndLeavesTheOthersAlon
   ASSERT_FALSE(untouched.empty());
   const httplib::Headers cesium = {{"Accept", kCesiumAccept}, {"Accept-Encoding", "gzip"}};
   std::map<TileKey, std::string> before;
-  for (const TileKey& key : touched) before[key] = Get(PathOf(key), cesium).etag;
+  std::map<TileKey, std::string> body_before;
+  for (const TileKey& key : touched) {
+    const TileAnswer a = Get(PathOf(key), cesium);
+    before[key] = a.etag;
+    body_before[key] = a.body;
+  }
   for (const TileKey& key : untouched) before[key] = Get(PathOf(key), cesium).etag;
 
   const std::string polygon = WritePolygons(dir_, "edit.geojson", {{Ngon(ex, ey, er, 12)}}, 32632);
@@ -376,7 +392,12 @@ TEST_F(TileRoutesTest, AnEditGivesTheTilesItRewroteNewTagsAndLeavesTheOthersAlon
     const TileAnswer a = Get(PathOf(key), headers);
     EXPECT_EQ(a.status, 200) << key.ToString() << ": the edit rewrote it";
     EXPECT_NE(a.etag, before[key]) << key.ToString();
-    EXPECT_FALSE(a.body.empty());
+    // The new tile, not the answer kept from before the edit: with every extension asked for,
+    // the body is the stored tile, gzipped.
+    EXPECT_NE(a.body, body_before[key]) << key.ToString();
+    const std::string file = dir_.Path("after.gz");
+    WriteFile(file, a.body);
+    EXPECT_EQ(Gunzip(file), StoredBytes(key)) << key.ToString();
   }
   for (const TileKey& key : untouched) {
     httplib::Headers headers = cesium;
