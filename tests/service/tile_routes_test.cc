@@ -13,6 +13,7 @@
 #include <memory>
 #include <set>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "core/tiles/quantized_mesh.h"
@@ -472,6 +473,30 @@ TEST_F(TileRoutesTest, FillerTilesAboveTheCoarsestStoredLevelLetCesiumStartAtThe
     EXPECT_TRUE(t["waterMask"].is_null()) << f;
     EXPECT_TRUE(t["metadata"].is_null()) << f;
   }
+}
+
+TEST_F(TileRoutesTest, ConcurrentClientsGetTheSameTiles) {
+  const std::vector<TileKey> keys = StoredKeys();
+  const httplib::Headers cesium = {{"Accept", kCesiumAccept}, {"Accept-Encoding", "gzip"}};
+  std::map<TileKey, std::string> reference;
+  for (const TileKey& key : keys) reference[key] = Get(PathOf(key), cesium).body;
+  constexpr int kClients = 16;
+  std::vector<int> mismatches(kClients, 0);
+  std::vector<std::thread> clients;
+  for (int c = 0; c < kClients; ++c) {
+    clients.emplace_back([&, c] {
+      auto client = service_->Client();
+      client->set_decompress(false);
+      // Each client walks the tiles from another start, so cold and warm requests interleave.
+      for (size_t i = 0; i < keys.size(); ++i) {
+        const TileKey& key = keys[(i + static_cast<size_t>(c) * 7) % keys.size()];
+        auto r = client->Get(PathOf(key).c_str(), cesium);
+        if (!r || r->status != 200 || r->body != reference.at(key)) ++mismatches[c];
+      }
+    });
+  }
+  for (std::thread& t : clients) t.join();
+  for (int c = 0; c < kClients; ++c) EXPECT_EQ(mismatches[c], 0) << "client " << c;
 }
 
 TEST(TileRoutesWithoutTilesTest, ASurfaceWithoutTilesSaysHowToBuildThem) {
