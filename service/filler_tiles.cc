@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/tiles/availability.h"
 #include "core/tiles/tile_bounds.h"
 #include "core/tiles/tile_mesh_builder.h"
 #include "db/tiles/tile_store.h"
@@ -19,6 +20,9 @@ namespace {
 // Cells across a filler tile: a level-0 cell then spans 11.25 degrees, as in the flat tiles
 // Cesium makes for its own ellipsoid terrain.
 constexpr int kFillerCells = 16;
+
+// Levels a tile's metadata covers below it: layer.json's metadataAvailability (db/tiles).
+constexpr int kMetadataLevels = 10;
 
 Ecef EllipsoidNormal(double lon, double lat) {
   const double l = lon * M_PI / 180, p = lat * M_PI / 180;
@@ -54,7 +58,8 @@ Result<int> CoarsestStoredLevel(Store& store, const std::string& store_path,
 
 bool IsFillerLevel(int level, int coarsest) { return level == 0 || level < coarsest; }
 
-Result<QuantizedMesh> FillerTile(const TileKey& key, const TilePyramidInfo& pyramid, bool normals) {
+Result<QuantizedMesh> FillerTile(const TileKey& key, const TilePyramidInfo& pyramid, bool normals,
+                                 const std::optional<std::string>& metadata) {
   const TileRect rect = RectOf(key);
   TileMeshBuilder builder(rect, pyramid.min_height, pyramid.max_height, normals);
   const double h = pyramid.min_height;
@@ -71,7 +76,23 @@ Result<QuantizedMesh> FillerTile(const TileKey& key, const TilePyramidInfo& pyra
       builder.AddPolygon({point(i, j), point(i + 1, j), point(i + 1, j + 1), point(i, j + 1)});
   std::optional<QuantizedMesh> mesh = builder.Finish();
   if (!mesh) return Status::Corruption("filler tile " + key.ToString() + " came out empty");
+  mesh->metadata = metadata;
   return std::move(*mesh);
+}
+
+std::string FillerMetadata(const TileKey& root, const std::set<TileKey>& stored, int coarsest) {
+  nlohmann::json available =
+      AvailableJson(SubtreeOf(stored, root, kMetadataLevels), 1, kMetadataLevels);
+  for (int level = 1; level <= kMetadataLevels && level < coarsest; ++level) {
+    const int64_t across = int64_t{1} << level;  // a root's tiles per side, `level` below it
+    available[level - 1] = nlohmann::json::array({{{"startX", root.x * across},
+                                                   {"startY", 0},
+                                                   {"endX", (root.x + 1) * across - 1},
+                                                   {"endY", across - 1}}});
+  }
+  // Trailing levels without tiles say nothing; Cesium reads the array by level offset.
+  while (!available.empty() && available.back().empty()) available.erase(available.size() - 1);
+  return nlohmann::json{{"available", available}}.dump();
 }
 
 void AddFillerAvailability(nlohmann::json& layer, int coarsest) {

@@ -12,6 +12,8 @@
 #pragma once
 
 #include <nlohmann/json.hpp>
+#include <optional>
+#include <set>
 #include <string>
 
 #include "core/base/status.h"
@@ -32,8 +34,15 @@ Result<int> CoarsestStoredLevel(Store& store, const std::string& store_path,
 bool IsFillerLevel(int level, int coarsest);
 
 // The filler tile `key`: flat at the pyramid's lowest height, with vertex normals when
-// `normals` (the ellipsoid's), no water mask or metadata.
-Result<QuantizedMesh> FillerTile(const TileKey& key, const TilePyramidInfo& pyramid, bool normals);
+// `normals` (the ellipsoid's), the metadata extension when `metadata` is given, no water mask.
+Result<QuantizedMesh> FillerTile(const TileKey& key, const TilePyramidInfo& pyramid, bool normals,
+                                 const std::optional<std::string>& metadata);
+
+// The metadata extension of a level-0 filler tile, for a pyramid built with metadata: the
+// availability of the ten levels below it (as layer.json's metadataAvailability says), the filler
+// levels whole and the others as `stored` holds them. Cesium learns which tiles exist from the
+// level-0 tiles of such a pyramid. REQUIRES: root.level == 0.
+std::string FillerMetadata(const TileKey& root, const std::set<TileKey>& stored, int coarsest);
 
 // layer.json with the filler levels listed whole in `available`.
 void AddFillerAvailability(nlohmann::json& layer, int coarsest);

@@ -5,6 +5,7 @@
 // stored one answered with filler tiles (filler_tiles.h). docs/api.md, "Tiles".
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -85,10 +86,16 @@ Result<std::optional<std::pair<std::string, TileExtensions>>> TileSource(
   TB_ASSIGN_OR_RETURN(const int coarsest,
                       CoarsestStoredLevel(store, context.stores().path(), pyramid));
   if (!IsFillerLevel(key.level, coarsest)) return Source();
-  TB_ASSIGN_OR_RETURN(const QuantizedMesh mesh, FillerTile(key, pyramid, keep.normals));
-  TB_ASSIGN_OR_RETURN(const std::vector<uint8_t> bytes, EncodeQuantizedMesh(mesh));
   TileExtensions has;
   has.normals = keep.normals;
+  std::optional<std::string> metadata;
+  if (keep.metadata && key.level == 0) {
+    TB_ASSIGN_OR_RETURN(const std::set<TileKey> stored, TileStore(store.db()).Keys(surface.id));
+    metadata = FillerMetadata(key, stored, coarsest);
+    has.metadata = true;
+  }
+  TB_ASSIGN_OR_RETURN(const QuantizedMesh mesh, FillerTile(key, pyramid, keep.normals, metadata));
+  TB_ASSIGN_OR_RETURN(const std::vector<uint8_t> bytes, EncodeQuantizedMesh(mesh));
   return Source({std::string(bytes.begin(), bytes.end()), has});
 }
 

@@ -453,26 +453,42 @@ TEST_F(TileRoutesTest, FillerTilesAboveTheCoarsestStoredLevelLetCesiumStartAtThe
   for (const TileKey& key : fillers) {
     const TileAnswer a = Get(PathOf(key), {{"Accept", kCesiumAccept}});
     ASSERT_EQ(a.status, 200) << key.ToString() << " " << a.body;
-    EXPECT_EQ(a.content_type, "application/vnd.quantized-mesh;extensions=octvertexnormals");
+    // Level 0 carries the metadata (the pyramid has it, Cesium asked); no filler a water mask.
+    EXPECT_EQ(a.content_type, key.level == 0
+                                  ? "application/vnd.quantized-mesh;extensions=octvertexnormals-"
+                                    "metadata"
+                                  : "application/vnd.quantized-mesh;extensions=octvertexnormals");
     EXPECT_FALSE(a.etag.empty());
     files.push_back(dir_.Path("filler_" + std::to_string(key.level) + "_" + std::to_string(key.x) +
                               "_" + std::to_string(key.y) + ".terrain"));
     WriteFile(files.back(), a.body);
   }
   const nlohmann::json npm = DecodeWithNpm(files);
-  for (const std::string& f : files) {
-    const nlohmann::json& t = npm[f];
-    ASSERT_TRUE(t.is_object()) << f;
+  for (size_t i = 0; i < files.size(); ++i) {
+    const nlohmann::json& t = npm[files[i]];
+    ASSERT_TRUE(t.is_object()) << files[i];
     // A 16 x 16 grid, flat at the pyramid's lowest height, with the ellipsoid's normals.
-    EXPECT_EQ(t["vertices"], 17 * 17) << f;
-    EXPECT_EQ(t["triangles"], 2 * 16 * 16) << f;
-    EXPECT_EQ(t["west"].size(), 17u) << f;
-    EXPECT_EQ(t["north"].size(), 17u) << f;
-    for (const auto& h : t["height"]) EXPECT_EQ(h, 0) << f;
-    EXPECT_EQ(t["normals"].size(), 2u * 17 * 17) << f;
-    EXPECT_TRUE(t["waterMask"].is_null()) << f;
-    EXPECT_TRUE(t["metadata"].is_null()) << f;
+    EXPECT_EQ(t["vertices"], 17 * 17) << files[i];
+    EXPECT_EQ(t["triangles"], 2 * 16 * 16) << files[i];
+    EXPECT_EQ(t["west"].size(), 17u) << files[i];
+    EXPECT_EQ(t["north"].size(), 17u) << files[i];
+    for (const auto& h : t["height"]) EXPECT_EQ(h, 0) << files[i];
+    EXPECT_EQ(t["normals"].size(), 2u * 17 * 17) << files[i];
+    EXPECT_TRUE(t["waterMask"].is_null()) << files[i];
+    EXPECT_EQ(t["metadata"].is_null(), fillers[i].level != 0) << files[i];
   }
+  // The roots' metadata: the filler levels whole under each root, then (under the eastern root,
+  // where the surface is) the stored tiles as layer.json lists them.
+  const nlohmann::json& west = npm[files[0]]["metadata"]["available"];
+  const nlohmann::json& east = npm[files[1]]["metadata"]["available"];
+  ASSERT_EQ(west.size(), static_cast<size_t>(coarsest - 1));
+  ASSERT_GE(east.size(), static_cast<size_t>(coarsest));
+  const nlohmann::json level1_east = {{{"endX", 3}, {"endY", 1}, {"startX", 2}, {"startY", 0}}};
+  EXPECT_EQ(east[0], level1_east);
+  EXPECT_EQ(west[0][0]["startX"], 0);
+  EXPECT_EQ(west[0][0]["endX"], 1);
+  for (int level = coarsest; level <= std::min(10, kDemoTilesMaxZoom); ++level)
+    EXPECT_EQ(east[level - 1], layer["available"][level]) << level;
 }
 
 TEST_F(TileRoutesTest, ConcurrentClientsGetTheSameTiles) {
