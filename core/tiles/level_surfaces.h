@@ -3,6 +3,7 @@
 // coarser ones (core/tiles/coarse_tile.h), is made from this one surface. Pure functions.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 
 #include "core/base/status.h"
@@ -24,5 +25,7 @@ std::pair<double, double> HeightRange(const Tin& tin, const Crs& crs);
 // The level at which one tile holds about 128 of `tin`'s mean vertex spacings across (the
 // finest level a pyramid needs), from 0 to kMaxTileLevel.
 int NaturalMaxZoom(const GeoSurface& surface);
+// The same from the surface's geographic box (degrees) and vertex count.
+int NaturalMaxZoom(double west, double south, double east, double north, size_t vertices);
 
 }  // namespace tinbase
