@@ -3,6 +3,7 @@
 // (the pyramid as a static z/x/y.terrain tree with layer.json), `tiles info` (what a pyramid
 // holds; with --verify every tile is decoded and checked) and `tiles make` (one tile made on
 // demand from the surface, written to a file or compared with the stored one).
+#include <algorithm>
 #include <array>
 #include <cerrno>
 #include <cstdlib>
@@ -34,8 +35,9 @@ struct TilesArgs {
   bool gzip = false;
   bool json = false;
   bool verify = false;
-  int64_t window_triangles = 0;
-  std::string tile;  // z/x/y
+  int64_t window_triangles = -1;  // -1: the default
+  std::string tile;               // z/x/y
+  int repeat = 1;
 };
 
 // "z/x/y" (as in a tile URL) -> TileKey. InvalidArgument naming the text otherwise.
@@ -73,9 +75,9 @@ int RunBuild(const TilesArgs& args) {
   options.extensions = *extensions;
   if (args.max_zoom >= 0 || args.max_zoom < -1) options.max_zoom = args.max_zoom;
   if (!args.water_tag.empty()) options.water_tag = args.water_tag;
-  if (args.window_triangles < 0)
+  if (args.window_triangles != -1 && args.window_triangles < 1)
     return ReportError(Status::InvalidArgument("--window-triangles must be positive"));
-  if (args.window_triangles > 0) options.window_triangles = args.window_triangles;
+  if (args.window_triangles != -1) options.window_triangles = args.window_triangles;
   auto store = Store::Open(args.store);
   if (!store.ok()) return ReportError(store.status());
   auto surface = FindSurface(**store, args.surface);
@@ -132,6 +134,9 @@ int RunUpdate(const TilesArgs& args) {
                                 {"tiles_meeting", report->tiles_meeting},
                                 {"tiles_rewritten", report->tiles_rewritten},
                                 {"tiles_deleted", report->tiles_deleted},
+                                {"read_seconds", report->read_seconds},
+                                {"make_seconds", report->make_seconds},
+                                {"write_seconds", report->write_seconds},
                                 {"seconds", watch.Seconds()}}
                      .dump(2)
               << "\n";
@@ -206,19 +211,25 @@ int RunMake(const TilesArgs& args) {
   if (!store.ok()) return ReportError(store.status());
   auto surface = FindSurface(**store, args.surface);
   if (!surface.ok()) return ReportError(surface.status());
-  Stopwatch watch;
-  auto bytes = MakeTile(**store, *surface, *key);
-  if (!bytes.ok()) return ReportError(bytes.status());
-  const double seconds = watch.Seconds();
+  if (args.repeat < 1) return ReportError(Status::InvalidArgument("--repeat must be positive"));
+  std::vector<uint8_t> bytes;
+  double seconds = 0;
+  for (int i = 0; i < args.repeat; ++i) {
+    Stopwatch watch;
+    auto made = MakeTile(**store, *surface, *key);
+    if (!made.ok()) return ReportError(made.status());
+    seconds = i == 0 ? watch.Seconds() : std::min(seconds, watch.Seconds());
+    bytes = std::move(*made);
+  }
   auto stored = TileStore((*store)->db()).Tile(surface->id, *key);
   if (!stored.ok()) return ReportError(stored.status());
-  const bool same = stored->has_value() && (*stored)->first == *bytes;
+  const bool same = stored->has_value() && (*stored)->first == bytes;
   if (!args.output.empty()) {
     auto file = OutputFile::Create(args.output);
     if (!file.ok()) return ReportError(file.status());
     std::ofstream out(file->temp_path(), std::ios::binary);
-    out.write(reinterpret_cast<const char*>(bytes->data()),
-              static_cast<std::streamsize>(bytes->size()));
+    out.write(reinterpret_cast<const char*>(bytes.data()),
+              static_cast<std::streamsize>(bytes.size()));
     out.close();
     if (!out) return ReportError(Status::IOError("cannot write '" + args.output + "'"));
     const Status committed = file->Commit();
@@ -227,7 +238,7 @@ int RunMake(const TilesArgs& args) {
   if (args.json) {
     std::cout << nlohmann::json{{"surface", surface->name},
                                 {"tile", key->ToString()},
-                                {"bytes", bytes->size()},
+                                {"bytes", bytes.size()},
                                 {"seconds", seconds},
                                 {"same_as_stored", same}}
                      .dump(2)
@@ -235,7 +246,7 @@ int RunMake(const TilesArgs& args) {
     return kExitOk;
   }
   std::cout << "tile " << key->ToString() << " of surface '" << surface->name
-            << "': " << bytes->size() << " bytes in " << Num(seconds, 3) << " s, "
+            << "': " << bytes.size() << " bytes in " << Num(seconds, 3) << " s, "
             << (same ? "the same as" : "not the same as") << " the stored tile\n";
   return kExitOk;
 }
@@ -292,6 +303,7 @@ void RegisterTilesCommands(CLI::App& app, int* exit_code) {
   m->add_option("--surface", make->surface, "Surface name")->required();
   m->add_option("--tile", make->tile, "The tile as z/x/y (TMS y)")->required();
   m->add_option("-o,--output", make->output, "Write the tile's bytes to this file");
+  m->add_option("--repeat", make->repeat, "Make it this many times; report the fastest");
   m->add_flag("--json", make->json, "Print the report as JSON");
   m->callback([=] { *exit_code = RunMake(*make); });
 }

@@ -45,7 +45,7 @@ struct TileBuildOptions {
   std::function<void(double fraction)> progress;
   // About how many triangles one window of the build reads at a time (docs/tiles.md,
   // "Windows"): what bounds its memory. The tiles do not depend on it.
-  int64_t window_triangles = int64_t{1} << 18;
+  int64_t window_triangles = int64_t{1} << 16;
 };
 
 struct TileLevelReport {
@@ -76,6 +76,11 @@ struct TileUpdateReport {
   int64_t tiles_meeting = 0;    // tiles, before or after, whose bounds meet the changed region
   int64_t tiles_rewritten = 0;  // of those, written again
   int64_t tiles_deleted = 0;    // of those, gone (now empty)
+  // Where the time went (seconds): reading the window, heights and tiles the update needs;
+  // cutting and merging the tiles; writing them.
+  double read_seconds = 0;
+  double make_seconds = 0;
+  double write_seconds = 0;
 };
 
 // Brings the surface's pyramid up to date with the change log: every tile, at every level, whose

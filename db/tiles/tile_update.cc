@@ -6,6 +6,7 @@
 // pyramid recorded at the ends of the range and from the window: every vertex an edit adds,
 // moves or removes lies inside the change's region, so outside it the old extremes still hold.
 #include <algorithm>
+#include <chrono>
 #include <map>
 #include <set>
 
@@ -20,6 +21,10 @@
 namespace tinbase {
 
 namespace {
+
+double SecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
 
 // The options a pyramid was built with, from its row.
 Result<TileBuildOptions> OptionsOf(const TilePyramidInfo& pyramid) {
@@ -111,11 +116,14 @@ struct UpdatePlan {
   std::set<TileKey> keys;   // every tile key of the pyramid before the update
   std::set<TileKey> stale;  // those whose bounds meet the changes
   std::vector<LevelTiles> levels;
+  double read_seconds = 0;
+  double make_seconds = 0;
 };
 
 Result<UpdatePlan> PlanUpdate(Store& store, const SurfaceInfo& surface, const TilePyramidInfo& old,
                               const TileBuildOptions& options, const std::vector<Change>& changes,
                               const Crs& crs) {
+  const auto start = std::chrono::steady_clock::now();
   TB_ASSIGN_OR_RETURN(auto snapshot, SnapshotUnlessInTransaction(store));
   TileStore tiles(store.db());
   UpdatePlan plan;
@@ -148,6 +156,8 @@ Result<UpdatePlan> PlanUpdate(Store& store, const SurfaceInfo& surface, const Ti
   TB_ASSIGN_OR_RETURN(plan.keys, tiles.Keys(surface.id));
   for (const TileKey& key : plan.keys)
     if (wanted(key)) plan.stale.insert(key);
+  plan.read_seconds = SecondsSince(start);
+  const auto made = std::chrono::steady_clock::now();
   // Unchanged children of the tiles made again are read from the store, decoded once.
   StoredTiles stored(tiles, surface.id);
   plan.levels = NonEmpty(MakeLevels(
@@ -155,6 +165,7 @@ Result<UpdatePlan> PlanUpdate(Store& store, const SurfaceInfo& surface, const Ti
                              [&](const TileKey& key) { return stored.Get(key); }, 0),
                          plan.in);
   TB_RETURN_IF_ERROR(stored.error());
+  plan.make_seconds = SecondsSince(made);
   return plan;
 }
 
@@ -222,7 +233,11 @@ Result<TileUpdateReport> UpdateTilePyramid(Store& store, const SurfaceInfo& surf
     for (const TileLevelReport& l : rebuilt.levels) report.tiles_rewritten += l.tiles;
     return report;
   }
+  report.read_seconds = plan.read_seconds;
+  report.make_seconds = plan.make_seconds;
+  const auto written = std::chrono::steady_clock::now();
   TB_RETURN_IF_ERROR(WriteUpdate(store, surface, *old, options, plan, &report));
+  report.write_seconds = SecondsSince(written);
   return report;
 }
 
