@@ -29,14 +29,6 @@ constexpr double kMetresPerDegree = 111319.49;  // along the equator, WGS 84
 
 }  // namespace
 
-std::pair<double, double> HeightRange(const Tin& tin, const Crs& crs) {
-  double lo = std::numeric_limits<double>::infinity();
-  double hi = -lo;
-  for (const TinVertex& v : tin.vertices) lo = std::min(lo, v.z), hi = std::max(hi, v.z);
-  const double metres = crs.VerticalMetresPerUnit();
-  return {lo * metres, hi * metres};
-}
-
 Result<GeoSurface> GeographicSurface(const Tin& tin, const Crs& crs, bool normals,
                                      double min_height, double max_height) {
   TB_ASSIGN_OR_RETURN(Crs wgs84, Crs::FromUserInput("EPSG:4326"));

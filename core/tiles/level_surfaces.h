@@ -1,6 +1,6 @@
-// Level surfaces: the surface a tile pyramid is cut from, in longitude/latitude, its height
-// range, and the finest level it needs (docs/tiles.md, "Levels"). Every level, the finest and the
-// coarser ones (core/tiles/coarse_tile.h), is made from this one surface. Pure functions.
+// Level surfaces: the surface (or the window of it) a tile pyramid's finest level is cut from,
+// in longitude/latitude, and the finest level a pyramid needs (docs/tiles.md, "Levels"). The
+// coarser levels are made from the finest (core/tiles/coarse_tile.h). Pure functions.
 #pragma once
 
 #include <cstddef>
@@ -18,9 +18,6 @@ namespace tinbase {
 // against. InvalidArgument naming the CRS when it cannot be transformed to EPSG:4326.
 Result<GeoSurface> GeographicSurface(const Tin& tin, const Crs& crs, bool normals,
                                      double min_height, double max_height);
-
-// The lowest and highest z of `tin`'s vertices, converted to metres.
-std::pair<double, double> HeightRange(const Tin& tin, const Crs& crs);
 
 // The level at which one tile holds about 128 of `tin`'s mean vertex spacings across (the
 // finest level a pyramid needs), from 0 to kMaxTileLevel.
