@@ -322,6 +322,7 @@ FROM (SELECT 'tinbase_triangles' AS table_name, 'POLYGON' AS geometry_type_name,
       UNION ALL SELECT 'tinbase_constraints', 'LINESTRING', 1
       UNION ALL SELECT 'tinbase_features', 'MULTIPOLYGON', 0
       UNION ALL SELECT 'tinbase_breaklines', 'MULTILINESTRING', 0);
+-- min_vertex and max_vertex were added by 0012.
 CREATE TABLE tile_pyramids(
   surface    INTEGER PRIMARY KEY REFERENCES surfaces(id) ON DELETE CASCADE,
   max_zoom   INTEGER NOT NULL CHECK (max_zoom BETWEEN 0 AND 24),
@@ -330,7 +331,7 @@ CREATE TABLE tile_pyramids(
   min_height REAL NOT NULL,
   max_height REAL NOT NULL,
   tx         INTEGER NOT NULL
-);
+, min_vertex INTEGER, max_vertex INTEGER);
 
 CREATE TABLE tile_levels(
   surface         INTEGER NOT NULL REFERENCES tile_pyramids(surface) ON DELETE CASCADE,

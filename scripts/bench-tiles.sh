@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
 # Issue 25's tile benchmark: a full quantized-mesh pyramid of the bundled SRTM sheet N43E007 (and
-# of a generated 4097^2 terrain): time, tiles, bytes and peak memory; then a 1 km^2 polygon edit
-# and `tiles update` against a full rebuild of the edited surface, with the tiles rewritten
-# against those whose bounds meet the change. Usage: scripts/bench-tiles.sh [OUTDIR]
-# (default build-bench/tiles). Prints one table row per case. TINBASE_BENCH_BUILD names a Release
-# build directory to use instead of configuring build-bench.
+# of a generated 4097^2 terrain): time, tiles, bytes and peak memory (with the default window and
+# with windows of 16384 triangles); then a 1 km^2 polygon edit and `tiles update` against a full
+# rebuild of the edited surface, with the tiles rewritten against those whose bounds meet the
+# change and where the update's time went; then one tile made on demand at the finest level and
+# at level 8, at the edit (the finest one the fastest of 5 in one process). Usage: scripts/bench-tiles.sh [OUTDIR] (default build-bench/tiles).
+# Prints one table row per case and a line of the update's parts. TINBASE_BENCH_BUILD names a
+# Release build directory to use instead of configuring build-bench.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out=${1:-build-bench/tiles}
@@ -29,6 +31,9 @@ run_case() {
   triangles=$("$tinbase" info --json "$store" | json "['surfaces'][0]['triangles']")
   /usr/bin/time -v "$tinbase" tiles build "$store" --surface t --max-zoom "$4" \
     --extensions octvertexnormals,metadata --json >"$out/$1.build.json" 2>"$out/$1.build.time"
+  /usr/bin/time -v "$tinbase" tiles build "$store" --surface t --max-zoom "$4" \
+    --extensions octvertexnormals,metadata --window-triangles 16384 --json \
+    >"$out/$1.small.json" 2>"$out/$1.small.time"
   local build_s tiles bytes
   build_s=$(json "['seconds']" <"$out/$1.build.json")
   tiles=$(json "['tiles']" <"$out/$1.build.json")
@@ -55,15 +60,32 @@ PY
   local rebuild_s
   rebuild_s=$("$tinbase" tiles build "$store" --surface t --max-zoom "$4" \
     --extensions octvertexnormals,metadata --json | json "['seconds']")
-  printf '| %s | %s | %s | %s | %.2f | %s | %.2f | %s | %.3f | %.2f | %.0fx | %s of %s |\n' \
+  # One tile on demand at the edit's corner: the finest level's and level 8's.
+  local lon lat fine mid fine_s mid_s
+  read -r lon lat _ < <(echo "$x $y" | gdaltransform -s_srs "$crs" -t_srs EPSG:4326 -output_xy)
+  fine=$(python3 -c "import math; z=$4; d=180/2**z; print(f'{z}/{math.floor(($lon+180)/d)}/{math.floor(($lat+90)/d)}')")
+  mid=$(python3 -c "import math; z=8; d=180/2**z; print(f'{z}/{math.floor(($lon+180)/d)}/{math.floor(($lat+90)/d)}')")
+  fine_s=$("$tinbase" tiles make "$store" --surface t --tile "$fine" --repeat 5 --json |
+    json "['seconds']")
+  mid_s=$("$tinbase" tiles make "$store" --surface t --tile "$mid" --json | json "['seconds']")
+  printf '| %s | %s | %s | %s | %.2f | %s | %s | %.2f | %s | %.3f | %.2f | %.0fx | %s of %s | %.0f | %.0f |\n' \
     "$1" "$triangles" "$4" "$tiles" "$(echo "$bytes / 1048576" | bc -l)" \
-    "$(peak_mib "$out/$1.build.time")" "$build_s" "$(echo "$build_s * 1000 / $tiles" | bc -l | \
-    xargs printf '%.1f')" "$update_s" "$rebuild_s" "$(echo "$rebuild_s / $update_s" | bc -l)" \
-    "$rewritten" "$meeting"
+    "$(peak_mib "$out/$1.build.time")" "$(peak_mib "$out/$1.small.time")" "$build_s" \
+    "$(echo "$build_s * 1000 / $tiles" | bc -l | xargs printf '%.1f')" "$update_s" "$rebuild_s" \
+    "$(echo "$rebuild_s / $update_s" | bc -l)" "$rewritten" "$meeting" \
+    "$(echo "$fine_s * 1000" | bc -l)" "$(echo "$mid_s * 1000" | bc -l)"
+  python3 - "$out/$1.update.json" "$1" <<'PY' >>"$out/parts.txt"
+import json, sys
+u = json.load(open(sys.argv[1]))
+print(f"{sys.argv[2]}: update read {u['read_seconds']:.3f} s, cut and merge {u['make_seconds']:.3f} s,"
+      f" write {u['write_seconds']:.3f} s")
+PY
 }
 
-echo "| case | triangles | max zoom | tiles | MiB | peak RSS MiB | build s | ms/tile | update s | rebuild s | rebuild/update | rewritten of meeting |"
-echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
+rm -f "$out/parts.txt"
+echo "| case | triangles | max zoom | tiles | MiB | peak RSS MiB | peak RSS MiB, 16384-triangle windows | build s | ms/tile | update s | rebuild s | rebuild/update | rewritten of meeting | finest tile on demand ms | level-8 tile on demand ms |"
+echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
 run_case srtm-N43E007-5m tests/data/dem/N43E007.hgt 5 12 0.5 0.9
 "$build"/bench/tin_bench export --size 4097 --out "$out/gen4097" >/dev/null
 run_case generated-4097-5m "$out/gen4097/terrain.tif" 5 15 0.4 0.4
+cat "$out/parts.txt"

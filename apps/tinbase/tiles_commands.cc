@@ -1,7 +1,13 @@
 // Kernels: `tiles build` (a surface's quantized-mesh pyramid into the store), `tiles update`
 // (only the tiles the edits since touched), `tiles export`
-// (the pyramid as a static z/x/y.terrain tree with layer.json) and `tiles info` (what a pyramid
-// holds; with --verify every tile is decoded and checked).
+// (the pyramid as a static z/x/y.terrain tree with layer.json), `tiles info` (what a pyramid
+// holds; with --verify every tile is decoded and checked) and `tiles make` (one tile made on
+// demand from the surface, written to a file or compared with the stored one).
+#include <algorithm>
+#include <array>
+#include <cerrno>
+#include <cstdlib>
+#include <fstream>
 #include <functional>
 #include <iostream>
 #include <memory>
@@ -11,6 +17,7 @@
 #include "apps/tinbase/command.h"
 #include "apps/tinbase/output.h"
 #include "apps/tinbase/progress.h"
+#include "core/base/output_file.h"
 #include "core/tiles/quantized_mesh.h"
 #include "db/tiles/tile_pyramid.h"
 
@@ -28,7 +35,33 @@ struct TilesArgs {
   bool gzip = false;
   bool json = false;
   bool verify = false;
+  int64_t window_triangles = -1;  // -1: the default
+  std::string tile;               // z/x/y
+  int repeat = 1;
 };
+
+// "z/x/y" (as in a tile URL) -> TileKey. InvalidArgument naming the text otherwise.
+Result<TileKey> ParseTileKey(const std::string& text) {
+  TileKey key;
+  const char* p = text.c_str();
+  std::array<int64_t, 3> parts{};
+  for (size_t i = 0; i < parts.size(); ++i) {
+    char* end = nullptr;
+    errno = 0;
+    parts[i] = std::strtoll(p, &end, 10);
+    const char expected = i + 1 < parts.size() ? '/' : '\0';
+    if (end == p || errno != 0 || *end != expected || parts[i] < 0)
+      return Status::InvalidArgument("--tile '" + text + "': expected z/x/y (three whole numbers)");
+    p = end + (expected == '/' ? 1 : 0);
+  }
+  if (parts[0] > kMaxTileLevel)
+    return Status::InvalidArgument("--tile '" + text + "': level over " +
+                                   std::to_string(kMaxTileLevel));
+  key.level = static_cast<int>(parts[0]);
+  key.x = parts[1];
+  key.y = parts[2];
+  return key;
+}
 
 Result<SurfaceInfo> FindSurface(Store& store, const std::string& name) {
   if (name.empty()) return Status::InvalidArgument("give --surface");
@@ -42,6 +75,9 @@ int RunBuild(const TilesArgs& args) {
   options.extensions = *extensions;
   if (args.max_zoom >= 0 || args.max_zoom < -1) options.max_zoom = args.max_zoom;
   if (!args.water_tag.empty()) options.water_tag = args.water_tag;
+  if (args.window_triangles != -1 && args.window_triangles < 1)
+    return ReportError(Status::InvalidArgument("--window-triangles must be positive"));
+  if (args.window_triangles != -1) options.window_triangles = args.window_triangles;
   auto store = Store::Open(args.store);
   if (!store.ok()) return ReportError(store.status());
   auto surface = FindSurface(**store, args.surface);
@@ -98,6 +134,9 @@ int RunUpdate(const TilesArgs& args) {
                                 {"tiles_meeting", report->tiles_meeting},
                                 {"tiles_rewritten", report->tiles_rewritten},
                                 {"tiles_deleted", report->tiles_deleted},
+                                {"read_seconds", report->read_seconds},
+                                {"make_seconds", report->make_seconds},
+                                {"write_seconds", report->write_seconds},
                                 {"seconds", watch.Seconds()}}
                      .dump(2)
               << "\n";
@@ -165,6 +204,53 @@ int RunInfo(const TilesArgs& args) {
   return kExitOk;
 }
 
+int RunMake(const TilesArgs& args) {
+  auto key = ParseTileKey(args.tile);
+  if (!key.ok()) return ReportError(key.status());
+  auto store = Store::Open(args.store);
+  if (!store.ok()) return ReportError(store.status());
+  auto surface = FindSurface(**store, args.surface);
+  if (!surface.ok()) return ReportError(surface.status());
+  if (args.repeat < 1) return ReportError(Status::InvalidArgument("--repeat must be positive"));
+  std::vector<uint8_t> bytes;
+  double seconds = 0;
+  for (int i = 0; i < args.repeat; ++i) {
+    Stopwatch watch;
+    auto made = MakeTile(**store, *surface, *key);
+    if (!made.ok()) return ReportError(made.status());
+    seconds = i == 0 ? watch.Seconds() : std::min(seconds, watch.Seconds());
+    bytes = std::move(*made);
+  }
+  auto stored = TileStore((*store)->db()).Tile(surface->id, *key);
+  if (!stored.ok()) return ReportError(stored.status());
+  const bool same = stored->has_value() && (*stored)->first == bytes;
+  if (!args.output.empty()) {
+    auto file = OutputFile::Create(args.output);
+    if (!file.ok()) return ReportError(file.status());
+    std::ofstream out(file->temp_path(), std::ios::binary);
+    out.write(reinterpret_cast<const char*>(bytes.data()),
+              static_cast<std::streamsize>(bytes.size()));
+    out.close();
+    if (!out) return ReportError(Status::IOError("cannot write '" + args.output + "'"));
+    const Status committed = file->Commit();
+    if (!committed.ok()) return ReportError(committed);
+  }
+  if (args.json) {
+    std::cout << nlohmann::json{{"surface", surface->name},
+                                {"tile", key->ToString()},
+                                {"bytes", bytes.size()},
+                                {"seconds", seconds},
+                                {"same_as_stored", same}}
+                     .dump(2)
+              << "\n";
+    return kExitOk;
+  }
+  std::cout << "tile " << key->ToString() << " of surface '" << surface->name
+            << "': " << bytes.size() << " bytes in " << Num(seconds, 3) << " s, "
+            << (same ? "the same as" : "not the same as") << " the stored tile\n";
+  return kExitOk;
+}
+
 }  // namespace
 
 void RegisterTilesCommands(CLI::App& app, int* exit_code) {
@@ -181,6 +267,8 @@ void RegisterTilesCommands(CLI::App& app, int* exit_code) {
                 "Comma-separated: octvertexnormals, watermask, metadata");
   b->add_option("--water-tag", build->water_tag,
                 "Tag of the features that are water (for the watermask extension)");
+  b->add_option("--window-triangles", build->window_triangles,
+                "About how many triangles the build reads at a time (bounds its memory)");
   b->add_flag("--json", build->json, "Print the report as JSON");
   b->callback([=] { *exit_code = RunBuild(*build); });
 
@@ -207,6 +295,17 @@ void RegisterTilesCommands(CLI::App& app, int* exit_code) {
   i->add_flag("--verify", info->verify, "Decode every tile");
   i->add_flag("--json", info->json, "Print JSON (with layer.json)");
   i->callback([=] { *exit_code = RunInfo(*info); });
+
+  auto make = std::make_shared<TilesArgs>();
+  CLI::App* m = tiles->add_subcommand(
+      "make", "Make one tile on demand from the surface (compared with the stored one)");
+  m->add_option("store", make->store, "Store file")->required();
+  m->add_option("--surface", make->surface, "Surface name")->required();
+  m->add_option("--tile", make->tile, "The tile as z/x/y (TMS y)")->required();
+  m->add_option("-o,--output", make->output, "Write the tile's bytes to this file");
+  m->add_option("--repeat", make->repeat, "Make it this many times; report the fastest");
+  m->add_flag("--json", make->json, "Print the report as JSON");
+  m->callback([=] { *exit_code = RunMake(*make); });
 }
 
 }  // namespace tinbase::cli

@@ -29,14 +29,6 @@ constexpr double kMetresPerDegree = 111319.49;  // along the equator, WGS 84
 
 }  // namespace
 
-std::pair<double, double> HeightRange(const Tin& tin, const Crs& crs) {
-  double lo = std::numeric_limits<double>::infinity();
-  double hi = -lo;
-  for (const TinVertex& v : tin.vertices) lo = std::min(lo, v.z), hi = std::max(hi, v.z);
-  const double metres = crs.VerticalMetresPerUnit();
-  return {lo * metres, hi * metres};
-}
-
 Result<GeoSurface> GeographicSurface(const Tin& tin, const Crs& crs, bool normals,
                                      double min_height, double max_height) {
   TB_ASSIGN_OR_RETURN(Crs wgs84, Crs::FromUserInput("EPSG:4326"));
@@ -52,11 +44,14 @@ Result<GeoSurface> GeographicSurface(const Tin& tin, const Crs& crs, bool normal
 
 int NaturalMaxZoom(const GeoSurface& surface) {
   const PlanBox b = BoxOf(surface.tin);
-  const double mid_lat = (b.min_y + b.max_y) / 2 * M_PI / 180;
-  const double area = (b.max_x - b.min_x) * kMetresPerDegree * std::cos(mid_lat) *
-                      (b.max_y - b.min_y) * kMetresPerDegree;
-  const double spacing =
-      std::sqrt(std::max(area, 1.0) / std::max<double>(1, surface.tin.vertices.size()));
+  return NaturalMaxZoom(b.min_x, b.min_y, b.max_x, b.max_y, surface.tin.vertices.size());
+}
+
+int NaturalMaxZoom(double west, double south, double east, double north, size_t vertices) {
+  const double mid_lat = (south + north) / 2 * M_PI / 180;
+  const double area =
+      (east - west) * kMetresPerDegree * std::cos(mid_lat) * (north - south) * kMetresPerDegree;
+  const double spacing = std::sqrt(std::max(area, 1.0) / std::max<double>(1, vertices));
   for (int level = 0; level < kMaxTileLevel; ++level) {
     const double tile_metres = TileDegrees(level) * kMetresPerDegree * std::cos(mid_lat);
     if (tile_metres / spacing <= 128) return level;

@@ -1,8 +1,9 @@
-// Level surfaces: the surface a tile pyramid is cut from, in longitude/latitude, its height
-// range, and the finest level it needs (docs/tiles.md, "Levels"). Every level, the finest and the
-// coarser ones (core/tiles/coarse_tile.h), is made from this one surface. Pure functions.
+// Level surfaces: the surface (or the window of it) a tile pyramid's finest level is cut from,
+// in longitude/latitude, and the finest level a pyramid needs (docs/tiles.md, "Levels"). The
+// coarser levels are made from the finest (core/tiles/coarse_tile.h). Pure functions.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 
 #include "core/base/status.h"
@@ -18,11 +19,10 @@ namespace tinbase {
 Result<GeoSurface> GeographicSurface(const Tin& tin, const Crs& crs, bool normals,
                                      double min_height, double max_height);
 
-// The lowest and highest z of `tin`'s vertices, converted to metres.
-std::pair<double, double> HeightRange(const Tin& tin, const Crs& crs);
-
 // The level at which one tile holds about 128 of `tin`'s mean vertex spacings across (the
 // finest level a pyramid needs), from 0 to kMaxTileLevel.
 int NaturalMaxZoom(const GeoSurface& surface);
+// The same from the surface's geographic box (degrees) and vertex count.
+int NaturalMaxZoom(double west, double south, double east, double north, size_t vertices);
 
 }  // namespace tinbase

@@ -1,10 +1,13 @@
 // Tile pyramid: a surface's quantized-mesh tiles built into the store, and read back out as
 // Cesium expects them (layer.json, a z/x/y.terrain tree). docs/tiles.md says what a client gets.
 //
-// A build loads the surface, turns it into longitude/latitude (core/tiles/level_surfaces.h),
-// cuts every level (core/tiles/tile_cutter.h) on TBB's threads, and writes the pyramid, its
-// levels' error bounds and every tile in one write transaction: a failed build leaves the old
-// pyramid as it was. Thread-safety: as the Store.
+// A build reads the surface window by window (db/tiles/tile_window.h), turns each window into
+// longitude/latitude (core/tiles/level_surfaces.h), cuts its finest tiles (core/tiles/
+// tile_cutter.h) and merges them up on TBB's threads, writing tiles as they are made; the levels
+// above the windows are merged from their children read back from the store. Memory is bounded
+// by the window size, not the surface's. Everything is written in one write transaction: a
+// failed build leaves the old pyramid as it was. An update reads only the window its changes
+// meet. Thread-safety: as the Store.
 #pragma once
 
 #include <cstdint>
@@ -38,8 +41,11 @@ struct TileBuildOptions {
   // The tag whose visible triangles are water in the water mask (e.g. a reservoir's feature tag).
   // REQUIRES with extensions.water_mask.
   std::optional<std::string> water_tag;
-  // Told the fraction done after each level and after the write; may be empty.
+  // Told the fraction done as windows and levels are done; may be empty.
   std::function<void(double fraction)> progress;
+  // About how many triangles one window of the build reads at a time (docs/tiles.md,
+  // "Windows"): what bounds its memory. The tiles do not depend on it.
+  int64_t window_triangles = int64_t{1} << 16;
 };
 
 struct TileLevelReport {
@@ -70,6 +76,11 @@ struct TileUpdateReport {
   int64_t tiles_meeting = 0;    // tiles, before or after, whose bounds meet the changed region
   int64_t tiles_rewritten = 0;  // of those, written again
   int64_t tiles_deleted = 0;    // of those, gone (now empty)
+  // Where the time went (seconds): reading the window, heights and tiles the update needs;
+  // cutting and merging the tiles; writing them.
+  double read_seconds = 0;
+  double make_seconds = 0;
+  double write_seconds = 0;
 };
 
 // Brings the surface's pyramid up to date with the change log: every tile, at every level, whose
@@ -83,6 +94,12 @@ Result<TileUpdateReport> UpdateTilePyramid(Store& store, const SurfaceInfo& surf
 // UpdateTilePyramid for every surface that has a pyramid, in surface order: what an edit run with
 // --update-tiles does after it commits. Returns each updated surface with its report.
 Result<std::vector<std::pair<SurfaceInfo, TileUpdateReport>>> UpdateAllTilePyramids(Store& store);
+
+// The tile `key` of the surface's pyramid made on demand from the stored surface alone (its
+// window, down to the pyramid's finest level), with the pyramid's constants: the bytes the
+// pyramid holds for it when it is up to date. Nothing is written. NotFound when the surface has
+// no pyramid or the tile is empty; InvalidArgument for a key outside the pyramid's levels.
+Result<std::vector<uint8_t>> MakeTile(Store& store, const SurfaceInfo& surface, const TileKey& key);
 
 // Cesium's layer.json of the surface's pyramid: exact `available` rectangles per level, the
 // extensions, and under "tinbase" the levels' error bounds and the pyramid's transaction.

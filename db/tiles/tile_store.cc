@@ -4,9 +4,9 @@
 namespace tinbase {
 
 Result<std::optional<TilePyramidInfo>> TileStore::Pyramid(int64_t surface) {
-  TB_ASSIGN_OR_RETURN(Statement * s,
-                      db_.Cached("SELECT max_zoom, extensions, water_tag, min_height, max_height, "
-                                 "tx FROM tile_pyramids WHERE surface = ?"));
+  TB_ASSIGN_OR_RETURN(
+      Statement * s, db_.Cached("SELECT max_zoom, extensions, water_tag, min_height, max_height, "
+                                "tx, min_vertex, max_vertex FROM tile_pyramids WHERE surface = ?"));
   s->Bind(1, surface);
   TB_ASSIGN_OR_RETURN(const bool found, s->Step());
   if (!found) return std::optional<TilePyramidInfo>();
@@ -18,6 +18,8 @@ Result<std::optional<TilePyramidInfo>> TileStore::Pyramid(int64_t surface) {
   info.min_height = s->ColumnDouble(3);
   info.max_height = s->ColumnDouble(4);
   info.tx = s->ColumnInt(5);
+  if (!s->ColumnIsNull(6)) info.min_vertex = s->ColumnInt(6);
+  if (!s->ColumnIsNull(7)) info.max_vertex = s->ColumnInt(7);
   s->Reset();
   return std::optional<TilePyramidInfo>(info);
 }
@@ -37,7 +39,8 @@ Status TileStore::ReplacePyramid(const TilePyramidInfo& info) {
   TB_RETURN_IF_ERROR(DeletePyramid(info.surface));
   TB_ASSIGN_OR_RETURN(Statement * s,
                       db_.Cached("INSERT INTO tile_pyramids(surface, max_zoom, extensions, "
-                                 "water_tag, min_height, max_height, tx) VALUES (?,?,?,?,?,?,?)"));
+                                 "water_tag, min_height, max_height, tx, min_vertex, max_vertex) "
+                                 "VALUES (?,?,?,?,?,?,?,?,?)"));
   s->Bind(1, info.surface).Bind(2, int64_t{info.max_zoom}).Bind(3, info.extensions);
   if (info.water_tag) {
     s->Bind(4, *info.water_tag);
@@ -45,6 +48,15 @@ Status TileStore::ReplacePyramid(const TilePyramidInfo& info) {
     s->BindNull(4);
   }
   s->Bind(5, info.min_height).Bind(6, info.max_height).Bind(7, info.tx);
+  int column = 8;
+  for (const std::optional<int64_t>& vertex : {info.min_vertex, info.max_vertex}) {
+    if (vertex) {
+      s->Bind(column, *vertex);
+    } else {
+      s->BindNull(column);
+    }
+    ++column;
+  }
   return s->Run();
 }
 
@@ -80,6 +92,13 @@ Status TileStore::SetPyramidTx(int64_t surface, int64_t tx) {
   TB_ASSIGN_OR_RETURN(Statement * s,
                       db_.Cached("UPDATE tile_pyramids SET tx = ? WHERE surface = ?"));
   s->Bind(1, tx).Bind(2, surface);
+  return s->Run();
+}
+
+Status TileStore::SetHeightVertices(int64_t surface, int64_t min_vertex, int64_t max_vertex) {
+  TB_ASSIGN_OR_RETURN(Statement * s, db_.Cached("UPDATE tile_pyramids SET min_vertex = ?, "
+                                                "max_vertex = ? WHERE surface = ?"));
+  s->Bind(1, min_vertex).Bind(2, max_vertex).Bind(3, surface);
   return s->Run();
 }
 

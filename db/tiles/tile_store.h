@@ -28,6 +28,10 @@ struct TilePyramidInfo {
   double min_height = 0;  // the quantisation range of every tile, metres
   double max_height = 0;
   int64_t tx = 0;  // the last change the tiles show (0: none)
+  // A vertex of the surface at min_height and one at max_height (store ids); nullopt for a
+  // pyramid written before they were recorded.
+  std::optional<int64_t> min_vertex;
+  std::optional<int64_t> max_vertex;
 };
 
 class TileStore {
@@ -45,6 +49,8 @@ class TileStore {
   Status DeleteTile(int64_t surface, const TileKey& key);
   // Records that the pyramid now shows the state after transaction `tx`.
   Status SetPyramidTx(int64_t surface, int64_t tx);
+  // Records the vertices at the ends of the pyramid's height range (TilePyramidInfo).
+  Status SetHeightVertices(int64_t surface, int64_t min_vertex, int64_t max_vertex);
   // The tile's bytes and transaction; nullopt when the pyramid has no such tile.
   Result<std::optional<std::pair<std::vector<uint8_t>, int64_t>>> Tile(int64_t surface,
                                                                        const TileKey& key);

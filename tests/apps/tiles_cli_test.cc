@@ -276,6 +276,14 @@ TEST_F(TilesCliTest, BadRequestsAreRefusedWithOneLine) {
   ExpectRejected(store_, "tiles build " + Quote(store_) + " --surface nope", "nope");
   ExpectRejected(store_, "tiles update " + Quote(store_) + " --surface t",
                  "has no tiles to update");
+  ExpectRejected(store_, "tiles make " + Quote(store_) + " --surface t --tile 3/1",
+                 "--tile '3/1': expected z/x/y");
+  ExpectRejected(store_, "tiles make " + Quote(store_) + " --surface t --tile 25/0/0",
+                 "level over 24");
+  ExpectRejected(store_, "tiles make " + Quote(store_) + " --surface t --tile 3/0/0",
+                 "has no tiles");
+  ExpectRejected(store_, "tiles build " + Quote(store_) + " --surface t --window-triangles 0",
+                 "--window-triangles must be positive");
   EXPECT_FALSE(std::filesystem::exists(dir_.Path("x")));
 }
 
