@@ -241,7 +241,9 @@ CREATE TABLE tile_pyramids(
   water_tag  text,
   min_height double precision NOT NULL,
   max_height double precision NOT NULL,
-  tx         bigint NOT NULL
+  tx         bigint NOT NULL,
+  min_vertex bigint,
+  max_vertex bigint
 );
 
 CREATE TABLE tile_levels(
