@@ -170,6 +170,11 @@ TEST_F(EditRoutesTest, BadBodiesAreRefusedNamingThePlaceAndChangeNothing) {
   auto client = service_->Client();
   ExpectRefused(client->Post(kPost, "{\"type\": \"Feature\",", "application/json"), 400,
                 "malformed JSON: parse error at line 1, column 20");
+  ExpectRefused(client->Post(kPost,
+                             R"({"type": "Feature", "geometry": {"type": "LineString", )"
+                             R"("coordinates": [[7.2, 43.8], [1e999, 43.9]]}})",
+                             "application/json"),
+                400, "malformed JSON: number overflow parsing '1e999'");
   ExpectRefused(client->Post(kPost, "[1, 2]", "application/json"), 400,
                 "the body is array, not a GeoJSON Feature or FeatureCollection");
   RefuseBody({{"type", "Point"}, {"coordinates", {1, 2}}},
