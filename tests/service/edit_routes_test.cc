@@ -124,6 +124,20 @@ TEST_F(EditRoutesTest, CoordinatesWithoutCrsAreTheStoresAndQueryModeAndTagApply)
   ExpectStoreChecksClean();
 }
 
+TEST_F(EditRoutesTest, ReplaceTakesItsLevelFromThePropertiesOrTheQuery) {
+  Serve();
+  const nlohmann::json body = {{"type", "FeatureCollection"},
+                               {"features",
+                                {LonLatSquare(kLon, kLat, 0.003),
+                                 LonLatSquare(kLon + 0.01, kLat, 0.003, {{"level", 300}})}}};
+  const nlohmann::json a = JsonAnswer(
+      PostGeoJson(*service_->Client(), std::string(kPost) + "&mode=replace&level=250", body), 201);
+  ASSERT_EQ(a["features"].size(), 2u) << a.dump();
+  EXPECT_EQ(LoadStored(a["features"][0].get<int64_t>()).level, 250.0);
+  EXPECT_EQ(LoadStored(a["features"][1].get<int64_t>()).level, 300.0);
+  ExpectStoreChecksClean();
+}
+
 TEST_F(EditRoutesTest, PutReplacesAndDeleteRemovesUpdatingTheTiles) {
   RunWrite(store_, "tiles build " + Quote(store_) + " --surface t --max-zoom 10");
   Serve();
