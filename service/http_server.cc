@@ -2,6 +2,7 @@
 #include "service/http_server.h"
 
 #include <exception>
+#include <thread>
 #include <utility>
 
 #include "service/json_reply.h"
@@ -60,10 +61,7 @@ HttpServer::HttpServer(std::unique_ptr<ServiceContext> context,
                        std::unique_ptr<httplib::Server> server, int port)
     : context_(std::move(context)), server_(std::move(server)), port_(port) {}
 
-HttpServer::~HttpServer() {
-  context_->changes().Shutdown();
-  server_->stop();
-}
+HttpServer::~HttpServer() { Stop(); }
 
 Result<std::unique_ptr<HttpServer>> HttpServer::Start(const ServiceOptions& options) {
   if (options.threads < 1 || options.threads > 1024)
@@ -91,13 +89,21 @@ Result<std::unique_ptr<HttpServer>> HttpServer::Start(const ServiceOptions& opti
 }
 
 Status HttpServer::Run() {
-  if (!server_->listen_after_bind())
-    return Status::IOError("the server stopped accepting connections");
+  run_entered_ = true;
+  const bool listened = stop_requested_ || server_->listen_after_bind();
+  run_done_ = true;
+  if (!listened) return Status::IOError("the server stopped accepting connections");
   return Status::Ok();
 }
 
 void HttpServer::Stop() {
   context_->changes().Shutdown();
+  // Either Run() sees the request and does not start, or Stop() sees Run() entered and waits for
+  // its accept loop (or its failure) so that stop() is not lost (both flags are seq_cst).
+  stop_requested_ = true;
+  if (run_entered_) {
+    while (!server_->is_running() && !run_done_) std::this_thread::yield();
+  }
   server_->stop();
 }
 

@@ -6,6 +6,7 @@
 
 #include <httplib.h>
 
+#include <atomic>
 #include <memory>
 
 #include "core/base/status.h"
@@ -34,6 +35,11 @@ class HttpServer {
   std::unique_ptr<ServiceContext> context_;
   std::unique_ptr<httplib::Server> server_;
   int port_;
+  // cpp-httplib's stop() does nothing before its accept loop runs; these let a Stop() that comes
+  // before or while Run() starts still end it (see Stop()).
+  std::atomic<bool> run_entered_{false};
+  std::atomic<bool> run_done_{false};
+  std::atomic<bool> stop_requested_{false};
 };
 
 }  // namespace tinbase::service

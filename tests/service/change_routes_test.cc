@@ -138,20 +138,47 @@ TEST_F(ChangeRoutesTest, BadParametersAreJsonErrors) {
                   400, "Last-Event-ID");
 }
 
+// Waiting feed clients may take only half the request threads, so readers are still served.
+TEST_F(ChangeRoutesTest, FeedClientsLeaveThreadsForReaders) {
+  service_.reset();
+  service::ServiceOptions options;
+  options.store_path = store_;
+  options.threads = 2;  // one for the feed
+  service_ = std::make_unique<TestService>(options);
+  JsonAnswer(service_->Client()->Get("/changes?wait=0"));
+  JsonAnswer(service_->Client()->Get("/changes?wait=0"));  // the first gave its slot back
+  std::promise<void> opened;
+  bool first = true;
+  auto stream = std::async(std::launch::async, [&] {
+    return service_->Client()->Get("/changes", {{"Accept", "text/event-stream"}},
+                                   [&](const char*, size_t) {
+                                     if (first) opened.set_value();
+                                     first = false;
+                                     return true;
+                                   });
+  });
+  opened.get_future().wait();
+  ExpectJsonError(service_->Client()->Get("/changes?wait=0"), 503,
+                  "the change feed already has 1 waiting clients");
+  JsonAnswer(service_->Client()->Get("/surfaces/t"));
+  service_.reset();
+  stream.get();
+}
+
 // Stopping the service ends the streams and polls still open, instead of waiting for them.
 TEST_F(ChangeRoutesTest, StoppingTheServiceEndsOpenStreams) {
-  std::promise<void> opened;
-  std::string text;
+  std::promise<std::string> opened;  // the stream's first bytes
   auto stream = std::async(std::launch::async, [&] {
+    bool first = true;
     auto client = service_->Client();
     return client->Get("/changes", {{"Accept", "text/event-stream"}},
                        [&](const char* data, size_t size) {
-                         if (text.empty()) opened.set_value();
-                         text.append(data, size);
+                         if (first) opened.set_value(std::string(data, size));
+                         first = false;
                          return true;
                        });
   });
-  opened.get_future().wait();  // the stream's first line ("retry: ...") came
+  const std::string text = opened.get_future().get();
   EXPECT_EQ(text.rfind("retry: ", 0), 0u) << text;
   service_.reset();  // must end the open stream rather than wait for it
   stream.get();

@@ -3,6 +3,7 @@
 // change nothing, writes need the token, and concurrent writes to one region all land.
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <set>
 #include <thread>
 #include <vector>
@@ -123,6 +124,20 @@ TEST_F(EditRoutesTest, CoordinatesWithoutCrsAreTheStoresAndQueryModeAndTagApply)
   ExpectStoreChecksClean();
 }
 
+TEST_F(EditRoutesTest, ReplaceTakesItsLevelFromThePropertiesOrTheQuery) {
+  Serve();
+  const nlohmann::json body = {{"type", "FeatureCollection"},
+                               {"features",
+                                {LonLatSquare(kLon, kLat, 0.003),
+                                 LonLatSquare(kLon + 0.01, kLat, 0.003, {{"level", 300}})}}};
+  const nlohmann::json a = JsonAnswer(
+      PostGeoJson(*service_->Client(), std::string(kPost) + "&mode=replace&level=250", body), 201);
+  ASSERT_EQ(a["features"].size(), 2u) << a.dump();
+  EXPECT_EQ(LoadStored(a["features"][0].get<int64_t>()).level, 250.0);
+  EXPECT_EQ(LoadStored(a["features"][1].get<int64_t>()).level, 300.0);
+  ExpectStoreChecksClean();
+}
+
 TEST_F(EditRoutesTest, PutReplacesAndDeleteRemovesUpdatingTheTiles) {
   RunWrite(store_, "tiles build " + Quote(store_) + " --surface t --max-zoom 10");
   Serve();
@@ -160,6 +175,9 @@ TEST_F(EditRoutesTest, PutReplacesAndDeleteRemovesUpdatingTheTiles) {
   ExpectRefused(service_->Client()->Delete("/surfaces/t/features/" + std::to_string(new_id)), 404,
                 "no feature " + std::to_string(new_id) + " in surface 't'");
   ExpectRefused(service_->Client()->Delete("/surfaces/t/features/abc"), 400, "feature id");
+  // Dots in the path match no route: a path part never climbs.
+  ExpectRefused(service_->Client()->Delete("/surfaces/t/features/../../1"), 404, "no route");
+  ExpectRefused(service_->Client()->Delete("/surfaces/../t/features/1"), 404, "no route");
   ExpectRefused(service_->Client()->Delete("/surfaces/nope/features/1"), 404,
                 "no surface named 'nope'");
 }
@@ -170,6 +188,11 @@ TEST_F(EditRoutesTest, BadBodiesAreRefusedNamingThePlaceAndChangeNothing) {
   auto client = service_->Client();
   ExpectRefused(client->Post(kPost, "{\"type\": \"Feature\",", "application/json"), 400,
                 "malformed JSON: parse error at line 1, column 20");
+  ExpectRefused(client->Post(kPost,
+                             R"({"type": "Feature", "geometry": {"type": "LineString", )"
+                             R"("coordinates": [[7.2, 43.8], [1e999, 43.9]]}})",
+                             "application/json"),
+                400, "malformed JSON: number overflow parsing '1e999'");
   ExpectRefused(client->Post(kPost, "[1, 2]", "application/json"), 400,
                 "the body is array, not a GeoJSON Feature or FeatureCollection");
   RefuseBody({{"type", "Point"}, {"coordinates", {1, 2}}},
@@ -240,6 +263,31 @@ TEST_F(EditRoutesTest, WritesNeedTheTokenAndAreRefusedReadOnly) {
   before_ = TableChecksums(store_);
   ExpectRefused(PostGeoJson(*service_->Client(), kPost, body), 403, "--read-only");
   ExpectRefused(service_->Client()->Delete("/surfaces/t/features/1"), 403, "--read-only");
+}
+
+// The service's writer connection lives long; edits the CLI makes meanwhile in another process
+// must be seen by its next edit, not hidden behind anything it kept.
+TEST_F(EditRoutesTest, EditsInterleavedWithTheCliStayConsistent) {
+  Serve();
+  const nlohmann::json ours = JsonAnswer(
+      PostGeoJson(*service_->Client(), kPost, LonLatSquare(kLon, kLat, 0.004, {{"mode", "fill"}})),
+      201);
+  const std::string square = dir_.Path("square.geojson");
+  std::ofstream(square) << LonLatSquare(kLon + 0.003, kLat, 0.004).dump();
+  const CliResult add =
+      RunCli("polygon add " + Quote(store_) + " " + Quote(square) + " --surface t --mode erase");
+  ASSERT_EQ(add.exit_code, 0) << add.err;
+  const int64_t theirs = ours["features"][0].get<int64_t>() + 1;
+  JsonAnswer(service_->Client()->Delete("/surfaces/t/features/" + std::to_string(theirs)));
+  ExpectStoreChecksClean();
+  const CliResult remove = RunCli("polygon remove " + Quote(store_) + " " +
+                                  std::to_string(ours["features"][0].get<int64_t>()));
+  ASSERT_EQ(remove.exit_code, 0) << remove.err;
+  JsonAnswer(
+      PostGeoJson(*service_->Client(), kPost, LonLatSquare(kLon, kLat, 0.002, {{"mode", "fill"}})),
+      201);
+  EXPECT_EQ(Features(), 1);
+  ExpectStoreChecksClean();
 }
 
 // Writers of one process take turns on the writer connection: every edit of the same region
