@@ -35,7 +35,8 @@
 // On random points a walk from the last answer crosses O(sqrt n) triangles, so the walking methods
 // run on random points only over the first --walk-sample points; tinbase-jump runs over the first
 // --jump-points random points and the first --sample sorted ones (where it only shows what the
-// walk from the last answer saves). Every other case runs over all --points.
+// walk from the last answer saves), tinbase-stored over the first --jump-points random points.
+// Every other case runs over all --points.
 #include <CGAL/Constrained_triangulation_2.h>
 #include <CGAL/Delaunay_triangulation_2.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -432,7 +433,7 @@ int RunAll(const RunArgs& args) {
     int64_t n = args.points;
     if (is_random && walks) n = args.walk_sample;
     if (method == "tinbase-jump") n = is_random ? args.jump_points : args.sample;
-    if ((method == "tinbase-bulk" || method == "tinbase-stored") && is_random) n = args.jump_points;
+    if (method == "tinbase-stored" && is_random) n = args.jump_points;
     return std::min(n, args.points);
   };
   // key "method/order" -> CPU ns per point, one per round. CPU time, because on a machine shared
