@@ -257,6 +257,29 @@ TEST_F(BulkLocatePathsTest, ALargeRequestAgainstTheSurfaceIsLocatedInMemory) {
   EXPECT_EQ(*path, LocatePath::kStored);
 }
 
+// A link to a triangle that does not exist: the stored walk reports Corruption when it reaches
+// it, so the in-memory path, which cannot hold such rows by position, leaves the run to the
+// stored walk, and both end alike.
+TEST_F(BulkLocatePathsTest, ABrokenLinkEndsBothPathsAlike) {
+  ASSERT_TRUE(s_.store->db().Exec("UPDATE triangles SET n0 = 999999 WHERE n0 IS NULL").ok());
+  const std::vector<Point2> points = RandomPoints(15, 500);
+  std::vector<std::vector<Answer>> answers(2);
+  std::vector<Status> status;
+  for (LocatePath path : {LocatePath::kStored, LocatePath::kInMemory}) {
+    auto& out = answers[status.size()];
+    status.push_back(LocatePointsBy(
+        path, *s_.store, s_.info, points, [&](size_t i, const Point2& p, const Location* where) {
+          out.push_back({i, p, where ? std::optional(*where) : std::nullopt});
+          return Status::Ok();
+        }));
+  }
+  EXPECT_EQ(status[0].code(), StatusCode::kCorruption) << status[0].ToString();
+  EXPECT_EQ(status[1].ToString(), status[0].ToString());
+  ASSERT_EQ(answers[1].size(), answers[0].size());
+  for (size_t i = 0; i < answers[0].size(); ++i)
+    EXPECT_EQ(answers[1][i].where.has_value(), answers[0][i].where.has_value()) << i;
+}
+
 TEST_F(BulkLocateTest, ASinkErrorStopsTheRun) {
   std::vector<Point2> points(20, Point2{1100, 2100});
   int calls = 0;
