@@ -42,14 +42,14 @@ using LocatedPointSink =
 // sequential scan, about 1.5 rows a triangle (a triangulation has about half as many vertices as
 // triangles), so at most 3 rows a point; the stored path reads, for each point the last triangle
 // does not hold, 3 to 4 rows by key (the start's existence, the walk's triangles, the answer's
-// paint), each a descent of the B-tree, which costs at least as much as a scanned row. Sorted
-// input, where the last triangle holds about half the points, still reads about 2 rows a point
-// by key, so the load is paid back at the bound, and scattered input (a jump and a walk of
+// paint), each a descent of the B-tree, which costs several times a scanned row. Sorted input,
+// where the last triangle holds about 40 % of the points, still reads about 2 rows a point by
+// key, so the load is paid back at the bound, and scattered input (a jump and a walk of
 // several triangles a point) far sooner. Deciding reads at most that many index entries
 // (MeshTables::CountTrianglesUpTo), so a small request on a large surface is not slowed by the
-// test. The loaded mesh takes about 100 bytes a triangle, so the bound also keeps its memory
-// within a small multiple of the request's own (its points and answers): a request size limit
-// (the service's body limit) bounds it too.
+// test. The loaded mesh takes about 100 bytes a triangle (170 while loading), so the bound keeps
+// its memory within a small multiple of the request's own (its points and answers): a request
+// size limit (the service's body limit) bounds it too.
 // REQUIRES: finite coordinates.
 Status LocatePoints(Store& store, const SurfaceInfo& surface, const std::vector<Point2>& points,
                     const LocatedPointSink& sink);
