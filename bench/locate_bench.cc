@@ -18,8 +18,14 @@
 //   tinbase        PointLocator::Locate (triangle, z, visible, tag), one read snapshot, each walk
 //                  from the last answer
 //   tinbase+cache  the same with a MeshCache, so rows read once stay in memory
-//   tinbase-bulk   LocatePoints, what `tinbase locate --points` runs: the previous answer's
-//                  triangle tested in memory first, then the walk (a jump when far)
+//   tinbase-bulk   LocatePoints, what `tinbase locate --points` and the service's POST locate
+//                  run: the previous answer's triangle tested first, then the walk (a jump when
+//                  far); on the in-memory path when the request is large against the surface
+//                  (db/query/bulk_locate.h), so its time includes loading the surface
+//   tinbase-stored LocatePoints forced onto the stored path (every row read by key)
+//   tinbase-memory-walk
+//                  the in-memory path's walk alone (MemoryLocator on a MemoryMesh loaded before
+//                  the clock starts, as CGAL's triangulations are built before theirs)
 //   tinbase-jump   LocatePoint per point (a jump through the centroid blocks, then a walk)
 //   cgal-walk      CGAL's locate(p, hint = last face) on a constrained triangulation whose
 //                  constraints are every stored edge: exactly the stored triangles
@@ -29,7 +35,8 @@
 // On random points a walk from the last answer crosses O(sqrt n) triangles, so the walking methods
 // run on random points only over the first --walk-sample points; tinbase-jump runs over the first
 // --jump-points random points and the first --sample sorted ones (where it only shows what the
-// walk from the last answer saves). Every other case runs over all --points.
+// walk from the last answer saves), tinbase-stored over the first --jump-points random points.
+// Every other case runs over all --points.
 #include <CGAL/Constrained_triangulation_2.h>
 #include <CGAL/Delaunay_triangulation_2.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -50,6 +57,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -58,6 +66,8 @@
 #include "db/mesh_cache.h"
 #include "db/point_locator.h"
 #include "db/query/bulk_locate.h"
+#include "db/query/memory_locator.h"
+#include "db/query/memory_mesh.h"
 #include "db/surface_store.h"
 
 namespace tinbase {
@@ -213,11 +223,12 @@ struct Bench {
   SurfaceInfo surface;
   std::unique_ptr<Ct> ct;
   std::unique_ptr<Hierarchy> hierarchy;
+  std::optional<MemoryMesh> mesh;  // for tinbase-memory-walk
 };
 
 // What `tinbase locate --points` runs (db/query/bulk_locate.h): the last triangle tested in
 // memory first, then the walk from it.
-Run TinbaseBulkRun(Bench& b, const std::vector<Pt>& pts, int64_t count) {
+Run TinbaseBulkRun(Bench& b, const std::vector<Pt>& pts, int64_t count, LocatePath path) {
   const auto start = std::chrono::steady_clock::now();
   std::vector<Point2> points;
   points.reserve(static_cast<size_t>(count));
@@ -225,14 +236,34 @@ Run TinbaseBulkRun(Bench& b, const std::vector<Pt>& pts, int64_t count) {
     points.push_back({pts[static_cast<size_t>(i)].x, pts[static_cast<size_t>(i)].y});
   Run run;
   int64_t steps = 0;
-  const Status located =
-      LocatePoints(*b.store, b.surface, points, [&](size_t, const Point2&, const Location* at) {
-        if (at == nullptr) return Status::NotFound("a point is outside");
-        run.checksum += at->triangle;
-        steps += at->steps;
-        return Status::Ok();
-      });
+  const Status located = LocatePointsBy(path, *b.store, b.surface, points,
+                                        [&](size_t, const Point2&, const Location* at) {
+                                          if (at == nullptr)
+                                            return Status::NotFound("a point is outside");
+                                          run.checksum += at->triangle;
+                                          steps += at->steps;
+                                          return Status::Ok();
+                                        });
   if (!located.ok()) Die("locate", located);
+  run.seconds = Seconds(start);
+  run.points = count;
+  run.mean_steps = static_cast<double>(steps) / static_cast<double>(count);
+  return run;
+}
+
+// The in-memory walk alone, on the mesh loaded once before the runs.
+Run MemoryWalkRun(Bench& b, const std::vector<Pt>& pts, int64_t count) {
+  const auto start = std::chrono::steady_clock::now();
+  MemoryLocator locator(*b.mesh, b.surface);
+  Run run;
+  int64_t steps = 0;
+  for (int64_t i = 0; i < count; ++i) {
+    const Pt& p = pts[static_cast<size_t>(i)];
+    const Location* at = Check(locator.Locate({p.x, p.y}), "locate");
+    if (at == nullptr) Die("locate", Status::NotFound("a point is outside"));
+    run.checksum += at->triangle;
+    steps += at->steps;
+  }
   run.seconds = Seconds(start);
   run.points = count;
   run.mean_steps = static_cast<double>(steps) / static_cast<double>(count);
@@ -315,7 +346,9 @@ struct RunArgs {
   int64_t walk_sample = 2000;
   int64_t jump_points = 1000000;
   int rounds = 2;
-  std::string methods = "tinbase,tinbase+cache,tinbase-bulk,tinbase-jump,cgal-walk,cgal-hierarchy";
+  std::string methods =
+      "tinbase-bulk,tinbase-memory-walk,tinbase-stored,tinbase,tinbase-jump,cgal-walk,"
+      "cgal-hierarchy";
 };
 
 // A hierarchy face's store id: the stored triangle holding its centroid (the same triangle
@@ -360,11 +393,25 @@ int RunAll(const RunArgs& args) {
                 Seconds(t0));
   }
 
+  if (args.methods.find("tinbase-memory-walk") != std::string::npos) {
+    t0 = std::chrono::steady_clock::now();
+    const double cpu0 = CpuSeconds();
+    auto snapshot = Check(ReadSnapshot::Begin(*b.store), "read snapshot");
+    b.mesh = Check(MemoryMesh::Load(*b.store, b.surface), "load the mesh");
+    if (!b.mesh) Die("load the mesh", Status::Corruption("rows not held by position"));
+    std::printf("MemoryMesh::Load: %zu triangles (%.2f s, %.2f s CPU)\n", b.mesh->TriangleCount(),
+                Seconds(t0), CpuSeconds() - cpu0);
+  }
+
   std::map<std::string, Method> all = {
       {"tinbase", [&](const auto& p, int64_t n) { return TinbaseRun(b, p, n, false); }},
       {"tinbase+cache", [&](const auto& p, int64_t n) { return TinbaseRun(b, p, n, true); }},
       {"tinbase-jump", [&](const auto& p, int64_t n) { return TinbaseJumpRun(b, p, n); }},
-      {"tinbase-bulk", [&](const auto& p, int64_t n) { return TinbaseBulkRun(b, p, n); }},
+      {"tinbase-bulk",
+       [&](const auto& p, int64_t n) { return TinbaseBulkRun(b, p, n, LocatePath::kChoose); }},
+      {"tinbase-stored",
+       [&](const auto& p, int64_t n) { return TinbaseBulkRun(b, p, n, LocatePath::kStored); }},
+      {"tinbase-memory-walk", [&](const auto& p, int64_t n) { return MemoryWalkRun(b, p, n); }},
       {"cgal-walk", [&](const auto& p, int64_t n) { return CgalWalkRun(*b.ct, p, n); }},
       {"cgal-hierarchy",
        [&](const auto& p, int64_t n) { return CgalHierarchyRun(*b.hierarchy, p, n); }},
@@ -386,7 +433,7 @@ int RunAll(const RunArgs& args) {
     int64_t n = args.points;
     if (is_random && walks) n = args.walk_sample;
     if (method == "tinbase-jump") n = is_random ? args.jump_points : args.sample;
-    if (method == "tinbase-bulk" && is_random) n = args.jump_points;
+    if (method == "tinbase-stored" && is_random) n = args.jump_points;
     return std::min(n, args.points);
   };
   // key "method/order" -> CPU ns per point, one per round. CPU time, because on a machine shared

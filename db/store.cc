@@ -22,6 +22,31 @@ StoreSettings Settings(bool create, Store::Access access) {
   return settings;
 }
 
+// The application_id from migration 0013 on: GeoPackage 1.1's, so GDAL opens the store as a
+// GeoPackage by its own name (docs/format.md, "The store as a GeoPackage").
+constexpr int32_t kGeoPackage11ApplicationId = 0x47503131;
+
+// A tinbase store: application_id 'TINB' (before migration 0013), or GeoPackage 1.1's 'GP11'
+// with meta's application row (from 0013 on, docs/format.md): another GeoPackage is not one.
+Status CheckIsStore(Connection& db, const std::string& path) {
+  auto app_id = db.ApplicationId();
+  if (!app_id.ok())
+    return Status::InvalidArgument(path + " is not a tinbase store (" + app_id.status().message() +
+                                   ")");
+  if (*app_id == kTinbaseApplicationId) return Status::Ok();
+  if (*app_id == kGeoPackage11ApplicationId) {
+    auto marked = db.QueryInt(
+        "SELECT count(*) FROM sqlite_master WHERE type = 'table' AND name = 'meta' AND EXISTS "
+        "(SELECT 1 FROM meta WHERE key = 'application' AND value = 'tinbase')");
+    if (marked.ok() && *marked == 1) return Status::Ok();
+    return Status::InvalidArgument(path +
+                                   " is not a tinbase store (a GeoPackage of another "
+                                   "program)");
+  }
+  return Status::InvalidArgument(path + " is not a tinbase store (application_id " +
+                                 std::to_string(*app_id) + ")");
+}
+
 }  // namespace
 
 Store::Store(std::unique_ptr<Connection> db, int version)
@@ -52,13 +77,7 @@ Result<std::unique_ptr<Store>> Store::Open(const std::string& path, Access acces
   TB_ASSIGN_OR_RETURN(
       auto db, Connection::Open(path, access == Access::kReadOnly ? Connection::Mode::kReadOnly
                                                                   : Connection::Mode::kReadWrite));
-  auto app_id = db->ApplicationId();
-  if (!app_id.ok())
-    return Status::InvalidArgument(path + " is not a tinbase store (" + app_id.status().message() +
-                                   ")");
-  if (*app_id != kTinbaseApplicationId)
-    return Status::InvalidArgument(path + " is not a tinbase store (application_id " +
-                                   std::to_string(*app_id) + ")");
+  TB_RETURN_IF_ERROR(CheckIsStore(*db, path));
   TB_RETURN_IF_ERROR(db->ConfigureForStore(Settings(/*create=*/false, access)));
   TB_ASSIGN_OR_RETURN(int64_t version, db->SchemaVersion());
   if (version > LatestSchemaVersion())

@@ -349,3 +349,7 @@ CREATE TABLE tiles(
   tx      INTEGER NOT NULL,
   PRIMARY KEY (surface, level, x, y)
 ) WITHOUT ROWID;
+
+-- 0013 adds no table: the header's application_id becomes 0x47503131 (GeoPackage 1.1's
+-- 'GP11') and meta gets the row (application, tinbase), by which tinbase knows its stores
+-- (docs/format.md).

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Issue 24's bulk point location benchmark: tinbase's PointLocator against CGAL's in-memory
-# locate() (bench/locate_bench.cc) and PostGIS ST_Intersects on a GiST-indexed triangle table, on
+# Issue 24's bulk point location benchmark: tinbase's LocatePoints (in memory for a large request,
+# and forced onto the stored walk) and PointLocator against CGAL's in-memory locate()
+# (bench/locate_bench.cc) and PostGIS ST_Intersects on a GiST-indexed triangle table, on
 # the ~1e6-triangle generated store. Each round runs every tinbase and CGAL case, then PostGIS on
 # the first SAMPLE random points (and the same points in Hilbert order): one SQL join (one client,
 # no parallel workers) and one query per point through pgbench (one client, prepared statements).
@@ -12,8 +13,9 @@
 # Usage: scripts/bench-locate.sh [OUTDIR] [POINTS] [ROUNDS]
 #   (defaults build-bench/locate, 10000000, 2). In the environment: SAMPLE (PostGIS's points,
 #   100000), WALK_SAMPLE (random points for the walks from the last answer, 2000), JUMP_POINTS
-#   (random points for tinbase-jump, 1000000), METHODS (locate_bench's, default all but
-#   tinbase+cache), BUILD_DIR (build-bench).
+#   (random points for tinbase-jump and tinbase-stored, 1000000), METHODS (locate_bench's,
+#   default all but tinbase and tinbase+cache, which tinbase-stored stands for), BUILD_DIR
+#   (build-bench).
 # Writes OUTDIR/runs.csv (every case of every round) and prints the summary.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -23,7 +25,7 @@ rounds=${3:-2}
 sample=${SAMPLE:-100000}
 walk_sample=${WALK_SAMPLE:-2000}
 jump_points=${JUMP_POINTS:-1000000}
-methods=${METHODS:-tinbase,tinbase-bulk,tinbase-jump,cgal-walk,cgal-hierarchy}
+methods=${METHODS:-tinbase-bulk,tinbase-memory-walk,tinbase-stored,tinbase-jump,cgal-walk,cgal-hierarchy}
 build=${BUILD_DIR:-build-bench}
 pgbin=/usr/lib/postgresql/15/bin
 [ -x "$pgbin/initdb" ] || { echo "PostgreSQL 15 is missing: apt-get install postgresql-15 postgresql-15-postgis-3" >&2; exit 1; }
@@ -141,15 +143,18 @@ for key, v in sorted(ns.items()):
 print("\nratio per round, CPU time unless it says wall [goal]")
 for a, b, table, goal in [
         (("tinbase-bulk", "sorted"), ("cgal-walk", "sorted"), ns, "<= 2"),
+        (("tinbase-memory-walk", "sorted"), ("cgal-walk", "sorted"), ns, "<= 2, walk alone"),
         (("tinbase-bulk", "random"), ("cgal-hierarchy", "random"), ns, "<= 2"),
+        (("tinbase-memory-walk", "random"), ("cgal-hierarchy", "random"), ns, "walk alone"),
         (("postgis-join", "sorted"), ("tinbase-bulk", "sorted"), ns, ">= 20"),
         (("postgis-join", "random"), ("tinbase-bulk", "random"), ns, ">= 20"),
+        (("tinbase-stored", "sorted"), ("tinbase-bulk", "sorted"), ns, "speed-up"),
+        (("tinbase-stored", "random"), ("tinbase-bulk", "random"), ns, "speed-up"),
         (("tinbase", "sorted"), ("cgal-walk", "sorted"), ns, "<= 2"),
         (("tinbase+cache", "sorted"), ("cgal-walk", "sorted"), ns, "<= 2"),
         (("tinbase-jump", "random"), ("cgal-hierarchy", "random"), ns, "<= 2"),
         (("tinbase", "random"), ("cgal-walk", "random"), ns, ""),
         (("postgis-join", "random"), ("tinbase-jump", "random"), ns, ">= 20"),
-        (("postgis-join", "sorted"), ("tinbase", "sorted"), ns, ">= 20"),
         (("postgis-pgbench", "random"), ("tinbase-jump", "random"), wall, ">= 20, wall")]:
     v = ratios(a, b, table)
     if v:

@@ -40,11 +40,9 @@ Result<nlohmann::json> LonLatBox(const Box& box, const Crs& from) {
   return nlohmann::json::array({b.min_x, b.min_y, b.max_x, b.max_y});
 }
 
-Result<std::optional<Crs>> CrsParam(const httplib::Request& req) {
-  if (!req.has_param("crs")) return std::optional<Crs>();
-  const std::string text = req.get_param_value("crs");
+Result<Crs> ClientCrs(const std::string& text, const std::string& what) {
   const auto unknown = [&] {
-    return Status::InvalidArgument("parameter 'crs': '" + text.substr(0, 200) +
+    return Status::InvalidArgument(what + ": '" + text.substr(0, 200) +
                                    "' is not a coordinate system GDAL knows");
   };
   // GDAL would also take a file name or a URL here and read it: not for a client's text.
@@ -60,7 +58,7 @@ Result<std::optional<Crs>> CrsParam(const httplib::Request& req) {
   if (exported != OGRERR_NONE) return unknown();
   auto crs = Crs::FromWkt(wkt_text);
   if (!crs.ok()) return unknown();
-  return std::optional<Crs>(std::move(*crs));
+  return std::move(*crs);
 }
 
 }  // namespace tinbase::service

@@ -24,8 +24,10 @@ Result<Box> TransformBox(const Box& box, const Crs& from, const Crs& to);
 // TransformBox to EPSG:4326 as [west, south, east, north], longitude first.
 Result<nlohmann::json> LonLatBox(const Box& box, const Crs& from);
 
-// The `crs` query parameter as a Crs; nullopt when absent. InvalidArgument "parameter 'crs':
-// 'x' is not a coordinate system GDAL knows" otherwise.
-Result<std::optional<Crs>> CrsParam(const httplib::Request& req);
+// A coordinate system a client names ("EPSG:4326", WKT, a PROJ string), read with GDAL's file
+// and network access off: GDAL would also take a file name or a URL and read it. InvalidArgument
+// "<what>: 'x' is not a coordinate system GDAL knows" otherwise. Every `crs` a request carries
+// goes through here (CrsParam of request_params.h, the edit and locate bodies).
+Result<Crs> ClientCrs(const std::string& text, const std::string& what);
 
 }  // namespace tinbase::service

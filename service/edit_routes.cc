@@ -15,6 +15,7 @@
 #include "db/polygon_editor.h"
 #include "db/tiles/tile_pyramid.h"
 #include "service/change_json.h"
+#include "service/crs_box.h"
 #include "service/geojson_request.h"
 #include "service/json_reply.h"
 #include "service/request_params.h"
@@ -72,9 +73,7 @@ Result<PolygonAddOptions> ReadEditOptions(Store& store, const SurfaceInfo& surfa
   std::optional<Crs> source;
   if (auto crs = OptionalParam(req, "crs")) {
     QuietGdalErrors quiet;  // the message goes back to the client, not to the server's stderr
-    auto parsed = Crs::FromUserInput(*crs);
-    if (!parsed.ok()) return parsed.status().WithContext("parameter 'crs'");
-    source = std::move(*parsed);
+    TB_ASSIGN_OR_RETURN(source, ClientCrs(*crs, "parameter 'crs'"));
   }
   TB_ASSIGN_OR_RETURN(std::optional<Crs> store_crs, store.GetCrs());
   if (!store_crs) return Status::InvalidArgument("the store has no CRS yet: import a DEM first");

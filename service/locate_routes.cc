@@ -7,6 +7,7 @@
 #include "db/point_locator.h"
 #include "db/query/bulk_locate.h"
 #include "service/client_crs.h"
+#include "service/crs_box.h"
 #include "service/json_reply.h"
 #include "service/request_params.h"
 #include "service/surface_read.h"
@@ -92,11 +93,7 @@ Result<LocateBody> ParseLocateBody(const std::string& text) {
   }
   if (body.contains("crs")) {
     if (!body["crs"].is_string()) return Status::InvalidArgument("\"crs\" is not a string");
-    auto crs = Crs::FromUserInput(body["crs"].get<std::string>());
-    if (!crs.ok())
-      return Status::InvalidArgument("\"crs\": '" + body["crs"].get<std::string>() +
-                                     "' is not a coordinate system GDAL knows");
-    out.crs = std::move(*crs);
+    TB_ASSIGN_OR_RETURN(out.crs, ClientCrs(body["crs"].get<std::string>(), "\"crs\""));
   }
   return out;
 }

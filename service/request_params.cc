@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "db/query/surface_selection.h"
+#include "service/crs_box.h"
 
 namespace tinbase::service {
 
@@ -108,10 +109,9 @@ Result<std::vector<Point2>> LineParam(const httplib::Request& req, const char* n
 
 Result<std::optional<Crs>> CrsParam(const httplib::Request& req, const char* name) {
   if (!req.has_param(name)) return std::optional<Crs>();
-  const std::string text = req.get_param_value(name);
-  auto crs = Crs::FromUserInput(text);
-  if (!crs.ok()) return BadParam(name, text, "is not a coordinate system GDAL knows");
-  return std::optional<Crs>(std::move(*crs));
+  TB_ASSIGN_OR_RETURN(
+      Crs crs, ClientCrs(req.get_param_value(name), "parameter '" + std::string(name) + "'"));
+  return std::optional<Crs>(std::move(crs));
 }
 
 Result<SurfaceFilter> FilterParams(const httplib::Request& req) {

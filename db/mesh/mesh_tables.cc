@@ -653,6 +653,15 @@ Result<int64_t> MeshTables::CountTriangles() {
   return count.value_or(0);
 }
 
+Result<int64_t> MeshTables::CountTrianglesUpTo(int64_t limit) {
+  TB_ASSIGN_OR_RETURN(Statement * stmt,
+                      db_.Cached("SELECT count(*) FROM (SELECT 1 FROM triangles WHERE surface = ? "
+                                 "LIMIT ?)"));
+  stmt->Bind(1, surface_.id).Bind(2, limit);
+  TB_ASSIGN_OR_RETURN(std::optional<int64_t> count, FirstValue(*stmt));
+  return count.value_or(0);
+}
+
 // ---- Bulk writes
 
 Result<std::vector<int64_t>> MeshTables::InsertVertices(const std::vector<TinVertex>& vertices) {

@@ -171,6 +171,9 @@ class MeshTables {
   Result<int64_t> CountConstraints();
   // The surface's triangle rows alone (one scan of the surface index, cheaper than Count()).
   Result<int64_t> CountTriangles();
+  // min(CountTriangles(), limit), reading at most `limit` index entries: whether a surface is
+  // small enough for a job, at a cost bounded by the job's size rather than the surface's.
+  Result<int64_t> CountTrianglesUpTo(int64_t limit);
 
   // ---- Bulk writes. Each REQUIRES a WriteTransaction; an error leaves the rollback to it.
 

@@ -4,6 +4,10 @@
 #include <array>
 #include <optional>
 
+#include "db/mesh/mesh_tables.h"
+#include "db/query/memory_locator.h"
+#include "db/query/memory_mesh.h"
+
 namespace tinbase {
 
 namespace {
@@ -46,11 +50,8 @@ class LastTriangle {
   std::array<double, 3> z_{};
 };
 
-}  // namespace
-
-Status LocatePoints(Store& store, const SurfaceInfo& surface, const std::vector<Point2>& points,
+Status LocateStored(Store& store, const SurfaceInfo& surface, const std::vector<Point2>& points,
                     const LocatedPointSink& sink) {
-  TB_ASSIGN_OR_RETURN(auto snapshot, SnapshotUnlessInTransaction(store));
   PointLocator locator(store, surface);
   LastTriangle last(store, surface);
   for (size_t i = 0; i < points.size(); ++i) {
@@ -69,6 +70,43 @@ Status LocatePoints(Store& store, const SurfaceInfo& surface, const std::vector<
     }
   }
   return Status::Ok();
+}
+
+Status LocateInMemory(const MemoryMesh& mesh, const SurfaceInfo& surface,
+                      const std::vector<Point2>& points, const LocatedPointSink& sink) {
+  MemoryLocator locator(mesh, surface);
+  for (size_t i = 0; i < points.size(); ++i) {
+    TB_ASSIGN_OR_RETURN(const Location* where, locator.Locate(points[i]));
+    TB_RETURN_IF_ERROR(sink(i, points[i], where));
+  }
+  return Status::Ok();
+}
+
+}  // namespace
+
+Result<LocatePath> ChooseLocatePath(Store& store, const SurfaceInfo& surface, size_t points) {
+  const int64_t most = kLoadTrianglesPerPoint * static_cast<int64_t>(points);
+  TB_ASSIGN_OR_RETURN(const int64_t triangles,
+                      MeshTables(store.db(), surface).CountTrianglesUpTo(most + 1));
+  return triangles <= most ? LocatePath::kInMemory : LocatePath::kStored;
+}
+
+Status LocatePointsBy(LocatePath path, Store& store, const SurfaceInfo& surface,
+                      const std::vector<Point2>& points, const LocatedPointSink& sink) {
+  TB_ASSIGN_OR_RETURN(auto snapshot, SnapshotUnlessInTransaction(store));
+  if (path == LocatePath::kChoose) {
+    TB_ASSIGN_OR_RETURN(path, ChooseLocatePath(store, surface, points.size()));
+  }
+  if (path == LocatePath::kInMemory) {
+    TB_ASSIGN_OR_RETURN(const std::optional<MemoryMesh> mesh, MemoryMesh::Load(store, surface));
+    if (mesh) return LocateInMemory(*mesh, surface, points, sink);
+  }
+  return LocateStored(store, surface, points, sink);
+}
+
+Status LocatePoints(Store& store, const SurfaceInfo& surface, const std::vector<Point2>& points,
+                    const LocatedPointSink& sink) {
+  return LocatePointsBy(LocatePath::kChoose, store, surface, points, sink);
 }
 
 }  // namespace tinbase

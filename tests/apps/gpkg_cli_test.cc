@@ -1,12 +1,16 @@
 // `tinbase export --format gpkg` end to end on the bundled Hamersley data (the demo's store: a
 // DEM, a TIN and 61 geological units): GDAL's ogrinfo and gdalinfo read the file back with the
 // counts `tinbase info` reports and the rows `tinbase neighbours` prints; bad input is refused
-// with one line and no file.
+// with one line and no file. The store itself opens in GDAL's GeoPackage driver under its own
+// name (migration 0013), an older store does once migrated, and another program's GeoPackage is
+// not taken for a store.
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include "db/sql/connection.h"
+#include "db/store.h"
 #include "tests/support/cli_support.h"
 #include "tests/support/gdal_tools.h"
 #include "tests/support/test_support.h"
@@ -154,6 +158,59 @@ TEST_F(GpkgCliTest, BadInputLeavesNoFile) {
   for (const auto& entry : std::filesystem::directory_iterator(dir_->dir()))
     EXPECT_EQ(entry.path().filename().string().find("bad.gpkg"), std::string::npos)
         << "left behind: " << entry.path();
+}
+
+TEST_F(GpkgCliTest, TheStoreOpensAsAGeoPackageByItsOwnName) {
+  const nlohmann::json info = Json(RunCli("info --json " + Quote(store_)));
+  auto r = RunTool("ogrinfo -ro -so " + Quote(store_) + " tinbase_triangles");
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  EXPECT_NE(r.out.find("using driver `GPKG'"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("Geometry: 3D Polygon"), std::string::npos) << r.out;
+  EXPECT_EQ(ValueAfter(r.out, "Feature Count: "),
+            std::to_string(info["surfaces"][0]["triangles"].get<int64_t>()))
+      << r.out;
+}
+
+TEST_F(GpkgCliTest, AnOlderStoreOpensAsAGeoPackageOnceMigrated) {
+  const std::string old = dir_->Path("old.tinbase");
+  std::filesystem::copy_file(store_, old);
+  {
+    // The header and meta of a store written before migration 0013.
+    auto db = Connection::Open(old, Connection::Mode::kReadWrite);
+    ASSERT_TRUE(db.ok()) << db.status().ToString();
+    ASSERT_TRUE((*db)
+                    ->Exec("PRAGMA application_id = " + std::to_string(kTinbaseApplicationId) +
+                           "; DELETE FROM meta WHERE key = 'application'; PRAGMA user_version = 11")
+                    .ok());
+  }
+  auto before = RunTool("ogrinfo -ro " + Quote(old));
+  EXPECT_EQ(before.out.find("using driver `GPKG'"), std::string::npos) << before.out;
+  { ASSERT_TRUE(Store::Open(old, Store::Access::kReadWrite).ok()); }
+  auto after = RunTool("ogrinfo -ro -so " + Quote(old) + " tinbase_triangles");
+  ASSERT_EQ(after.exit_code, 0) << after.out;
+  EXPECT_NE(after.out.find("using driver `GPKG'"), std::string::npos) << after.out;
+  EXPECT_EQ(ValueAfter(after.out, "Feature Count: "),
+            ValueAfter(RunTool("ogrinfo -ro -so " + Quote(store_) + " tinbase_triangles").out,
+                       "Feature Count: "));
+  EXPECT_EQ(RunCli("check " + Quote(old)).exit_code, 0);
+}
+
+TEST_F(GpkgCliTest, AnotherProgramsGeoPackageIsNotAStore) {
+  const std::string other = dir_->Path("other.gpkg");
+  {
+    auto db = Connection::Open(other, Connection::Mode::kCreate);
+    ASSERT_TRUE(db.ok()) << db.status().ToString();
+    // GeoPackage 1.1's application_id, as a store's, without the store's meta row.
+    ASSERT_TRUE((*db)
+                    ->Exec("PRAGMA application_id = 1196437809; CREATE TABLE meta(key TEXT "
+                           "PRIMARY KEY, value TEXT)")
+                    .ok());
+  }
+  const CliResult r = RunCli("info " + Quote(other));
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("is not a tinbase store (a GeoPackage of another program)"),
+            std::string::npos)
+      << r.err;
 }
 
 }  // namespace

@@ -74,8 +74,8 @@ class StoreGeoPackageTest : public ::testing::Test {
     ASSERT_TRUE((*tx)->Commit().ok());
   }
 
-  // GDAL's GeoPackage driver on the store: the "GPKG:" prefix picks it (a .tinbase file has
-  // tinbase's application_id, not GeoPackage's).
+  // GDAL's GeoPackage driver on the store: the "GPKG:" prefix picks it without the warning a
+  // .tinbase name gets (WhichDriverAFileNameGets).
   std::string Gpkg() const { return Q("GPKG:" + path_); }
 
   int64_t Count(const std::string& layer) const {
@@ -231,9 +231,9 @@ TEST_F(StoreGeoPackageTest, AStoreWithoutCrsIsUndefinedCartesian) {
   EXPECT_NE(r.out.find("ENGCRS[\"Undefined Cartesian SRS\""), std::string::npos) << r.out;
 }
 
-// What a reader that picks drivers by file name sees: a store named *.gpkg opens as a
-// GeoPackage with one warning about the application_id; a *.tinbase name goes to GDAL's plain
-// SQLite driver, which lists the layers as tables without geometry.
+// What a reader that picks drivers by file name sees (migration 0013): the store opens as a
+// GeoPackage under its own name, with GDAL's warning about the extension, and under a *.gpkg
+// name with no warning; either way with the layers, their geometry and counts.
 TEST_F(StoreGeoPackageTest, WhichDriverAFileNameGets) {
   const std::string named = dir_.Path("copy.gpkg");
   const int64_t triangles = Count("tinbase_triangles");
@@ -241,14 +241,18 @@ TEST_F(StoreGeoPackageTest, WhichDriverAFileNameGets) {
   std::filesystem::copy_file(path_, named);
   auto gpkg = RunTool("ogrinfo -ro -so " + Q(named) + " tinbase_triangles");
   ASSERT_EQ(gpkg.exit_code, 0) << gpkg.out;
-  EXPECT_NE(gpkg.out.find("GPKG: bad application_id=0x54494E42"), std::string::npos) << gpkg.out;
+  EXPECT_NE(gpkg.out.find("using driver `GPKG'"), std::string::npos) << gpkg.out;
+  EXPECT_EQ(gpkg.out.find("Warning"), std::string::npos) << gpkg.out;
   EXPECT_NE(gpkg.out.find("Geometry: 3D Polygon"), std::string::npos) << gpkg.out;
-  auto sqlite = RunTool("ogrinfo -ro " + Q(path_));
-  EXPECT_NE(sqlite.out.find("using driver `SQLite'"), std::string::npos) << sqlite.out;
-  EXPECT_NE(sqlite.out.find("tinbase_triangles (None)"), std::string::npos) << sqlite.out;
+  EXPECT_EQ(ValueAfter(gpkg.out, "Feature Count: "), std::to_string(triangles));
+  auto own = RunTool("ogrinfo -ro " + Q(path_));
+  ASSERT_EQ(own.exit_code, 0) << own.out;
+  EXPECT_NE(own.out.find("using driver `GPKG'"), std::string::npos) << own.out;
+  EXPECT_NE(own.out.find("non conformant file extension"), std::string::npos) << own.out;
+  EXPECT_NE(own.out.find("tinbase_triangles (3D Polygon)"), std::string::npos) << own.out;
   auto plain = RunTool("ogrinfo -ro -so " + Q(path_) + " tinbase_triangles");
   EXPECT_EQ(ValueAfter(plain.out, "Feature Count: "), std::to_string(triangles));
-  EXPECT_NE(plain.out.find("geom: Binary"), std::string::npos) << plain.out;
+  EXPECT_NE(plain.out.find("Geometry: 3D Polygon"), std::string::npos) << plain.out;
 }
 
 }  // namespace
