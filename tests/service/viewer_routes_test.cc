@@ -63,6 +63,17 @@ TEST_F(ViewerRoutesTest, ServesThePageAndItsFilesWithTheirTypes) {
   EXPECT_EQ(wasm->get_header_value("Content-Type"), "application/wasm");
 }
 
+TEST_F(ViewerRoutesTest, FilesAreSentAsTheyAreEvenWhenTheBrowserAcceptsCompression) {
+  TestService service(Options(web_));
+  auto client = service.Client();
+  client->set_decompress(false);
+  auto script = client->Get("/web/main.js", {{"Accept-Encoding", "gzip, deflate, br"}});
+  ASSERT_TRUE(script);
+  EXPECT_EQ(script->status, 200);
+  EXPECT_EQ(script->get_header_value("Content-Encoding"), "");
+  EXPECT_EQ(script->body, "export const x = 1;");
+}
+
 TEST_F(ViewerRoutesTest, AnUnchangedFileIsRevalidatedWith304) {
   TestService service(Options(web_));
   auto client = service.Client();

@@ -1,0 +1,54 @@
+// The viewer in a real browser: it loads from the service alone, draws our terrain tiles, and a
+// click on the terrain shows the located triangle (id, z, tag) and outlines its neighbours.
+import assert from 'node:assert/strict';
+import { after, before, test } from 'node:test';
+
+import {
+  assertOnlyLocalRequests, getJson, launchChromium, makeStore, openViewer, screenshotNotBlank,
+  serve, tempDir, waitForTerrain,
+} from './support.mjs';
+
+let server;
+let browser;
+
+before(async () => {
+  const dir = tempDir();
+  server = await serve(makeStore(dir), dir);
+  browser = await launchChromium();
+});
+
+after(async () => {
+  await browser?.close();
+  await server?.stop();
+});
+
+test('the page draws the terrain tiles and a click shows the located triangle', async () => {
+  const { page, log } = await openViewer(browser, server.url);
+  const height = await waitForTerrain(page, log);
+  const { surfaces } = await getJson(server.url, '/surfaces');
+  const t = surfaces.find((s) => s.name === 't');
+  const [, , minz, , , maxz] = t.extent;
+  assert.ok(height > minz - 50 && height < maxz + 50,
+      `terrain height ${height} at the centre is outside the surface's z range ${minz}..${maxz}`);
+  await screenshotNotBlank(page, 'viewer_terrain');
+
+  const box = await page.locator('#globe canvas').boundingBox();
+  await page.mouse.click(box.x + box.width / 2, box.y + box.height / 2);
+  await page.waitForSelector('#pick[data-state="located"]', { timeout: 30000 });
+  const shown = await page.locator('#pick-triangle').textContent();
+  const picked = await page.evaluate(() => window.tinbase.picker.last);
+  // The panel shows what the service answers for the clicked point, not something the page made.
+  const answer = await getJson(server.url, `/surfaces/t/locate?x=${picked.x}&y=${picked.y}`);
+  assert.equal(shown, String(answer.triangle.id));
+  assert.equal(Number(await page.locator('#pick-z').textContent()), Number(answer.z.toFixed(2)));
+  assert.equal(await page.locator('#pick-tag').textContent(), answer.triangle.tag ?? '(none)');
+  // The triangle and its visible neighbours are outlined.
+  await page.waitForSelector('#pick[data-highlighted]', { timeout: 30000 });
+  const visibleNeighbours = (await getJson(server.url, `/surfaces/t/triangles/${shown}`))
+      .neighbours.filter((n) => n && n.visible !== false).length;
+  assert.equal(Number(await page.getAttribute('#pick', 'data-highlighted')), visibleNeighbours + 1);
+  await screenshotNotBlank(page, 'viewer_click');
+
+  assertOnlyLocalRequests(log, server.url);
+  assert.deepEqual(log.errors, []);
+});
