@@ -23,8 +23,10 @@ namespace tinbase {
 
 namespace {
 
+// In-memory features may carry their own mode and level, so theirs are checked one by one
+// (CheckMemoryFeature).
 Status CheckModeOptions(const PolygonAddOptions& o) {
-  if (!o.mode)
+  if (!o.mode && !o.features)
     return Status::InvalidArgument(
         "a feature mode is needed (clip, erase, fill, replace or breakline)");
   if (*o.mode == FeatureMode::kReplace && !o.level)
@@ -36,9 +38,44 @@ Status CheckModeOptions(const PolygonAddOptions& o) {
   return Status::Ok();
 }
 
+// The editor's feature for in-memory feature `m`, with the options' mode, tag and level where
+// `m` has none. InvalidArgument naming m.label when it has no mode, replace has no finite level,
+// or the geometry does not suit the mode (lines for breaklines, polygons for the others).
+Result<EditorFeature> FromMemory(const MemoryFeature& m, const PolygonAddOptions& o) {
+  EditorFeature f;
+  f.label = m.label;
+  if (!m.mode && !o.mode)
+    return Status::InvalidArgument(
+        m.label + ": a feature mode is needed (clip, erase, fill, replace or breakline)");
+  f.mode = m.mode ? *m.mode : *o.mode;
+  f.tag = m.tag ? m.tag : (o.tag.empty() ? std::nullopt : std::optional<std::string>(o.tag));
+  f.level = m.level ? m.level : o.level;
+  if (f.mode == FeatureMode::kReplace && !f.level)
+    return Status::InvalidArgument(m.label + ": mode replace needs a level (the flat z)");
+  if (f.level && !std::isfinite(*f.level))
+    return Status::InvalidArgument(m.label + ": the level must be a finite number");
+  const bool breakline = f.mode == FeatureMode::kBreakline;
+  if (breakline ? m.lines.empty() : m.polygons.empty())
+    return Status::InvalidArgument(m.label + ": mode " + std::string(FeatureModeName(f.mode)) +
+                                   (breakline ? " needs a LineString or MultiLineString"
+                                              : " needs a Polygon or MultiPolygon"));
+  f.attributes = m.attributes;
+  f.polygons = breakline ? std::vector<Polygon>{} : m.polygons;
+  f.lines = breakline ? m.lines : std::vector<std::vector<Point2>>{};
+  return f;
+}
+
 // With `rejected`, invalid features are listed there and skipped (see VectorSourceOptions).
 Result<std::vector<EditorFeature>> ReadFeatures(const PolygonAddOptions& o, const Crs& crs,
                                                 std::vector<std::string>* rejected = nullptr) {
+  if (o.features) {
+    std::vector<EditorFeature> out;
+    for (const MemoryFeature& m : *o.features) {
+      TB_ASSIGN_OR_RETURN(EditorFeature f, FromMemory(m, o));
+      out.push_back(std::move(f));
+    }
+    return out;
+  }
   VectorSourceOptions source;
   source.rejected = rejected;
   source.layer = o.layer;
@@ -337,6 +374,7 @@ Result<PolygonAddReport> ApplyEditOnce(SurfaceSession& session, std::vector<NewF
   report.refinement_points = result.refinement_points;
   report.surface_reads = result.read_whole_surface ? 1 : 0;
   report.first_feature_id = added.empty() ? 0 : added.front().feature.id;
+  for (const NewFeature& n : added) report.feature_ids.push_back(n.feature.id);
   report.visible = result.visible_added;
   return report;
 }
@@ -413,6 +451,8 @@ Result<PolygonAddReport> AddPolygons(Store& store, const PolygonAddOptions& opti
       continue;
     }
     if (total.first_feature_id == 0) total.first_feature_id = one->first_feature_id;
+    total.feature_ids.insert(total.feature_ids.end(), one->feature_ids.begin(),
+                             one->feature_ids.end());
     total.features += one->features;
     total.ring_vertices += one->ring_vertices;
     total.removed += one->removed;
@@ -447,7 +487,7 @@ Result<PolygonAddReport> UpdatePolygon(Store& store, int64_t id, const PolygonAd
     merged.polygons.insert(merged.polygons.end(), read[k].polygons.begin(), read[k].polygons.end());
     merged.lines.insert(merged.lines.end(), read[k].lines.begin(), read[k].lines.end());
   }
-  if (o.tag.empty() && o.tag_field.empty()) merged.tag = old.tag;
+  if (o.tag.empty() && o.tag_field.empty() && !merged.tag) merged.tag = old.tag;
   if (merged.attributes.empty()) merged.attributes = old.attributes;
   TB_ASSIGN_OR_RETURN(NewFeature n, Prepare(*session, std::move(merged)));
   std::vector<NewFeature> added;

@@ -19,13 +19,30 @@
 #include "core/base/status.h"
 #include "core/tin/feature_mode.h"
 #include "db/edit/update_engine.h"
+#include "db/feature_store.h"
 #include "db/store.h"
 
 namespace tinbase {
 
+// A feature given in memory (a request body of `tinbase serve`) instead of read from a file:
+// already in the store's CRS, its polygons valid (MakeValidPolygon). Unset mode, tag and level
+// take the PolygonAddOptions' values.
+struct MemoryFeature {
+  std::string label;  // names the feature in messages: "features[3]"
+  std::optional<FeatureMode> mode;
+  std::optional<std::string> tag;
+  std::optional<double> level;
+  nlohmann::json attributes = nlohmann::json::object();
+  std::vector<Polygon> polygons;           // clip, erase, fill, replace
+  std::vector<std::vector<Point2>> lines;  // breakline
+};
+
 struct PolygonAddOptions {
   std::string surface;
   std::string file;
+  // When set, these features are edited in place of the file's (file, layer, where and tag_field
+  // are then ignored).
+  std::optional<std::vector<MemoryFeature>> features;
   std::string layer;  // OGR layer; empty: the only one
   std::string where;  // OGR attribute filter
   // Required by AddPolygons; UpdatePolygon keeps the old feature's mode when absent.
@@ -48,7 +65,8 @@ struct PolygonAddReport {
   int64_t added = 0;
   int64_t visible = 0;  // of the added triangles (counting the whole surface would be O(n))
   int64_t first_feature_id = 0;
-  int64_t tx = 0;  // the (last) transaction
+  std::vector<int64_t> feature_ids;  // of the features added, in input order
+  int64_t tx = 0;                    // the (last) transaction
   int64_t refinement_points = 0;
   // Edits that began from the mesh rows the edit before left in memory (db/mesh_cache.h): with
   // `each`, all but the first unless another writer came between or an edit failed.

@@ -1,0 +1,34 @@
+// GeoJSON request bodies: a Feature or FeatureCollection posted to the edit routes, read into the
+// editor's in-memory features (db/polygon_editor.h MemoryFeature).
+//
+// Everything is checked before the editor sees it, and a bad body is one InvalidArgument naming
+// the place, as the CLI names a file's: "features[2], polygon 1, ring 0, vertex 7: ring crosses
+// itself at (x, y)". Coordinates are reprojected from the request's CRS to the store's first,
+// so the rings are validated where they will be used. properties.mode, properties.tag and
+// properties.level set the feature's mode, tag and flat z; the other properties become its
+// attributes. Thread-safety: reentrant.
+#pragma once
+
+#include <optional>
+#include <string_view>
+#include <vector>
+
+#include "core/base/status.h"
+#include "core/geometry/crs.h"
+#include "db/polygon_editor.h"
+
+namespace tinbase::service {
+
+// The features of `body` (a GeoJSON Feature or FeatureCollection, RFC 7946 geometry types
+// Polygon, MultiPolygon, LineString, MultiLineString), in `store_crs`. `source_crs`: the CRS of
+// the body's coordinates, nullopt when they are already in the store's. InvalidArgument naming
+// the place for: malformed JSON (line and column), a body that is not a Feature or collection,
+// an empty collection, a feature without geometry or with another type, a position that is not
+// 2 or 3 finite numbers, a vertex that cannot be reprojected, an invalid ring or a line of fewer
+// than 2 distinct points, a bad properties.mode, a tag that is not a string, a level that is not
+// a number.
+Result<std::vector<MemoryFeature>> ParseGeoJsonFeatures(std::string_view body,
+                                                        const std::optional<Crs>& source_crs,
+                                                        const Crs& store_crs);
+
+}  // namespace tinbase::service
