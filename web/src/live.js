@@ -7,7 +7,7 @@ import { getJson } from './api.js';
 export async function followChanges(onChange, onError) {
   let since = 0;
   try {
-    since = (await getJson('/changes?since=0&wait=0')).last ?? 0;
+    since = (await getJson('/changes?wait=0')).last ?? 0;
   } catch (e) {
     onError(e);
   }

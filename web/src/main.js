@@ -133,7 +133,10 @@ async function main() {
   lookAt(viewer, lonLatExtent(state.surface));
   setupClicks(viewer, picker, drawer);
   await reloadTerrain(viewer);
-  await reloadFeatures(viewer);
+  // Each part is drawn on its own, so one failing route leaves the others working.
+  await reloadFeatures(viewer).catch((e) => {
+    $('legend').textContent = `The features could not be loaded: ${e.message}`;
+  });
   await followChanges(onChangeReload(viewer), (e) => setStatus(e.message, true));
   setStatus(`Surface ${state.surface.name}: ${state.surface.triangles} triangles.`);
   document.body.dataset.ready = 'true';
