@@ -55,7 +55,9 @@ export async function drapeOverview(viewer, dem) {
 // The lon/lat (degrees) of the globe under window position `position`, or null.
 export function pickLonLat(viewer, position) {
   const ray = viewer.camera.getPickRay(position);
-  const point = ray && viewer.scene.globe.pick(ray, viewer.scene);
+  // Where no terrain tile is drawn (outside the surface), the ellipsoid stands in.
+  const point = (ray && viewer.scene.globe.pick(ray, viewer.scene)) ||
+      viewer.camera.pickEllipsoid(position, viewer.scene.globe.ellipsoid);
   if (!point) return null;
   const c = Cesium.Cartographic.fromCartesian(point);
   return { lon: Cesium.Math.toDegrees(c.longitude), lat: Cesium.Math.toDegrees(c.latitude) };
