@@ -41,7 +41,7 @@ export function makeStore(dir) {
   run('init', store);
   run('dem', 'import', store, path.join(sourceDir, 'tests', 'data', 'dem', 'N43E007.hgt'));
   run('tin', 'build', store, '--surface', 't', '--tolerance', '20');
-  run('tiles', 'build', store, '--surface', 't');
+  run('tiles', 'build', store, '--surface', 't', '--extensions', 'octvertexnormals');
   return store;
 }
 
@@ -116,30 +116,48 @@ export async function openViewer(browser, url) {
   return { page, log };
 }
 
-// Waits until terrain tiles were requested and decoded: the globe has loaded all tiles it
-// wants and knows a terrain height at the view's centre. Resolves to that height.
-export async function waitForTerrain(page, log) {
-  await page.waitForFunction(() => {
+// The point of the globe at fractions (fx, fy) of its canvas, where the view shows land on the
+// test surface: its window position, lon/lat and the terrain height the globe has there, once
+// the globe has loaded every tile it wants. Null fields while nothing is drawn there.
+function terrainAt(page, fx, fy) {
+  return page.evaluate(([fx, fy]) => {
     const { viewer, Cesium } = window.tinbase;
-    const globe = viewer.scene.globe;
     const canvas = viewer.scene.canvas;
-    const centre = new Cesium.Cartesian2(canvas.clientWidth / 2, canvas.clientHeight / 2);
-    const ray = viewer.camera.getPickRay(centre);
-    const point = ray && globe.pick(ray, viewer.scene);
-    if (!globe.tilesLoaded || !point) return false;
-    const height = globe.getHeight(Cesium.Cartographic.fromCartesian(point));
-    return height !== undefined && height !== 0;
-  }, null, { timeout: 120000, polling: 250 });
+    const position = new Cesium.Cartesian2(canvas.clientWidth * fx, canvas.clientHeight * fy);
+    const ray = viewer.camera.getPickRay(position);
+    const point = ray && viewer.scene.globe.pick(ray, viewer.scene);
+    if (!viewer.scene.globe.tilesLoaded || !point) return null;
+    const c = Cesium.Cartographic.fromCartesian(point);
+    const rect = canvas.getBoundingClientRect();
+    return {
+      lon: Cesium.Math.toDegrees(c.longitude),
+      lat: Cesium.Math.toDegrees(c.latitude),
+      height: viewer.scene.globe.getHeight(c) ?? null,
+      x: rect.left + position.x,
+      y: rect.top + position.y,
+    };
+  }, [fx, fy]);
+}
+
+// Waits until terrain tiles were requested and decoded: the globe has loaded every tile it
+// wants, and its height at the point (fx, fy) of the view agrees with the surface's z there
+// (GET locate) within 200 m: above the error bounds of the levels drawn at this view, far below
+// the relief there. The flat stand-ins the page draws above the pyramid (height 0) cannot pass.
+export async function waitForTerrain(page, log, url, fx = 0.5, fy = 0.25) {
+  let at = null;
+  const deadline = Date.now() + 120000;
+  while (Date.now() < deadline) {
+    at = await terrainAt(page, fx, fy);
+    if (at && at.height !== null && at.height !== 0) break;
+    await page.waitForTimeout(250);
+  }
+  assert.ok(at && at.height, `no terrain drawn at (${fx}, ${fy}) of the view: ${JSON.stringify(at)}`);
   assert.ok(log.terrain.length > 0, 'the page requested no terrain tile');
   assert.ok(log.terrain.every((s) => s === 200 || s === 304), `tile answers: ${log.terrain}`);
-  return page.evaluate(() => {
-    const { viewer, Cesium } = window.tinbase;
-    const canvas = viewer.scene.canvas;
-    const ray = viewer.camera.getPickRay(
-        new Cesium.Cartesian2(canvas.clientWidth / 2, canvas.clientHeight / 2));
-    const point = viewer.scene.globe.pick(ray, viewer.scene);
-    return viewer.scene.globe.getHeight(Cesium.Cartographic.fromCartesian(point));
-  });
+  const located = await getJson(url, `/surfaces/t/locate?lon=${at.lon}&lat=${at.lat}`);
+  assert.ok(Math.abs(at.height - located.z) < 200,
+      `the globe's height ${at.height} at ${at.lon}, ${at.lat} is not the surface's z ${located.z}`);
+  return at;
 }
 
 // Saves a screenshot of the page as artifact `name`.png and fails when the globe's part of it

@@ -22,18 +22,6 @@ after(async () => {
   await server?.stop();
 });
 
-// The lon/lat under the centre of the globe's canvas.
-function centreLonLat(page) {
-  return page.evaluate(() => {
-    const { viewer, Cesium } = window.tinbase;
-    const canvas = viewer.scene.canvas;
-    const ray = viewer.camera.getPickRay(
-        new Cesium.Cartesian2(canvas.clientWidth / 2, canvas.clientHeight / 2));
-    const c = Cesium.Cartographic.fromCartesian(viewer.scene.globe.pick(ray, viewer.scene));
-    return [Cesium.Math.toDegrees(c.longitude), Cesium.Math.toDegrees(c.latitude)];
-  });
-}
-
 const counters = (page) => page.evaluate(() => {
   const { state } = window.tinbase;
   return { features: state.featureLoads, terrain: state.terrainLoads,
@@ -42,9 +30,8 @@ const counters = (page) => page.evaluate(() => {
 
 test('a feature posted by another client appears without a reload', async () => {
   const { page, log } = await openViewer(browser, server.url);
-  await waitForTerrain(page, log);
+  const { lon, lat, x, y } = await waitForTerrain(page, log, server.url);
   const before = await counters(page);
-  const [lon, lat] = await centreLonLat(page);
   const d = 0.01;
   const feature = {
     type: 'Feature',
@@ -65,22 +52,20 @@ test('a feature posted by another client appears without a reload', async () => 
   assert.ok(now.txs.includes(posted.tx), `the page saw transactions ${now.txs}, not ${posted.tx}`);
   assert.ok(now.features > before.features && now.terrain > before.terrain,
       `features reloaded ${before.features} -> ${now.features}, terrain ${before.terrain} -> ${now.terrain}`);
-  await waitForTerrain(page, log);
+  await waitForTerrain(page, log, server.url);
   // The triangles under the polygon now carry its tag, as the panel shows after a click.
-  const box = await page.locator('#globe canvas').boundingBox();
-  await page.mouse.click(box.x + box.width / 2, box.y + box.height / 2);
+  await page.mouse.click(x, y);
   await page.waitForSelector('#pick[data-state="located"]', { timeout: 30000 });
   assert.equal(await page.locator('#pick-tag').textContent(), 'posted-by-test');
   await screenshotNotBlank(page, 'viewer_posted_feature');
   assert.deepEqual(log.errors, []);
+  await page.close();
 });
 
 test('a polygon drawn in the page is posted with the typed token', async () => {
   const { page, log } = await openViewer(browser, server.url);
-  await waitForTerrain(page, log);
-  const box = await page.locator('#globe canvas').boundingBox();
-  const cx = box.x + box.width / 2 + 150;
-  const cy = box.y + box.height / 2 + 100;
+  // Away from the first test's polygon, on land.
+  const { x: cx, y: cy } = await waitForTerrain(page, log, server.url, 0.3, 0.2);
   await page.click('#draw-start');
   for (const [dx, dy] of [[-40, -40], [40, -40], [40, 40], [-40, 40]]) {
     await page.mouse.click(cx + dx, cy + dy);
@@ -104,4 +89,5 @@ test('a polygon drawn in the page is posted with the typed token', async () => {
   await screenshotNotBlank(page, 'viewer_drawn_feature');
   // The refused post logs a 401 in the console; nothing else may fail.
   assert.deepEqual(log.errors.filter((e) => !/401/.test(e)), []);
+  await page.close();
 });

@@ -23,7 +23,7 @@ after(async () => {
 
 test('a box dragged on the DEM overview shows its TIN', async () => {
   const { page, log } = await openViewer(browser, server.url);
-  await waitForTerrain(page, log);
+  await waitForTerrain(page, log, server.url);
   await page.waitForFunction(() => {
     const image = document.getElementById('overview-image');
     return image.complete && image.naturalWidth > 0;
@@ -52,4 +52,5 @@ test('a box dragged on the DEM overview shows its TIN', async () => {
   await page.waitForTimeout(500);
   await screenshotNotBlank(page, 'viewer_overview_tin');
   assert.deepEqual(log.errors, []);
+  await page.close();
 });
