@@ -83,6 +83,24 @@ void ReplyJson(httplib::Response& res, const nlohmann::json& body, int status) {
   res.set_content(body.dump(), "application/json");
 }
 
+void ReplyJsonWithin(httplib::Response& res, const nlohmann::json& body, size_t max_bytes,
+                     const char* content_type) {
+  std::string text = body.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  if (text.size() > max_bytes) return ReplyResultTooLarge(res, text.size(), max_bytes);
+  res.status = 200;
+  // set_content copies; a large answer is moved in instead.
+  res.body = std::move(text);
+  res.headers.erase("Content-Type");
+  res.set_header("Content-Type", content_type);
+}
+
+void ReplyResultTooLarge(httplib::Response& res, size_t bytes, size_t max_bytes) {
+  ReplyError(res, 413, "result_too_large",
+             "the answer is " + std::to_string(bytes) +
+                 " bytes, more than the service's result limit of " + std::to_string(max_bytes) +
+                 " bytes (max_result_bytes); ask for a smaller bbox or selection");
+}
+
 void ReplyError(httplib::Response& res, int status, const std::string& code,
                 const std::string& message) {
   nlohmann::json body = {{"error", {{"status", status}, {"code", code}, {"message", message}}}};

@@ -6,6 +6,7 @@
 
 #include <httplib.h>
 
+#include <cstddef>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -19,6 +20,12 @@ int HttpStatusFor(StatusCode code);
 
 // Writes `body` as the answer, with Content-Type application/json.
 void ReplyJson(httplib::Response& res, const nlohmann::json& body, int status = 200);
+// As ReplyJson, unless the answer's text is longer than `max_bytes`: then 413 "result_too_large"
+// naming its size and the limit (ServiceOptions::max_result_bytes).
+void ReplyJsonWithin(httplib::Response& res, const nlohmann::json& body, size_t max_bytes,
+                     const char* content_type = "application/json");
+// The 413 "result_too_large" error for an answer of `bytes` (or more) over `max_bytes`.
+void ReplyResultTooLarge(httplib::Response& res, size_t bytes, size_t max_bytes);
 // Writes the JSON error for `status`; `code` is a short machine name ("bad_bbox").
 void ReplyError(httplib::Response& res, int status, const std::string& code,
                 const std::string& message);

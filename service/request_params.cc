@@ -4,6 +4,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 
 #include "db/query/surface_selection.h"
 
@@ -70,6 +71,57 @@ Result<std::optional<Box>> BboxParam(const httplib::Request& req, const char* na
   auto box = ParseBbox(req.get_param_value(name));
   if (!box.ok()) return box.status().WithContext("parameter '" + std::string(name) + "'");
   return std::optional<Box>(*box);
+}
+
+Result<bool> BoolParam(const httplib::Request& req, const char* name, bool fallback) {
+  if (!req.has_param(name)) return fallback;
+  const std::string text = req.get_param_value(name);
+  if (text == "true" || text == "1") return true;
+  if (text == "false" || text == "0") return false;
+  return BadParam(name, text, "is not true, false, 1 or 0");
+}
+
+Result<std::vector<Point2>> LineParam(const httplib::Request& req, const char* name) {
+  TB_ASSIGN_OR_RETURN(std::string text, RequiredParam(req, name));
+  std::vector<double> numbers;
+  size_t start = 0;
+  while (true) {
+    const size_t comma = text.find(',', start);
+    const std::string part = text.substr(start, comma - start);
+    auto value = ParseFinite(name, part);
+    if (!value.ok())
+      return Status::InvalidArgument("parameter '" + std::string(name) + "', number " +
+                                     std::to_string(numbers.size() + 1) + ": '" + part +
+                                     "' is not a finite number");
+    numbers.push_back(*value);
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  if (numbers.size() % 2 != 0 || numbers.size() < 4)
+    return BadParam(name, text,
+                    "is not a line x1,y1,x2,y2,... of at least two points (got " +
+                        std::to_string(numbers.size()) + " numbers)");
+  std::vector<Point2> line;
+  for (size_t i = 0; i < numbers.size(); i += 2) line.push_back({numbers[i], numbers[i + 1]});
+  return line;
+}
+
+Result<std::optional<Crs>> CrsParam(const httplib::Request& req, const char* name) {
+  if (!req.has_param(name)) return std::optional<Crs>();
+  const std::string text = req.get_param_value(name);
+  auto crs = Crs::FromUserInput(text);
+  if (!crs.ok()) return BadParam(name, text, "is not a coordinate system GDAL knows");
+  return std::optional<Crs>(std::move(*crs));
+}
+
+Result<SurfaceFilter> FilterParams(const httplib::Request& req) {
+  SurfaceFilter filter;
+  TB_ASSIGN_OR_RETURN(filter.bbox, BboxParam(req));
+  TB_ASSIGN_OR_RETURN(filter.feature,
+                      IntegerParam(req, "feature", 1, std::numeric_limits<int64_t>::max(), 0));
+  TB_ASSIGN_OR_RETURN(filter.visible_only, BoolParam(req, "visible_only", false));
+  if (auto tag = OptionalParam(req, "tag")) filter.tag = *tag;
+  return filter;
 }
 
 Result<int64_t> IntegerPathPart(const httplib::Request& req, size_t index, const char* what,

@@ -1,10 +1,14 @@
-// The read routes of surfaces: what they are, and the queries and exports of docs/api.md.
+// The read routes of surfaces: GET /surfaces and /surfaces/{s} (what they are), and the
+// registration of the queries and exports of docs/api.md (surface_route_parts.h).
 #include <nlohmann/json.hpp>
 
 #include "core/geometry/crs.h"
+#include "db/tiles/tile_store.h"
+#include "service/client_crs.h"
 #include "service/json_reply.h"
 #include "service/request_params.h"
 #include "service/routes.h"
+#include "service/surface_route_parts.h"
 
 namespace tinbase::service {
 
@@ -26,7 +30,25 @@ Result<nlohmann::json> SurfaceExtent(Store& store, const SurfaceInfo& s) {
   return extent;
 }
 
-// A surface's description: the same fields as `tinbase info --json`, plus the store's CRS.
+// The extent's plan box in lon/lat [w, s, e, n]; null without a CRS or an extent.
+Result<nlohmann::json> ExtentLonLat(const std::optional<Crs>& crs, const nlohmann::json& extent) {
+  if (!extent.is_array()) return nlohmann::json(nullptr);
+  TB_ASSIGN_OR_RETURN(auto box, BoxToLonLat(crs, extent[0].get<double>(), extent[1].get<double>(),
+                                            extent[3].get<double>(), extent[4].get<double>()));
+  return box ? nlohmann::json(*box) : nlohmann::json(nullptr);
+}
+
+// The names of the surface's tile pyramids: a store keeps at most one per surface
+// (db/tiles/tile_store.h), named after the surface.
+Result<nlohmann::json> TilePyramids(Store& store, const SurfaceInfo& s) {
+  TB_ASSIGN_OR_RETURN(std::optional<TilePyramidInfo> pyramid, TileStore(store.db()).Pyramid(s.id));
+  nlohmann::json names = nlohmann::json::array();
+  if (pyramid) names.push_back(s.name);
+  return names;
+}
+
+// A surface's description: the same fields as `tinbase info --json`, plus the store's CRS, the
+// extent in lon/lat and the tile pyramids.
 Result<nlohmann::json> DescribeSurface(Store& store, const SurfaceInfo& s) {
   TB_ASSIGN_OR_RETURN(SurfaceCounts c, SurfaceStore(store).Count(s));
   TB_ASSIGN_OR_RETURN(std::optional<Crs> crs, store.GetCrs());
@@ -41,6 +63,8 @@ Result<nlohmann::json> DescribeSurface(Store& store, const SurfaceInfo& s) {
   j["tolerance"] = s.tolerance ? nlohmann::json(*s.tolerance) : nlohmann::json(nullptr);
   j["crs"] = crs ? nlohmann::json(crs->Label()) : nlohmann::json(nullptr);
   TB_ASSIGN_OR_RETURN(j["extent"], SurfaceExtent(store, s));
+  TB_ASSIGN_OR_RETURN(j["extent_lonlat"], ExtentLonLat(crs, j["extent"]));
+  TB_ASSIGN_OR_RETURN(j["tiles"], TilePyramids(store, s));
   return j;
 }
 
@@ -78,6 +102,11 @@ void RegisterSurfaceRoutes(httplib::Server& server, ServiceContext& context) {
              [&context](const httplib::Request& req, httplib::Response& res) {
                GetSurface(context, req, res);
              });
+  RegisterLocateRoutes(server, context);
+  RegisterTriangleRoutes(server, context);
+  RegisterFeatureReadRoutes(server, context);
+  RegisterMeasureRoutes(server, context);
+  RegisterExportRoute(server, context);
 }
 
 }  // namespace tinbase::service

@@ -13,6 +13,7 @@
 #include "core/base/output_file.h"
 #include "core/export/export_format.h"
 #include "core/export/tin_export.h"
+#include "db/export/export_features.h"
 #include "db/export/gpkg_export.h"
 #include "db/feature_store.h"
 #include "db/query/surface_selection.h"
@@ -92,23 +93,6 @@ Result<SurfaceInfo> ResolveSurface(Store& store, const ExportArgs& args) {
   for (const SurfaceInfo& s : all)
     if (LoadFeature(store, s, args.feature).ok()) return s;
   return Status::NotFound("no feature " + std::to_string(args.feature));
-}
-
-// The surface's features for the GLB's property table, and each selected triangle's feature.
-Status AddFeatures(Store& store, const SurfaceInfo& surface, const Tin& tin,
-                   ExportOptions& options) {
-  TB_ASSIGN_OR_RETURN(std::vector<EditorFeature> features, LoadFeatures(store, surface));
-  for (const EditorFeature& f : features) {
-    ExportFeature e;
-    e.id = f.id;
-    e.mode = f.mode;
-    e.tag = f.tag;
-    e.attributes = f.attributes;
-    if (!f.polygons.empty()) e.inside = InsideOf(f);
-    options.features.push_back(std::move(e));
-  }
-  options.triangle_feature = OwningFeatures(tin, options.features);
-  return Status::Ok();
 }
 
 // --format gpkg (db/export/gpkg_export.h): triangles, features, constraints and the DEM.
@@ -191,7 +175,7 @@ int RunExport(const ExportArgs& args) {
   options.format = *format;
   options.triangle_ids = selected->triangle_ids;
   if (*format == ExportFormat::kGlb) {
-    if (Status s = AddFeatures(**store, *surface, selected->tin, options); !s.ok())
+    if (Status s = AddExportFeatures(**store, *surface, selected->tin, options); !s.ok())
       return ReportError(s);
   }
   auto report = ExportTin(selected->tin, crs->has_value() ? &**crs : nullptr, args.output, options);

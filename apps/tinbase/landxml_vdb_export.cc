@@ -20,13 +20,8 @@ bool Selects(const SurfaceFilter& filter) {
 }
 
 Result<LandXmlSurface> LandXmlOf(Store& store, const LandXmlVdbExportArgs& args) {
-  SurfaceStore surfaces(store);
-  TB_ASSIGN_OR_RETURN(SurfaceInfo surface, surfaces.Find(args.surface));
-  const SurfaceFilter& filter = args.filter;
-  if (!Selects(filter)) return LoadLandXmlSurface(store, surface);
-  TB_ASSIGN_OR_RETURN(std::optional<Crs> crs, store.GetCrs());
-  TB_ASSIGN_OR_RETURN(LoadedSurface selected, SelectSurface(store, surface, filter));
-  return LandXmlFromLoaded(surface, selected, crs);
+  TB_ASSIGN_OR_RETURN(SurfaceInfo surface, SurfaceStore(store).Find(args.surface));
+  return LoadLandXmlSelection(store, surface, args.filter);
 }
 
 Result<Tin> SelectedTin(Store& store, const std::string& name, const SurfaceFilter& filter) {

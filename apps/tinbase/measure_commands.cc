@@ -20,6 +20,7 @@
 #include "core/measure/surface_area.h"
 #include "core/measure/volume.h"
 #include "db/query/cut_fill.h"
+#include "db/query/measure_json.h"
 #include "db/query/measure_source.h"
 
 namespace tinbase::cli {
@@ -83,16 +84,6 @@ std::string CsvField(const std::string& s) {
   return out + "\"";
 }
 
-nlohmann::json Nullable(const std::optional<std::string>& s) {
-  return s ? nlohmann::json(*s) : nlohmann::json(nullptr);
-}
-
-nlohmann::json Nullable(const std::optional<double>& v) {
-  return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
-}
-
-std::string CrsLabel(const std::optional<Crs>& crs) { return crs ? crs->Label() : ""; }
-
 // --- area --------------------------------------------------------------------------------------
 
 int RunArea(const SelectionArgs& args) {
@@ -101,21 +92,8 @@ int RunArea(const SelectionArgs& args) {
   auto source = Load(**store, args);
   if (!source.ok()) return ReportError(source.status());
   const AreaReport report = MeasureArea(source->part.tin, source->frame);
-  const auto sum_json = [](const AreaSum& s) {
-    return nlohmann::json{
-        {"triangles", s.triangles}, {"plan_m2", s.plan}, {"surface_m2", s.surface}};
-  };
   if (args.json) {
-    nlohmann::json j = {{"surface", source->surface.name},
-                        {"crs", source->crs ? nlohmann::json(CrsLabel(source->crs)) : nullptr},
-                        {"plan_area", report.geodesic ? "geodesic" : "map plane"},
-                        {"total", sum_json(report.total)},
-                        {"tags", nlohmann::json::array()}};
-    for (const TagArea& t : report.tags) {
-      nlohmann::json row = sum_json(t.area);
-      row["tag"] = Nullable(t.tag);
-      j["tags"].push_back(row);
-    }
+    const nlohmann::json j = AreaJson(*source, report);
     std::cout << j.dump(2) << "\n";
     return kExitOk;
   }
@@ -162,16 +140,7 @@ int RunVolume(const VolumeArgs& args) {
     return ReportError(volume.status().WithContext("surface '" + source->surface.name + "'"));
   const SplitMeasure& s = volume->split;
   if (args.json) {
-    std::cout << nlohmann::json{{"surface", source->surface.name},
-                                {"level", *level},
-                                {"inside_polygon", region.has_value()},
-                                {"above_m3", s.above_volume},
-                                {"below_m3", s.below_volume},
-                                {"above_area_m2", s.above_area},
-                                {"below_area_m2", s.below_area},
-                                {"plan_area_m2", volume->plan_area}}
-                     .dump(2)
-              << "\n";
+    std::cout << VolumeJson(*source, *level, region.has_value(), *volume).dump(2) << "\n";
     return kExitOk;
   }
   std::cout << "surface " << source->surface.name << " against level " << Num(*level) << ": "
@@ -250,12 +219,7 @@ int RunSlope(const SlopeArgs& args) {
   for (const TriangleSlope& s : slopes) {
     const int64_t id = source->part.triangle_ids[s.triangle];
     if (args.json) {
-      std::cout << nlohmann::json{{"triangle", id},
-                                  {"slope_deg", s.slope_degrees},
-                                  {"aspect_deg", Nullable(s.aspect_degrees)},
-                                  {"tag", Nullable(tag_of(s.triangle))}}
-                       .dump()
-                << "\n";
+      std::cout << SlopeJson(*source, s).dump() << "\n";
     } else {
       const std::optional<std::string> tag = tag_of(s.triangle);
       std::cout << id << "," << Exact(s.slope_degrees) << ","

@@ -17,6 +17,7 @@
 #include "db/point_locator.h"
 #include "db/query/bulk_locate.h"
 #include "db/query/profile.h"
+#include "db/query/profile_json.h"
 #include "db/query/surface_selection.h"
 #include "db/query/topology.h"
 #include "db/surface_store.h"
@@ -340,25 +341,7 @@ std::vector<ProfilePlotStretch> PlotStretches(const SurfaceProfile& profile) {
 
 void PrintProfile(const SurfaceProfile& p, const std::string& surface, bool json) {
   if (json) {
-    nlohmann::json stations = nlohmann::json::array(), stretches = nlohmann::json::array();
-    for (const Station& s : p.stations)
-      stations.push_back({{"distance", s.distance},
-                          {"x", s.x},
-                          {"y", s.y},
-                          {"z", s.z},
-                          {"kind", StationKindName(s.kind)}});
-    for (size_t i = 0; i < p.stretches.size(); ++i)
-      stretches.push_back({{"from", p.stations[i].distance},
-                           {"to", p.stations[i + 1].distance},
-                           {"triangle", p.stretches[i].triangle},
-                           {"visible", p.stretches[i].visible},
-                           {"tag", OptionalJson(p.stretches[i].tag)}});
-    std::cout << nlohmann::json{{"surface", surface},
-                                {"length", p.length()},
-                                {"stations", stations},
-                                {"stretches", stretches}}
-                     .dump()
-              << "\n";
+    std::cout << ProfileJson(p, surface).dump() << "\n";
     return;
   }
   std::cout << "distance,x,y,z,kind,triangle,visible,tag\n";

@@ -116,6 +116,15 @@ LandXmlSurface LandXmlFromLoaded(const SurfaceInfo& surface, const LoadedSurface
   return out;
 }
 
+Result<LandXmlSurface> LoadLandXmlSelection(Store& store, const SurfaceInfo& surface,
+                                            const SurfaceFilter& filter) {
+  const bool selects = filter.bbox || filter.feature != 0 || filter.visible_only || filter.tag;
+  if (!selects) return LoadLandXmlSurface(store, surface);
+  TB_ASSIGN_OR_RETURN(std::optional<Crs> crs, store.GetCrs());
+  TB_ASSIGN_OR_RETURN(LoadedSurface selected, SelectSurface(store, surface, filter));
+  return LandXmlFromLoaded(surface, selected, crs);
+}
+
 Status ExportLandXml(const LandXmlSurface& surface, const std::string& path) {
   TB_ASSIGN_OR_RETURN(OutputFile file, OutputFile::Create(path));
   if (!WriteLandXml(surface, file.temp_path()).ok()) return Status::IOError("cannot write " + path);

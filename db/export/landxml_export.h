@@ -9,6 +9,7 @@
 #include "core/base/status.h"
 #include "core/export/landxml_surface.h"
 #include "core/geometry/crs.h"
+#include "db/query/surface_selection.h"
 #include "db/store.h"
 #include "db/surface_store.h"
 
@@ -22,6 +23,12 @@ Result<LandXmlSurface> LoadLandXmlSurface(Store& store, const SurfaceInfo& surfa
 // A part of a surface (a selection: no features, constraints kept without owners).
 LandXmlSurface LandXmlFromLoaded(const SurfaceInfo& surface, const LoadedSurface& loaded,
                                  const std::optional<Crs>& crs);
+
+// What `export --format landxml` writes for a selection: the whole surface
+// (LoadLandXmlSurface) when `filter` selects nothing in particular, else LandXmlFromLoaded of
+// SelectSurface's part. Errors: theirs.
+Result<LandXmlSurface> LoadLandXmlSelection(Store& store, const SurfaceInfo& surface,
+                                            const SurfaceFilter& filter);
 
 // Writes `surface` as LandXML to `path` (a temporary file renamed onto it when complete).
 // IOError naming the path when it cannot be written.

@@ -14,6 +14,7 @@
 
 #include "service/http_server.h"
 #include "tests/support/cli_support.h"
+#include "tests/support/polygon_files.h"
 #include "tests/support/test_support.h"
 
 namespace tinbase::testing {
@@ -29,6 +30,61 @@ inline void CopyDemoStore(const std::string& path) {
     RunWrite(original, "init " + Quote(original));
     RunWrite(original, "dem import " + Quote(original) + " " + Quote(DataPath("dem/N43E007.hgt")));
     RunWrite(original, "tin build " + Quote(original) + " --surface t --tolerance 20");
+  }
+  std::filesystem::copy_file(original, path);
+}
+
+// Land of the demo store (EPSG:32632, about 7.26 E 43.9 N: ground some 550 m high) and the
+// square of the fill feature CopyDemoStoreWithFeature adds there, tagged "granite".
+inline constexpr double kLandX = 360000, kLandY = 4862000;
+inline constexpr double kGraniteMinX = 358000, kGraniteMinY = 4860000;
+inline constexpr double kGraniteMaxX = 362000, kGraniteMaxY = 4864000;
+
+// CopyDemoStore with one fill polygon feature (the square above, attribute "unit": "u0"),
+// tagged "granite". Made once per test binary.
+inline void CopyDemoStoreWithFeature(const std::string& path) {
+  static TempDir* shared = nullptr;
+  static std::string original;
+  if (shared == nullptr) {
+    shared = new TempDir();  // lives until the binary exits
+    original = shared->Path("feature.tinbase");
+    CopyDemoStore(original);
+    const PointList square = {{kGraniteMinX, kGraniteMinY},
+                              {kGraniteMaxX, kGraniteMinY},
+                              {kGraniteMaxX, kGraniteMaxY},
+                              {kGraniteMinX, kGraniteMaxY},
+                              {kGraniteMinX, kGraniteMinY}};
+    const std::string file = WritePolygons(*shared, "granite.geojson", {{square}}, 32632);
+    RunWrite(original, "polygon add " + Quote(original) + " " + Quote(file) +
+                           " --surface t --mode fill --tag granite");
+  }
+  std::filesystem::copy_file(original, path);
+}
+
+// Where CopyDemoStoreWithTiles puts its lake, in the store's CRS (EPSG:32632, metres): a fill
+// polygon of 12 sides tagged "water" around this centre.
+inline constexpr double kDemoLakeX = 380000, kDemoLakeY = 4840000, kDemoLakeRadius = 3000;
+// The finest level of its pyramid.
+inline constexpr int kDemoTilesMaxZoom = 10;
+
+// A copy, at `path`, of CopyDemoStore's store with the lake added and the tile pyramid of
+// surface "t" built at levels 0-10 (of which 0-2 hold no tile: the surface is
+// too small to show there) with every extension (octvertexnormals, watermask with water
+// tag "water", metadata). The original is made once per test binary via the CLI.
+inline void CopyDemoStoreWithTiles(const std::string& path) {
+  static TempDir* shared = nullptr;
+  static std::string original;
+  if (shared == nullptr) {
+    shared = new TempDir();  // lives until the binary exits
+    original = shared->Path("demo-tiles.tinbase");
+    CopyDemoStore(original);
+    const std::string lake = WritePolygons(
+        *shared, "lake.geojson", {{Ngon(kDemoLakeX, kDemoLakeY, kDemoLakeRadius, 12)}}, 32632);
+    RunWrite(original, "polygon add " + Quote(original) + " " + Quote(lake) +
+                           " --surface t --mode fill --tag water");
+    RunWrite(original, "tiles build " + Quote(original) + " --surface t --max-zoom " +
+                           std::to_string(kDemoTilesMaxZoom) +
+                           " --extensions octvertexnormals,watermask,metadata --water-tag water");
   }
   std::filesystem::copy_file(original, path);
 }
