@@ -101,7 +101,7 @@ export async function launchChromium() {
 // A page of `browser` at the viewer; every request it makes is recorded, and console errors and
 // page errors are kept for the test to show.
 export async function openViewer(browser, url) {
-  const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
+  const page = await browser.newPage({ viewport: { width: 1024, height: 700 } });
   const log = { requests: [], terrain: [], errors: [] };
   page.on('request', (r) => log.requests.push(r.url()));
   page.on('response', (r) => {
@@ -143,7 +143,7 @@ function terrainAt(page, fx, fy) {
 // wants, and its height at the point (fx, fy) of the view agrees with the surface's z there
 // (GET locate) within 200 m: above the error bounds of the levels drawn at this view, far below
 // the relief there. The flat stand-ins the page draws above the pyramid (height 0) cannot pass.
-export async function waitForTerrain(page, log, url, fx = 0.5, fy = 0.25) {
+export async function waitForTerrain(page, log, url, fx = 0.5, fy = 0.12) {
   let at = null;
   const deadline = Date.now() + 120000;
   while (Date.now() < deadline) {
@@ -160,13 +160,27 @@ export async function waitForTerrain(page, log, url, fx = 0.5, fy = 0.25) {
   return at;
 }
 
+// Waits until the globe has its tiles and every entity (features, outlines) is drawn: ground
+// primitives are built asynchronously, a little after the entities are added.
+export async function waitForDrawn(page) {
+  await page.waitForFunction(() => {
+    const { viewer } = window.tinbase;
+    return viewer.scene.globe.tilesLoaded && viewer.dataSourceDisplay.ready;
+  }, null, { timeout: 120000, polling: 250 });
+  // One more frame, so the screenshot has what the last update made.
+  await page.evaluate(() => new Promise((resolve) => requestAnimationFrame(() => resolve())));
+}
+
 // Saves a screenshot of the page as artifact `name`.png and fails when the globe's part of it
 // is blank (one flat colour): a WebGL failure or a globe that drew nothing.
 export async function screenshotNotBlank(page, name) {
+  await waitForDrawn(page);
   fs.mkdirSync(artifactDir, { recursive: true });
   const file = path.join(artifactDir, `${name}.png`);
   await page.screenshot({ path: file });
-  const globe = await page.locator('#globe').screenshot();
+  // A clipped page shot: an element shot waits for the element to be still between animation
+  // frames, which a globe rendering on the CPU rarely is.
+  const globe = await page.screenshot({ clip: await page.locator('#globe').boundingBox() });
   const stats = await page.evaluate(async (base64) => {
     const image = new Image();
     image.src = `data:image/png;base64,${base64}`;

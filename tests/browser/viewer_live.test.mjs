@@ -64,10 +64,10 @@ test('a feature posted by another client appears without a reload', async () => 
 
 test('a polygon drawn in the page is posted with the typed token', async () => {
   const { page, log } = await openViewer(browser, server.url);
-  // Away from the first test's polygon, on land.
-  const { x: cx, y: cy } = await waitForTerrain(page, log, server.url, 0.3, 0.2);
+  // Away from the first test's polygon, on low land clear of the DEM's voids (no elevation there).
+  const { x: cx, y: cy } = await waitForTerrain(page, log, server.url, 0.25, 0.3);
   await page.click('#draw-start');
-  for (const [dx, dy] of [[-40, -40], [40, -40], [40, 40], [-40, 40]]) {
+  for (const [dx, dy] of [[-30, -30], [30, -30], [30, 30], [-30, 30]]) {
     await page.mouse.click(cx + dx, cy + dy);
   }
   await page.selectOption('#draw-mode', 'fill');
@@ -79,7 +79,9 @@ test('a polygon drawn in the page is posted with the typed token', async () => {
 
   await page.fill('#draw-token', server.token);
   await page.click('#draw-finish');
-  await page.waitForSelector('#draw-status[data-tx]', { timeout: 60000 });
+  await page.waitForSelector('#draw-status[data-tx]', { timeout: 60000 }).catch(async (e) => {
+    throw new Error(`${e.message}: ${await page.locator('#draw-status').textContent()}`);
+  });
   const tx = Number(await page.getAttribute('#draw-status', 'data-tx'));
   await page.waitForSelector('#legend li[data-tag="drawn-in-page"]', { timeout: 60000 });
   assert.ok((await counters(page)).txs.includes(tx));

@@ -29,9 +29,10 @@ test('a box dragged on the DEM overview shows its TIN', async () => {
     return image.complete && image.naturalWidth > 0;
   }, null, { timeout: 30000 });
   const image = await page.locator('#overview-image').boundingBox();
-  await page.mouse.move(image.x + image.width * 0.4, image.y + image.height * 0.4);
+  // A box on the mountains in the north of the DEM.
+  await page.mouse.move(image.x + image.width * 0.35, image.y + image.height * 0.08);
   await page.mouse.down();
-  await page.mouse.move(image.x + image.width * 0.5, image.y + image.height * 0.5, { steps: 5 });
+  await page.mouse.move(image.x + image.width * 0.5, image.y + image.height * 0.22, { steps: 5 });
   await page.mouse.up();
   assert.equal(await page.isEnabled('#show-tin'), true);
   await page.fill('#faces', '5000');
@@ -49,7 +50,18 @@ test('a box dragged on the DEM overview shows its TIN', async () => {
     viewer.camera.setView({ destination: Cesium.Rectangle.fromDegrees(w, s, e, n) });
   });
   await page.waitForFunction(() => window.tinbase.overview.model.ready, null, { timeout: 60000 });
-  await page.waitForTimeout(500);
+  // The model stands where the box is, on the ground: its centre is inside the box and at a
+  // height of the terrain there, so the frame's origin and axes were read right.
+  const placed = await page.evaluate(() => {
+    const { overview, Cesium } = window.tinbase;
+    const c = Cesium.Cartographic.fromCartesian(overview.model.boundingSphere.center);
+    return { lon: Cesium.Math.toDegrees(c.longitude), lat: Cesium.Math.toDegrees(c.latitude),
+      height: c.height, box: overview.lonlatBox() };
+  });
+  const [w, s, e, n] = placed.box;
+  assert.ok(placed.lon > w && placed.lon < e && placed.lat > s && placed.lat < n,
+      `the TIN's centre ${placed.lon}, ${placed.lat} is outside the box ${placed.box}`);
+  assert.ok(placed.height > 0 && placed.height < 3000, `the TIN's centre is at ${placed.height} m`);
   await screenshotNotBlank(page, 'viewer_overview_tin');
   assert.deepEqual(log.errors, []);
   await page.close();

@@ -42,6 +42,15 @@ test('the page draws the terrain tiles and a click shows the located triangle', 
   const visibleNeighbours = (await getJson(server.url, `/surfaces/t/triangles/${shown}`))
       .neighbours.filter((n) => n && n.visible !== false).length;
   assert.equal(Number(await page.getAttribute('#pick', 'data-highlighted')), visibleNeighbours + 1);
+  // Close enough to see the outlines in the screenshot.
+  await page.evaluate((lonlat) => {
+    const { viewer, Cesium } = window.tinbase;
+    const lons = lonlat.map((p) => p[0]);
+    const lats = lonlat.map((p) => p[1]);
+    const pad = 4 * Math.max(Math.max(...lons) - Math.min(...lons), Math.max(...lats) - Math.min(...lats));
+    viewer.camera.setView({ destination: Cesium.Rectangle.fromDegrees(Math.min(...lons) - pad,
+        Math.min(...lats) - pad, Math.max(...lons) + pad, Math.max(...lats) + pad) });
+  }, answer.triangle.lonlat);
   await screenshotNotBlank(page, 'viewer_click');
 
   assertOnlyLocalRequests(log, server.url);

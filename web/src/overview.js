@@ -15,13 +15,15 @@ export class OverviewMap {
     this.listen();
   }
 
-  // Shows DEM `dem`'s overview image.
+  // Shows DEM `dem`'s overview image (a hillshade in lon/lat, north up, spanning the box of its
+  // X-Tinbase-Bbox-Lonlat header).
   async show(dem) {
     this.dem = dem;
     this.drag = null;
     this.el.box.style.display = 'none';
     this.el.button.disabled = true;
-    const { blob } = await getBlob(`/dems/${encodeURIComponent(dem.name)}/overview.png?size=512`);
+    const { blob, headers } = await getBlob(`/dems/${encodeURIComponent(dem.name)}/overview.png`);
+    this.imageBox = parseNumbers(headers.get('X-Tinbase-Bbox-Lonlat'), 4) || dem.bbox_lonlat;
     this.el.image.src = URL.createObjectURL(blob);
     await this.el.image.decode();
   }
@@ -68,30 +70,21 @@ export class OverviewMap {
     s.height = `${(this.drag.y1 - this.drag.y0) * 100}%`;
   }
 
-  // The box in the DEM's own CRS: the image spans the DEM's bbox, north up.
-  bbox() {
-    const [minx, miny, maxx, maxy] = this.dem.bbox;
-    const d = this.drag;
-    const x = (f) => minx + f * (maxx - minx);
-    const y = (f) => maxy - f * (maxy - miny);
-    return [x(d.x0), y(d.y1), x(d.x1), y(d.y0)];
-  }
-
-  bboxText() {
-    return this.bbox().map((v) => Number(v.toPrecision(10))).join(',');
-  }
-
-  // The box in lon/lat for the outline on the globe (linear in the overview's lon/lat box, which
-  // is close enough for an outline).
+  // The dragged box in lon/lat: the image is linear in lon/lat over this.imageBox.
   lonlatBox() {
-    const [w, s, e, n] = this.dem.bbox_lonlat;
+    const [w, s, e, n] = this.imageBox;
     const d = this.drag;
     return [w + d.x0 * (e - w), n - d.y1 * (n - s), w + d.x1 * (e - w), n - d.y0 * (n - s)];
   }
 
+  bboxText() {
+    return this.lonlatBox().map((v) => Number(v.toFixed(7))).join(',');
+  }
+
   async showTin() {
     const faces = Math.round(Number(this.el.faces.value));
-    const url = `/dems/${encodeURIComponent(this.dem.name)}/tin?bbox=${this.bboxText()}&faces=${faces}`;
+    const url = `/dems/${encodeURIComponent(this.dem.name)}/tin?bbox=${this.bboxText()}` +
+        `&crs=EPSG:4326&faces=${faces}`;
     this.el.status.textContent = 'Loading the TIN…';
     this.el.status.classList.remove('error');
     try {
