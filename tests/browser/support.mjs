@@ -61,7 +61,8 @@ export async function serve(store, dir) {
   child.stderr.on('data', (d) => { stderr += d; });
   const url = await new Promise((resolve, reject) => {
     let out = '';
-    const timer = setTimeout(() => reject(new Error(`tinbase serve did not start: ${stderr}`)), 30000);
+    const fail = () => reject(new Error(`tinbase serve did not start: ${stderr}`));
+    const timer = setTimeout(fail, 30000);
     child.stdout.on('data', (d) => {
       out += d;
       const port = out.match(/http:\/\/127\.0\.0\.1:(\d+)\//);
@@ -89,7 +90,8 @@ export async function launchChromium() {
   try {
     ({ chromium } = await import('playwright-core'));
   } catch (e) {
-    assert.fail(`playwright-core is not installed (scripts/build-web.sh --browser-tests): ${e.message}`);
+    assert.fail('playwright-core is not installed (scripts/build-web.sh --browser-tests): ' +
+        e.message);
   }
   return chromium.launch({
     executablePath: chromiumPath,
@@ -151,12 +153,14 @@ export async function waitForTerrain(page, log, url, fx = 0.5, fy = 0.12) {
     if (at && at.height !== null && at.height !== 0) break;
     await page.waitForTimeout(250);
   }
-  assert.ok(at && at.height, `no terrain drawn at (${fx}, ${fy}) of the view: ${JSON.stringify(at)}`);
+  assert.ok(at && at.height,
+      `no terrain drawn at (${fx}, ${fy}) of the view: ${JSON.stringify(at)}`);
   assert.ok(log.terrain.length > 0, 'the page requested no terrain tile');
   assert.ok(log.terrain.every((s) => s === 200 || s === 304), `tile answers: ${log.terrain}`);
   const located = await getJson(url, `/surfaces/t/locate?lon=${at.lon}&lat=${at.lat}`);
   assert.ok(Math.abs(at.height - located.z) < 200,
-      `the globe's height ${at.height} at ${at.lon}, ${at.lat} is not the surface's z ${located.z}`);
+      `the globe's height ${at.height} at ${at.lon}, ${at.lat} is not the surface's z ` +
+      `${located.z}`);
   return at;
 }
 
@@ -205,7 +209,8 @@ export async function screenshotNotBlank(page, name) {
     return { colours: colours.size, deviation: Math.sqrt(sumSquares / n - mean * mean) };
   }, globe.toString('base64'));
   assert.ok(stats.colours > 64 && stats.deviation > 4,
-      `the globe looks blank in ${file} (${stats.colours} colours, luma deviation ${stats.deviation.toFixed(2)})`);
+      `the globe looks blank in ${file} (${stats.colours} colours, luma deviation ` +
+      `${stats.deviation.toFixed(2)})`);
   return file;
 }
 

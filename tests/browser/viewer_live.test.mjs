@@ -51,7 +51,8 @@ test('a feature posted by another client appears without a reload', async () => 
   const now = await counters(page);
   assert.ok(now.txs.includes(posted.tx), `the page saw transactions ${now.txs}, not ${posted.tx}`);
   assert.ok(now.features > before.features && now.terrain > before.terrain,
-      `features reloaded ${before.features} -> ${now.features}, terrain ${before.terrain} -> ${now.terrain}`);
+      `features reloaded ${before.features} -> ${now.features}, ` +
+      `terrain ${before.terrain} -> ${now.terrain}`);
   await waitForTerrain(page, log, server.url);
   // The triangles under the polygon now carry its tag, as the panel shows after a click.
   await page.mouse.click(x, y);

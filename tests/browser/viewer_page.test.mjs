@@ -47,7 +47,8 @@ test('the page draws the terrain tiles and a click shows the located triangle', 
     const { viewer, Cesium } = window.tinbase;
     const lons = lonlat.map((p) => p[0]);
     const lats = lonlat.map((p) => p[1]);
-    const pad = 4 * Math.max(Math.max(...lons) - Math.min(...lons), Math.max(...lats) - Math.min(...lats));
+    const size = (v) => Math.max(...v) - Math.min(...v);
+    const pad = 4 * Math.max(size(lons), size(lats));
     viewer.camera.setView({ destination: Cesium.Rectangle.fromDegrees(Math.min(...lons) - pad,
         Math.min(...lats) - pad, Math.max(...lons) + pad, Math.max(...lats) + pad) });
   }, answer.triangle.lonlat);

@@ -12,7 +12,9 @@ export class ApiError extends Error {
 async function errorOf(response) {
   try {
     const body = await response.json();
-    if (body && body.error) return new ApiError(response.status, body.error.code, body.error.message);
+    if (body && body.error) {
+      return new ApiError(response.status, body.error.code, body.error.message);
+    }
   } catch (e) {
     // not JSON: fall through to the status line
   }

@@ -7,7 +7,8 @@ import { tagColor, tagCss } from './colors.js';
 // lines (breaklines) opaque.
 function colourByTag(source) {
   for (const entity of source.entities.values) {
-    const tag = entity.properties && entity.properties.tag ? entity.properties.tag.getValue() : null;
+    const p = entity.properties;
+    const tag = p && p.tag ? p.tag.getValue() : null;
     if (entity.polygon) {
       entity.polygon.material = tagColor(tag, 0.45);
       entity.polygon.outline = false;
@@ -46,7 +47,9 @@ export async function showLegend(list, name, geojson) {
   }
   try {
     const { tags } = await getJson(surfacePath(name, 'tags'));
-    for (const t of tags) counts.set(t.tag, { ...(counts.get(t.tag) || {}), triangles: t.triangles });
+    for (const t of tags) {
+      counts.set(t.tag, { ...(counts.get(t.tag) || {}), triangles: t.triangles });
+    }
   } catch (e) {
     // The tag counts are extra: the features alone still make a legend.
   }

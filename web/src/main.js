@@ -117,7 +117,9 @@ async function main() {
     button: $('show-tin'), status: $('tin-status'),
   });
   window.tinbase = { Cesium, viewer, state, picker, drawer, overview };
-  $('terrain-on').addEventListener('change', (e) => { viewer.scene.globe.show = e.target.checked; });
+  $('terrain-on').addEventListener('change', (e) => {
+    viewer.scene.globe.show = e.target.checked;
+  });
 
   const { surfaces } = await getJson('/surfaces');
   if (surfaces.length === 0) {
@@ -141,7 +143,9 @@ async function main() {
   setStatus(`Surface ${state.surface.name}: ${state.surface.triangles} triangles.`);
   document.body.dataset.ready = 'true';
   // The overview is extra: a store without DEMs (or a failing route) leaves the rest working.
-  setupOverview(viewer, overview).catch((e) => { $('tin-status').textContent = `Error: ${e.message}`; });
+  setupOverview(viewer, overview).catch((e) => {
+    $('tin-status').textContent = `Error: ${e.message}`;
+  });
 }
 
 main().catch((e) => setStatus(`The viewer could not start: ${e.message}`, true));

@@ -104,7 +104,8 @@ export class OverviewMap {
       this.model = this.viewer.scene.primitives.add(model);
       this.outlineBox();
       this.loaded += 1;
-      this.el.status.textContent = `TIN of ${faces} faces at ${origin.map((v) => v.toFixed(4)).join(', ')}`;
+      const at = origin.map((v) => v.toFixed(4)).join(', ');
+      this.el.status.textContent = `TIN of ${faces} faces at ${at}`;
       this.el.status.dataset.loaded = String(this.loaded);
     } catch (e) {
       this.el.status.textContent = `Error: ${e.message}`;

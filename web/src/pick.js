@@ -46,7 +46,8 @@ export class TrianglePicker {
     } catch (e) {
       this.last = { error: e.code || 'error' };
       this.panel.dataset.state = 'error';
-      this.panel.textContent = e.code === 'outside' ? 'Outside the surface.' : `Error: ${e.message}`;
+      this.panel.textContent =
+          e.code === 'outside' ? 'Outside the surface.' : `Error: ${e.message}`;
       return;
     }
     const t = located.triangle;

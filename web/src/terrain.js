@@ -82,7 +82,8 @@ export async function loadTerrain(viewer, name) {
     requestVertexNormals: true,
   });
   const layer = await getJson(surfacePath(name, 'tiles/layer.json'));
-  const provider = new SurfaceTerrainProvider(tiles, Array.isArray(layer.available) ? layer.available : []);
+  const available = Array.isArray(layer.available) ? layer.available : [];
+  const provider = new SurfaceTerrainProvider(tiles, available);
   viewer.scene.terrainProvider = provider;
   return provider;
 }
