@@ -184,7 +184,14 @@ export async function screenshotNotBlank(page, name) {
   await page.screenshot({ path: file });
   // A clipped page shot: an element shot waits for the element to be still between animation
   // frames, which a globe rendering on the CPU rarely is.
+  // Without Cesium's credit logo, which is drawn over the globe whatever the globe shows.
+  await page.evaluate(() => {
+    document.querySelector('.cesium-widget-credits').style.visibility = 'hidden';
+  });
   const globe = await page.screenshot({ clip: await page.locator('#globe').boundingBox() });
+  await page.evaluate(() => {
+    document.querySelector('.cesium-widget-credits').style.visibility = '';
+  });
   const stats = await page.evaluate(async (base64) => {
     const image = new Image();
     image.src = `data:image/png;base64,${base64}`;

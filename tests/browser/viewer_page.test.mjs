@@ -54,6 +54,10 @@ test('the page draws the terrain tiles and a click shows the located triangle', 
   }, answer.triangle.lonlat);
   await screenshotNotBlank(page, 'viewer_click');
 
+  // The check fails on a globe that draws nothing.
+  await page.evaluate(() => { window.tinbase.viewer.scene.globe.show = false; });
+  await assert.rejects(screenshotNotBlank(page, 'viewer_blank_on_purpose'), /looks blank/);
+
   assertOnlyLocalRequests(log, server.url);
   assert.deepEqual(log.errors, []);
   await page.close();

@@ -18,6 +18,9 @@ export function createViewer(container) {
     infoBox: false,
     selectionIndicator: false,
     requestRenderMode: false,
+    // No stars or sky haze: where no tile is drawn the view stays plain black.
+    skyBox: false,
+    skyAtmosphere: false,
   });
   const globe = viewer.scene.globe;
   globe.baseColor = Cesium.Color.fromCssColorString('#b9ad94');
