@@ -2,6 +2,7 @@
 #include "service/http_server.h"
 
 #include <exception>
+#include <thread>
 #include <utility>
 
 #include "service/json_reply.h"
@@ -57,10 +58,7 @@ HttpServer::HttpServer(std::unique_ptr<ServiceContext> context,
                        std::unique_ptr<httplib::Server> server, int port)
     : context_(std::move(context)), server_(std::move(server)), port_(port) {}
 
-HttpServer::~HttpServer() {
-  context_->changes().Shutdown();
-  server_->stop();
-}
+HttpServer::~HttpServer() { Stop(); }
 
 Result<std::unique_ptr<HttpServer>> HttpServer::Start(const ServiceOptions& options) {
   if (options.threads < 1 || options.threads > 1024)
@@ -88,13 +86,27 @@ Result<std::unique_ptr<HttpServer>> HttpServer::Start(const ServiceOptions& opti
 }
 
 Status HttpServer::Run() {
-  if (!server_->listen_after_bind())
+  // Paired with Stop(): of "Run started" and "stop requested", each side writes its own flag and
+  // then reads the other's, so at least one of them sees the other's.
+  run_started_ = true;
+  if (stop_requested_) {
+    run_returned_ = true;
+    return Status::Ok();
+  }
+  const bool listened = server_->listen_after_bind();
+  run_returned_ = true;
+  if (!listened && !stop_requested_)
     return Status::IOError("the server stopped accepting connections");
   return Status::Ok();
 }
 
 void HttpServer::Stop() {
+  stop_requested_ = true;
   context_->changes().Shutdown();
+  // httplib's stop() does nothing until the accept loop runs; once Run() has begun, wait for it.
+  if (run_started_) {
+    while (!server_->is_running() && !run_returned_) std::this_thread::yield();
+  }
   server_->stop();
 }
 

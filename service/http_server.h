@@ -6,6 +6,7 @@
 
 #include <httplib.h>
 
+#include <atomic>
 #include <memory>
 
 #include "core/base/status.h"
@@ -26,6 +27,8 @@ class HttpServer {
   ServiceContext& context() { return *context_; }
   // Serves requests until Stop(). IOError when the accept loop fails.
   Status Run();
+  // Ends Run(), also when called before Run() has started its accept loop (Run() then returns at
+  // once), which cpp-httplib's own stop() would miss.
   void Stop();
 
  private:
@@ -34,6 +37,9 @@ class HttpServer {
   std::unique_ptr<ServiceContext> context_;
   std::unique_ptr<httplib::Server> server_;
   int port_;
+  std::atomic<bool> run_started_{false};
+  std::atomic<bool> stop_requested_{false};
+  std::atomic<bool> run_returned_{false};
 };
 
 }  // namespace tinbase::service

@@ -74,8 +74,13 @@ struct LocateBody {
 
 // {"points": [[x, y], ...], "crs": "EPSG:4326"?}, every element checked and named when bad.
 Result<LocateBody> ParseLocateBody(const std::string& text) {
-  const nlohmann::json body = nlohmann::json::parse(text, nullptr, false);
-  if (body.is_discarded()) return Status::InvalidArgument("the body is not JSON");
+  nlohmann::json body;
+  try {
+    body = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::exception& e) {  // parse_error, or out_of_range for 1e999
+    // e.what() names the byte and what was wrong there.
+    return Status::InvalidArgument(std::string("the body is not JSON: ") + e.what());
+  }
   if (!body.is_object() || !body.contains("points") || !body["points"].is_array())
     return Status::InvalidArgument("the body needs \"points\": [[x, y], ...]");
   LocateBody out;
