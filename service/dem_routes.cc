@@ -42,6 +42,17 @@ std::string Number(double v) {
 
 Box BoxOf(const GridGeometry& g) { return Box{g.MinX(), g.MinY(), g.MaxX(), g.MaxY()}; }
 
+// 413 naming the limit when `bytes` is over the service's result limit; true when answered.
+bool ReplyIfTooLarge(const ServiceContext& context, httplib::Response& res, size_t bytes,
+                     const std::string& what, const std::string& advice) {
+  const size_t limit = context.options().max_result_bytes;
+  if (bytes <= limit) return false;
+  ReplyError(res, 413, "too_large",
+             what + " is " + std::to_string(bytes) + " bytes, over the service's limit of " +
+                 std::to_string(limit) + ": " + advice);
+  return true;
+}
+
 Result<DemInfo> DemFromPath(DemStore& dems, const httplib::Request& req) {
   if (req.matches.size() < 2) return Status::InvalidArgument("the path names no DEM");
   return dems.Find(req.matches[1].str());
@@ -103,6 +114,9 @@ Result<int> OverviewLevel(const DemInfo& dem, const httplib::Request& req) {
 void GetOverview(ServiceContext& context, const httplib::Request& req, httplib::Response& res) {
   auto lease = context.stores().Reader();
   if (!lease.ok()) return ReplyStatus(res, lease.status());
+  // One snapshot: the DEM's description and its blocks from the same import.
+  auto snapshot = ReadSnapshot::Begin(lease->store());
+  if (!snapshot.ok()) return ReplyStatus(res, snapshot.status());
   DemStore dems(lease->store());
   auto dem = DemFromPath(dems, req);
   if (!dem.ok()) return ReplyStatus(res, dem.status());
@@ -142,6 +156,9 @@ Result<DemBox> RequestBox(const DemInfo& dem, const httplib::Request& req) {
 void GetClip(ServiceContext& context, const httplib::Request& req, httplib::Response& res) {
   auto lease = context.stores().Reader();
   if (!lease.ok()) return ReplyStatus(res, lease.status());
+  // One snapshot: the DEM's description and its blocks from the same import.
+  auto snapshot = ReadSnapshot::Begin(lease->store());
+  if (!snapshot.ok()) return ReplyStatus(res, snapshot.status());
   DemStore dems(lease->store());
   auto dem = DemFromPath(dems, req);
   if (!dem.ok()) return ReplyStatus(res, dem.status());
@@ -201,6 +218,9 @@ void GetTin(ServiceContext& context, const httplib::Request& req, httplib::Respo
   if (!options.ok()) return ReplyStatus(res, options.status());
   auto lease = context.stores().Reader();
   if (!lease.ok()) return ReplyStatus(res, lease.status());
+  // One snapshot: the DEM's description and its blocks from the same import.
+  auto snapshot = ReadSnapshot::Begin(lease->store());
+  if (!snapshot.ok()) return ReplyStatus(res, snapshot.status());
   DemStore dems(lease->store());
   auto dem = DemFromPath(dems, req);
   if (!dem.ok()) return ReplyStatus(res, dem.status());
@@ -217,6 +237,7 @@ void GetTin(ServiceContext& context, const httplib::Request& req, httplib::Respo
   if (!written.ok()) return ReplyStatus(res, written.status());
   auto bytes = file.Read();
   if (!bytes.ok()) return ReplyStatus(res, bytes.status());
+  if (ReplyIfTooLarge(context, res, bytes->size(), "the GLB", "ask for fewer faces")) return;
   if (const std::optional<std::string> origin = GlbOrigin(*bytes))
     res.set_header("X-Tinbase-Origin", *origin);
   res.set_header("X-Tinbase-Level", std::to_string(tin->level));

@@ -5,13 +5,6 @@
 
 namespace tinbase::service {
 
-Result<std::vector<std::string>> TilePyramidNames(Store& store, const SurfaceInfo& surface) {
-  TB_ASSIGN_OR_RETURN(const std::optional<TilePyramidInfo> pyramid,
-                      TileStore(store.db()).Pyramid(surface.id));
-  if (!pyramid) return std::vector<std::string>{};
-  return std::vector<std::string>{kDefaultPyramid};
-}
-
 Result<TilePyramidInfo> RequestedPyramid(Store& store, const SurfaceInfo& surface,
                                          const httplib::Request& req) {
   TB_ASSIGN_OR_RETURN(const std::optional<TilePyramidInfo> pyramid,
@@ -20,9 +13,9 @@ Result<TilePyramidInfo> RequestedPyramid(Store& store, const SurfaceInfo& surfac
     return Status::NotFound("surface '" + surface.name +
                             "' has no tiles (build them with tinbase tiles build)");
   const std::optional<std::string> name = OptionalParam(req, "pyramid");
-  if (name && *name != kDefaultPyramid)
+  if (name && *name != surface.name)
     return Status::NotFound("surface '" + surface.name + "' has no tile pyramid '" + *name +
-                            "' (it has: " + kDefaultPyramid + ")");
+                            "' (it has: " + surface.name + ")");
   return *pyramid;
 }
 

@@ -13,6 +13,7 @@
 #include <memory>
 #include <set>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "core/tiles/quantized_mesh.h"
@@ -145,6 +146,28 @@ class TileRoutesTest : public ::testing::Test {
     return keys;
   }
 
+  // Every tile the store holds.
+  std::vector<TileKey> StoredKeys() {
+    auto store = Store::Open(store_, Store::Access::kReadOnly);
+    EXPECT_TRUE(store.ok()) << store.status().ToString();
+    auto surface = SurfaceStore(**store).Find("t");
+    EXPECT_TRUE(surface.ok());
+    auto keys = TileStore((*store)->db()).Keys(surface->id);
+    EXPECT_TRUE(keys.ok());
+    return {keys->begin(), keys->end()};
+  }
+
+  // The tile's bytes as the store holds them.
+  std::string StoredBytes(const TileKey& key) {
+    auto store = Store::Open(store_, Store::Access::kReadOnly);
+    EXPECT_TRUE(store.ok()) << store.status().ToString();
+    auto surface = SurfaceStore(**store).Find("t");
+    EXPECT_TRUE(surface.ok());
+    auto tile = TileStore((*store)->db()).Tile(surface->id, key);
+    EXPECT_TRUE(tile.ok() && tile->has_value()) << key.ToString();
+    return std::string((**tile).first.begin(), (**tile).first.end());
+  }
+
   // The tile as the store holds it.
   QuantizedMesh Stored(const TileKey& key) {
     auto store = Store::Open(store_, Store::Access::kReadOnly);
@@ -186,12 +209,12 @@ TEST_F(TileRoutesTest, LayerJsonDescribesThePyramidForCesium) {
   ASSERT_TRUE(again);
   EXPECT_EQ(again->status, 304);
   EXPECT_TRUE(again->body.empty());
-  // The default pyramid may be named.
-  JsonAnswer(service_->Client()->Get("/surfaces/t/tiles/layer.json?pyramid=default"));
+  // The pyramid may be named (after its surface, as GET /surfaces lists it).
+  JsonAnswer(service_->Client()->Get("/surfaces/t/tiles/layer.json?pyramid=t"));
 }
 
 TEST_F(TileRoutesTest, EveryTileDecodesWithTheNpmDecoderAsStoredLessWhatWasNotAskedFor) {
-  const std::vector<TileKey> keys = AvailableTiles();
+  const std::vector<TileKey> keys = StoredKeys();
   ASSERT_GT(keys.size(), 10u);
   std::vector<std::string> files;
   std::map<std::string, std::pair<TileKey, bool>> asked_all;  // file -> key, all extensions
@@ -234,7 +257,7 @@ TEST_F(TileRoutesTest, EveryTileDecodesWithTheNpmDecoderAsStoredLessWhatWasNotAs
 TEST_F(TileRoutesTest, SendsOnlyTheExtensionsBothThePyramidHasAndTheClientAskedFor) {
   // A tile of the finest level, where metadata is, with the lake's water mask.
   TileKey key;
-  for (const TileKey& k : AvailableTiles())
+  for (const TileKey& k : StoredKeys())
     if (k.level == kDemoTilesMaxZoom && Stored(k).water_mask->size() > 1) key = k;
   ASSERT_EQ(key.level, kDemoTilesMaxZoom);
   struct Case {
@@ -352,7 +375,12 @@ TEST_F(TileRoutesTest, AnEditGivesTheTilesItRewroteNewTagsAndLeavesTheOthersAlon
   ASSERT_FALSE(untouched.empty());
   const httplib::Headers cesium = {{"Accept", kCesiumAccept}, {"Accept-Encoding", "gzip"}};
   std::map<TileKey, std::string> before;
-  for (const TileKey& key : touched) before[key] = Get(PathOf(key), cesium).etag;
+  std::map<TileKey, std::string> body_before;
+  for (const TileKey& key : touched) {
+    const TileAnswer a = Get(PathOf(key), cesium);
+    before[key] = a.etag;
+    body_before[key] = a.body;
+  }
   for (const TileKey& key : untouched) before[key] = Get(PathOf(key), cesium).etag;
 
   const std::string polygon = WritePolygons(dir_, "edit.geojson", {{Ngon(ex, ey, er, 12)}}, 32632);
@@ -365,7 +393,12 @@ TEST_F(TileRoutesTest, AnEditGivesTheTilesItRewroteNewTagsAndLeavesTheOthersAlon
     const TileAnswer a = Get(PathOf(key), headers);
     EXPECT_EQ(a.status, 200) << key.ToString() << ": the edit rewrote it";
     EXPECT_NE(a.etag, before[key]) << key.ToString();
-    EXPECT_FALSE(a.body.empty());
+    // The new tile, not the answer kept from before the edit: with every extension asked for,
+    // the body is the stored tile, gzipped.
+    EXPECT_NE(a.body, body_before[key]) << key.ToString();
+    const std::string file = dir_.Path("after.gz");
+    WriteFile(file, a.body);
+    EXPECT_EQ(Gunzip(file), StoredBytes(key)) << key.ToString();
   }
   for (const TileKey& key : untouched) {
     httplib::Headers headers = cesium;
@@ -387,8 +420,8 @@ TEST_F(TileRoutesTest, BadCoordinatesAre400AndMissingTiles404) {
   ExpectJsonError(client->Get("/surfaces/t/tiles/1/1/0.5.terrain"), 400, "not a whole number");
   ExpectJsonError(client->Get("/surfaces/t/tiles/9/99999999999999999999/0.terrain"), 400,
                   "out of range");
-  // In the scheme but not in the pyramid: the western hemisphere, a level below the finest.
-  ExpectJsonError(client->Get("/surfaces/t/tiles/0/0/0.terrain"), 404, "no tile 0/0/0");
+  // In the scheme but not in the pyramid: away from the surface, a level below the finest.
+  ExpectJsonError(client->Get("/surfaces/t/tiles/10/0/0.terrain"), 404, "no tile 10/0/0");
   ExpectJsonError(client->Get("/surfaces/t/tiles/11/2130/1400.terrain"), 404,
                   "the finest level of surface 't' is 10");
   ExpectJsonError(client->Get("/surfaces/nope/tiles/0/1/0.terrain"), 404, "no surface named");
@@ -398,6 +431,88 @@ TEST_F(TileRoutesTest, BadCoordinatesAre400AndMissingTiles404) {
                   "no tile pyramid 'other'");
   // The service still serves.
   EXPECT_EQ(Get(PathOf(AvailableTiles().front()), {}).status, 200);
+}
+
+TEST_F(TileRoutesTest, FillerTilesAboveTheCoarsestStoredLevelLetCesiumStartAtTheRoots) {
+  // The one-degree surface has no stored tile at the coarsest levels.
+  int coarsest = kMaxTileLevel;
+  for (const TileKey& key : StoredKeys()) coarsest = std::min(coarsest, key.level);
+  ASSERT_GE(coarsest, 3);
+  const nlohmann::json layer = JsonAnswer(service_->Client()->Get("/surfaces/t/tiles/layer.json"));
+  for (int level = 0; level < coarsest; ++level) {
+    const nlohmann::json whole = {{{"endX", TilesAcross(level) - 1},
+                                   {"endY", TilesDown(level) - 1},
+                                   {"startX", 0},
+                                   {"startY", 0}}};
+    EXPECT_EQ(layer["available"][level], whole) << level;
+  }
+  EXPECT_EQ(layer["available"][coarsest].size(), 1u);
+
+  std::vector<std::string> files;
+  const std::vector<TileKey> fillers = {{0, 0, 0}, {0, 1, 0}, {2, 1, 3}, {2, 4, 2}};
+  for (const TileKey& key : fillers) {
+    const TileAnswer a = Get(PathOf(key), {{"Accept", kCesiumAccept}});
+    ASSERT_EQ(a.status, 200) << key.ToString() << " " << a.body;
+    // Level 0 carries the metadata (the pyramid has it, Cesium asked); no filler a water mask.
+    EXPECT_EQ(a.content_type, key.level == 0
+                                  ? "application/vnd.quantized-mesh;extensions=octvertexnormals-"
+                                    "metadata"
+                                  : "application/vnd.quantized-mesh;extensions=octvertexnormals");
+    EXPECT_FALSE(a.etag.empty());
+    files.push_back(dir_.Path("filler_" + std::to_string(key.level) + "_" + std::to_string(key.x) +
+                              "_" + std::to_string(key.y) + ".terrain"));
+    WriteFile(files.back(), a.body);
+  }
+  const nlohmann::json npm = DecodeWithNpm(files);
+  for (size_t i = 0; i < files.size(); ++i) {
+    const nlohmann::json& t = npm[files[i]];
+    ASSERT_TRUE(t.is_object()) << files[i];
+    // A 16 x 16 grid, flat at the pyramid's lowest height, with the ellipsoid's normals.
+    EXPECT_EQ(t["vertices"], 17 * 17) << files[i];
+    EXPECT_EQ(t["triangles"], 2 * 16 * 16) << files[i];
+    EXPECT_EQ(t["west"].size(), 17u) << files[i];
+    EXPECT_EQ(t["north"].size(), 17u) << files[i];
+    for (const auto& h : t["height"]) EXPECT_EQ(h, 0) << files[i];
+    EXPECT_EQ(t["normals"].size(), 2u * 17 * 17) << files[i];
+    EXPECT_TRUE(t["waterMask"].is_null()) << files[i];
+    EXPECT_EQ(t["metadata"].is_null(), fillers[i].level != 0) << files[i];
+  }
+  // The roots' metadata: the filler levels whole under each root, then (under the eastern root,
+  // where the surface is) the stored tiles as layer.json lists them.
+  const nlohmann::json& west = npm[files[0]]["metadata"]["available"];
+  const nlohmann::json& east = npm[files[1]]["metadata"]["available"];
+  ASSERT_EQ(west.size(), static_cast<size_t>(coarsest - 1));
+  ASSERT_GE(east.size(), static_cast<size_t>(coarsest));
+  const nlohmann::json level1_east = {{{"endX", 3}, {"endY", 1}, {"startX", 2}, {"startY", 0}}};
+  EXPECT_EQ(east[0], level1_east);
+  EXPECT_EQ(west[0][0]["startX"], 0);
+  EXPECT_EQ(west[0][0]["endX"], 1);
+  for (int level = coarsest; level <= std::min(10, kDemoTilesMaxZoom); ++level)
+    EXPECT_EQ(east[level - 1], layer["available"][level]) << level;
+}
+
+TEST_F(TileRoutesTest, ConcurrentClientsGetTheSameTiles) {
+  const std::vector<TileKey> keys = StoredKeys();
+  const httplib::Headers cesium = {{"Accept", kCesiumAccept}, {"Accept-Encoding", "gzip"}};
+  std::map<TileKey, std::string> reference;
+  for (const TileKey& key : keys) reference[key] = Get(PathOf(key), cesium).body;
+  constexpr int kClients = 16;
+  std::vector<int> mismatches(kClients, 0);
+  std::vector<std::thread> clients;
+  for (int c = 0; c < kClients; ++c) {
+    clients.emplace_back([&, c] {
+      auto client = service_->Client();
+      client->set_decompress(false);
+      // Each client walks the tiles from another start, so cold and warm requests interleave.
+      for (size_t i = 0; i < keys.size(); ++i) {
+        const TileKey& key = keys[(i + static_cast<size_t>(c) * 7) % keys.size()];
+        auto r = client->Get(PathOf(key).c_str(), cesium);
+        if (!r || r->status != 200 || r->body != reference.at(key)) ++mismatches[c];
+      }
+    });
+  }
+  for (std::thread& t : clients) t.join();
+  for (int c = 0; c < kClients; ++c) EXPECT_EQ(mismatches[c], 0) << "client " << c;
 }
 
 TEST(TileRoutesWithoutTilesTest, ASurfaceWithoutTilesSaysHowToBuildThem) {

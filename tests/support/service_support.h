@@ -68,7 +68,7 @@ inline constexpr double kDemoLakeX = 380000, kDemoLakeY = 4840000, kDemoLakeRadi
 inline constexpr int kDemoTilesMaxZoom = 10;
 
 // A copy, at `path`, of CopyDemoStore's store with the lake added and the tile pyramid of
-// surface "t" built at levels 0-10 (of which 0-2 hold no tile: the surface is
+// surface "t" built at levels 0-10 (of which 0-3 hold no tile: the surface is
 // too small to show there) with every extension (octvertexnormals, watermask with water
 // tag "water", metadata). The original is made once per test binary via the CLI.
 inline void CopyDemoStoreWithTiles(const std::string& path) {
