@@ -23,13 +23,13 @@ namespace tinbase {
 
 namespace {
 
-// In-memory features may carry their own mode and level, so theirs are checked one by one
-// (CheckMemoryFeature).
+// In-memory features may carry their own mode and level, so for them the mode is checked
+// feature by feature (FromMemory).
 Status CheckModeOptions(const PolygonAddOptions& o) {
   if (!o.mode && !o.features)
     return Status::InvalidArgument(
         "a feature mode is needed (clip, erase, fill, replace or breakline)");
-  if (*o.mode == FeatureMode::kReplace && !o.level)
+  if (!o.features && *o.mode == FeatureMode::kReplace && !o.level)
     return Status::InvalidArgument("mode replace needs --level (the flat z)");
   if (o.level && !std::isfinite(*o.level))
     return Status::InvalidArgument("--level must be a finite number");

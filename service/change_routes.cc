@@ -3,6 +3,7 @@
 // this service's own; the notifier only wakes the waiting clients at once after an edit of this
 // process, and the table is polled every kPollInterval for the others.
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cstdint>
 #include <limits>
@@ -31,6 +32,28 @@ constexpr std::chrono::milliseconds kPollInterval{500};
 constexpr std::chrono::seconds kKeepAlive{15};
 // At most this many changes per answer or batch of events; the client asks again from the last.
 constexpr size_t kMaxBatch = 1000;
+
+// Each waiting client of the feed holds one of the service's request threads for as long as it
+// waits (cpp-httplib serves a connection on one thread); so at most half the threads wait for
+// changes and the others stay free for readers and writers. A slot is taken per request and
+// given back when the long poll answers or the event stream ends.
+class FeedSlots {
+ public:
+  explicit FeedSlots(int threads) : limit_(std::max(1, threads / 2)) {}
+  int limit() const { return limit_; }
+  // A held slot of `slots` (given back when the last copy goes), or null when all are taken.
+  static std::shared_ptr<void> Take(const std::shared_ptr<FeedSlots>& slots) {
+    if (slots->taken_.fetch_add(1) >= slots->limit_) {
+      slots->taken_.fetch_sub(1);
+      return nullptr;
+    }
+    return {slots.get(), [slots](void*) { slots->taken_.fetch_sub(1); }};
+  }
+
+ private:
+  const int limit_;
+  std::atomic<int> taken_{0};
+};
 
 struct Batch {
   nlohmann::json changes = nlohmann::json::array();
@@ -114,8 +137,10 @@ void LongPoll(ServiceContext& context, const httplib::Request& req, httplib::Res
 
 // The state of one event stream between calls of its content provider.
 struct Stream {
+  std::shared_ptr<void> slot;
   ChangeJson describe;
   int64_t since = 0;
+  bool started = false;
   Clock::time_point last_write = Clock::now();
 };
 
@@ -131,6 +156,10 @@ bool StreamStep(ServiceContext& context, Stream& stream, httplib::DataSink& sink
     sink.done();
     return true;
   }
+  // The reconnection delay an EventSource should use; it also tells the client that the stream
+  // is open before the first change.
+  if (!stream.started && !WriteText(sink, "retry: 2000\n\n", stream)) return false;
+  stream.started = true;
   auto batch = ReadChanges(context, stream.describe, stream.since);
   if (!batch.ok()) {
     nlohmann::json error = {{"status", HttpStatusFor(batch.status().code())},
@@ -154,12 +183,14 @@ bool StreamStep(ServiceContext& context, Stream& stream, httplib::DataSink& sink
 
 // Server-sent events: "id: TX", "event: change", "data: {change}" for every change after since,
 // until the client goes away or the service stops.
-void EventStream(ServiceContext& context, const httplib::Request& req, httplib::Response& res) {
+void EventStream(ServiceContext& context, std::shared_ptr<void> slot, const httplib::Request& req,
+                 httplib::Response& res) {
   auto since = SinceOf(context, req);
   if (!since.ok()) return ReplyStatus(res, since.status());
   auto describe = Describer(context);
   if (!describe.ok()) return ReplyStatus(res, describe.status());
   auto stream = std::make_shared<Stream>();
+  stream->slot = std::move(slot);  // held until cpp-httplib drops the provider, stream and all
   stream->describe = std::move(*describe);
   stream->since = *since;
   res.set_header("Cache-Control", "no-store");
@@ -176,8 +207,16 @@ bool WantsEvents(const httplib::Request& req) {
 }  // namespace
 
 void RegisterChangeRoutes(httplib::Server& server, ServiceContext& context) {
-  server.Get("/changes", [&context](const httplib::Request& req, httplib::Response& res) {
-    if (WantsEvents(req)) return EventStream(context, req, res);
+  auto slots = std::make_shared<FeedSlots>(context.options().threads);
+  server.Get("/changes", [&context, slots](const httplib::Request& req, httplib::Response& res) {
+    std::shared_ptr<void> slot = FeedSlots::Take(slots);
+    if (!slot) {
+      res.set_header("Retry-After", "5");
+      return ReplyError(res, 503, "busy",
+                        "the change feed already has " + std::to_string(slots->limit()) +
+                            " waiting clients (half of --threads); try again later");
+    }
+    if (WantsEvents(req)) return EventStream(context, std::move(slot), req, res);
     LongPoll(context, req, res);
   });
 }

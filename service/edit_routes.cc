@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "core/vector/gdal_session.h"
 #include "db/change_log.h"
 #include "db/polygon_editor.h"
 #include "db/tiles/tile_pyramid.h"
@@ -70,6 +71,7 @@ Result<PolygonAddOptions> ReadEditOptions(Store& store, const SurfaceInfo& surfa
   }
   std::optional<Crs> source;
   if (auto crs = OptionalParam(req, "crs")) {
+    QuietGdalErrors quiet;  // the message goes back to the client, not to the server's stderr
     auto parsed = Crs::FromUserInput(*crs);
     if (!parsed.ok()) return parsed.status().WithContext("parameter 'crs'");
     source = std::move(*parsed);

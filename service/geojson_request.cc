@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "core/geometry/polygon.h"
+#include "core/vector/gdal_session.h"
 
 namespace tinbase::service {
 
@@ -211,7 +212,7 @@ Result<MemoryFeature> ReadFeature(const json& feature, const Reprojection& repro
 }
 
 // "[json.exception.parse_error.101] parse error at line 1, column 9: ..." without its bracket.
-std::string ParseErrorText(const json::parse_error& e) {
+std::string ParseErrorText(const json::exception& e) {
   std::string text = e.what();
   const size_t close = text.find("] ");
   return close == std::string::npos ? text : text.substr(close + 2);
@@ -222,10 +223,11 @@ std::string ParseErrorText(const json::parse_error& e) {
 Result<std::vector<MemoryFeature>> ParseGeoJsonFeatures(std::string_view body,
                                                         const std::optional<Crs>& source_crs,
                                                         const Crs& store_crs) {
+  QuietGdalErrors quiet;  // a point PROJ cannot transform is the client's, reported as a Status
   json root;
   try {
     root = json::parse(body);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // parse_error, or out_of_range for a number like 1e999
     return Status::InvalidArgument("malformed JSON: " + ParseErrorText(e));
   }
   if (!root.is_object())

@@ -86,26 +86,20 @@ Result<std::unique_ptr<HttpServer>> HttpServer::Start(const ServiceOptions& opti
 }
 
 Status HttpServer::Run() {
-  // Paired with Stop(): of "Run started" and "stop requested", each side writes its own flag and
-  // then reads the other's, so at least one of them sees the other's.
-  run_started_ = true;
-  if (stop_requested_) {
-    run_returned_ = true;
-    return Status::Ok();
-  }
-  const bool listened = server_->listen_after_bind();
-  run_returned_ = true;
-  if (!listened && !stop_requested_)
-    return Status::IOError("the server stopped accepting connections");
+  run_entered_ = true;
+  const bool listened = stop_requested_ || server_->listen_after_bind();
+  run_done_ = true;
+  if (!listened) return Status::IOError("the server stopped accepting connections");
   return Status::Ok();
 }
 
 void HttpServer::Stop() {
-  stop_requested_ = true;
   context_->changes().Shutdown();
-  // httplib's stop() does nothing until the accept loop runs; once Run() has begun, wait for it.
-  if (run_started_) {
-    while (!server_->is_running() && !run_returned_) std::this_thread::yield();
+  // Either Run() sees the request and does not start, or Stop() sees Run() entered and waits for
+  // its accept loop (or its failure) so that stop() is not lost (both flags are seq_cst).
+  stop_requested_ = true;
+  if (run_entered_) {
+    while (!server_->is_running() && !run_done_) std::this_thread::yield();
   }
   server_->stop();
 }

@@ -27,8 +27,6 @@ class HttpServer {
   ServiceContext& context() { return *context_; }
   // Serves requests until Stop(). IOError when the accept loop fails.
   Status Run();
-  // Ends Run(), also when called before Run() has started its accept loop (Run() then returns at
-  // once), which cpp-httplib's own stop() would miss.
   void Stop();
 
  private:
@@ -37,9 +35,11 @@ class HttpServer {
   std::unique_ptr<ServiceContext> context_;
   std::unique_ptr<httplib::Server> server_;
   int port_;
-  std::atomic<bool> run_started_{false};
+  // cpp-httplib's stop() does nothing before its accept loop runs; these let a Stop() that comes
+  // before or while Run() starts still end it (see Stop()).
+  std::atomic<bool> run_entered_{false};
+  std::atomic<bool> run_done_{false};
   std::atomic<bool> stop_requested_{false};
-  std::atomic<bool> run_returned_{false};
 };
 
 }  // namespace tinbase::service

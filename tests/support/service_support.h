@@ -153,3 +153,30 @@ inline void ExpectJsonError(const httplib::Result& r, int status, const std::str
 }
 
 }  // namespace tinbase::testing
+
+namespace tinbase::testing {
+
+// A GeoJSON Feature: the square of half-side `half` degrees around (lon, lat), counter-clockwise,
+// with `properties`; post it with ?crs=EPSG:4326. The demo store's land is around (7.25, 43.85).
+inline nlohmann::json LonLatSquare(double lon, double lat, double half,
+                                   nlohmann::json properties = nlohmann::json::object()) {
+  const nlohmann::json ring = {{lon - half, lat - half},
+                               {lon + half, lat - half},
+                               {lon + half, lat + half},
+                               {lon - half, lat + half},
+                               {lon - half, lat - half}};
+  return {{"type", "Feature"},
+          {"properties", std::move(properties)},
+          {"geometry", {{"type", "Polygon"}, {"coordinates", {ring}}}}};
+}
+
+// POSTs `body` as application/geo+json to `path` (with "Authorization: Bearer token" unless the
+// token is empty).
+inline httplib::Result PostGeoJson(httplib::Client& client, const std::string& path,
+                                   const nlohmann::json& body, const std::string& token = "") {
+  httplib::Headers headers;
+  if (!token.empty()) headers.emplace("Authorization", "Bearer " + token);
+  return client.Post(path, headers, body.dump(), "application/geo+json");
+}
+
+}  // namespace tinbase::testing
