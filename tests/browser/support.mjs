@@ -144,7 +144,7 @@ function terrainAt(page, fx, fy) {
 // Waits until terrain tiles were requested and decoded: the globe has loaded every tile it
 // wants, and its height at the point (fx, fy) of the view agrees with the surface's z there
 // (GET locate) within 200 m: above the error bounds of the levels drawn at this view, far below
-// the relief there. The flat stand-ins the page draws above the pyramid (height 0) cannot pass.
+// the relief there. The flat filler tiles above a small pyramid (height 0) cannot pass.
 export async function waitForTerrain(page, log, url, fx = 0.5, fy = 0.12) {
   let at = null;
   const deadline = Date.now() + 120000;

@@ -33,60 +33,19 @@ export function createViewer(container) {
   return viewer;
 }
 
-// Our tiles as Cesium sees them, with flat stand-ins (the ellipsoid, height 0) at the levels
-// coarser than the pyramid's first one. A pyramid starts at the first level where the surface has
-// a tile, but Cesium draws no globe without the two root tiles, keeps no availability at all when
-// layer.json lists none at level 0, and stops refining below a level it would have to upsample
-// whole. So the availability is rebuilt here from layer.json with the root levels added.
-class SurfaceTerrainProvider {
-  constructor(tiles, available) {
-    this.tiles = tiles;
-    this.flat = new Cesium.EllipsoidTerrainProvider({ tilingScheme: tiles.tilingScheme });
-    const scheme = tiles.tilingScheme;
-    this.firstLevel = Math.max(0, available.findIndex((r) => Array.isArray(r) && r.length > 0));
-    this.ownAvailability = new Cesium.TileAvailability(scheme, Math.max(available.length, 1));
-    for (let level = 0; level < this.firstLevel; level++) {
-      this.ownAvailability.addAvailableTileRange(level, 0, 0,
-          scheme.getNumberOfXTilesAtLevel(level) - 1, scheme.getNumberOfYTilesAtLevel(level) - 1);
-    }
-    for (let level = this.firstLevel; level < available.length; level++) {
-      // layer.json counts y from the south (TMS); Cesium counts from the north.
-      const rows = scheme.getNumberOfYTilesAtLevel(level);
-      for (const r of available[level] || []) {
-        this.ownAvailability.addAvailableTileRange(level, r.startX, rows - 1 - r.endY, r.endX,
-            rows - 1 - r.startY);
-      }
-    }
-  }
-
-  get errorEvent() { return this.tiles.errorEvent; }
-  get credit() { return this.tiles.credit; }
-  get tilingScheme() { return this.tiles.tilingScheme; }
-  get hasWaterMask() { return this.tiles.hasWaterMask; }
-  get hasVertexNormals() { return this.tiles.hasVertexNormals; }
-  get availability() { return this.ownAvailability; }
-
-  requestTileGeometry(x, y, level, request) {
-    if (level < this.firstLevel) return this.flat.requestTileGeometry(x, y, level, request);
-    return this.tiles.requestTileGeometry(x, y, level, request);
-  }
-
-  getLevelMaximumGeometricError(level) { return this.tiles.getLevelMaximumGeometricError(level); }
-
-  getTileDataAvailable(x, y, level) { return this.ownAvailability.isTileAvailable(level, x, y); }
-
-  loadTileDataAvailability() { return undefined; }
-}
-
 // Points the globe at surface `name`'s tiles. A new provider forgets every loaded tile, so after
 // an edit the tiles are fetched again (the server's ETags keep unchanged ones cheap).
 export async function loadTerrain(viewer, name) {
-  const tiles = await Cesium.CesiumTerrainProvider.fromUrl(surfacePath(name, 'tiles/'), {
+  // Cesium draws no globe at all (and says nothing) when the pyramid lists no root tile; the
+  // service fills the levels above a small surface with flat tiles, so this is a broken pyramid.
+  const layer = await getJson(surfacePath(name, 'tiles/layer.json'));
+  const roots = Array.isArray(layer.available) ? layer.available[0] : null;
+  if (!Array.isArray(roots) || roots.length === 0) {
+    throw new Error(`the tiles of surface '${name}' have no level-0 tile: Cesium cannot show them`);
+  }
+  const provider = await Cesium.CesiumTerrainProvider.fromUrl(surfacePath(name, 'tiles/'), {
     requestVertexNormals: true,
   });
-  const layer = await getJson(surfacePath(name, 'tiles/layer.json'));
-  const available = Array.isArray(layer.available) ? layer.available : [];
-  const provider = new SurfaceTerrainProvider(tiles, available);
   viewer.scene.terrainProvider = provider;
   return provider;
 }
