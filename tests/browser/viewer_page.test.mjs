@@ -36,7 +36,7 @@ test('the page draws the terrain tiles and a click shows the located triangle', 
   assert.equal(shown, String(answer.triangle.id));
   assert.equal(await page.locator('#pick-z').textContent(), answer.z.toFixed(2));
   assert.equal(await page.locator('#pick-tag').textContent(), answer.triangle.tag ?? '(none)');
-  assert.ok(Math.abs(answer.z - at.height) < 200, `clicked z ${answer.z}, globe ${at.height}`);
+  assert.ok(Math.abs(answer.z - at.height) < 60, `clicked z ${answer.z}, globe ${at.height}`);
   // The triangle and its visible neighbours are outlined.
   await page.waitForSelector('#pick[data-highlighted]', { timeout: 30000 });
   const visibleNeighbours = (await getJson(server.url, `/surfaces/t/triangles/${shown}`))
