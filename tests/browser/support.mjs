@@ -165,7 +165,8 @@ export async function waitForTerrain(page, log, url, fx = 0.5, fy = 0.12) {
   assert.ok(z > 100, `the test point should be on land, but the surface's z there is ${z}`);
   assert.ok(log.terrain.length > 0, 'the page requested no terrain tile');
   assert.ok(log.terrain.every((s) => s === 200 || s === 304), `tile answers: ${log.terrain}`);
-  console.log(`# terrain at (${fx}, ${fy}): globe ${at.height.toFixed(1)} m, surface ${z.toFixed(1)} m`);
+  console.log(`# terrain at (${fx}, ${fy}): globe ${at.height.toFixed(1)} m, ` +
+      `surface ${z.toFixed(1)} m`);
   return at;
 }
 
