@@ -79,7 +79,8 @@ Status WriteExport(SurfaceRead& read, const std::string& format, const SurfaceFi
   options.triangle_ids = selected.triangle_ids;
   if (mesh_format == ExportFormat::kGlb)
     TB_RETURN_IF_ERROR(AddExportFeatures(read.store(), read.surface, selected.tin, options));
-  return ExportTin(selected.tin, read.crs ? &*read.crs : nullptr, path, options).status();
+  return ExportTin(selected.tin, read.crs != nullptr ? &read.crs->crs() : nullptr, path, options)
+      .status();
 }
 
 // The file name the answer suggests: the surface's name with anything but [A-Za-z0-9._-]

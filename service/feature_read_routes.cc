@@ -68,7 +68,7 @@ void Features(ServiceContext& context, const httplib::Request& req, httplib::Res
   if (!client.ok()) return ReplyStatus(res, client.status());
   auto read = BeginSurfaceRead(context, req);
   if (!read.ok()) return ReplyStatus(res, read.status());
-  if (*client && !read->crs)
+  if (*client && read->crs == nullptr)
     return ReplyError(
         res, 400, "invalid_argument",
         "the store has no CRS, so its features cannot be given in " + (*client)->Label());
@@ -79,7 +79,7 @@ void Features(ServiceContext& context, const httplib::Request& req, httplib::Res
   if (*client) {
     std::vector<TinVertex> v(points.size());
     for (size_t i = 0; i < points.size(); ++i) v[i].x = points[i].x, v[i].y = points[i].y;
-    if (Status s = ReprojectXy(*read->crs, **client, v); !s.ok()) return ReplyStatus(res, s);
+    if (Status s = ReprojectXy(read->crs->crs(), **client, v); !s.ok()) return ReplyStatus(res, s);
     for (size_t i = 0; i < points.size(); ++i) points[i] = {v[i].x, v[i].y};
   }
   nlohmann::json out = {{"type", "FeatureCollection"}, {"features", nlohmann::json::array()}};

@@ -48,6 +48,9 @@ void ApplyLimits(httplib::Server& server, const ServiceOptions& options) {
   server.set_read_timeout(options.read_timeout_seconds, 0);
   server.set_write_timeout(options.read_timeout_seconds, 0);
   server.set_keep_alive_max_count(1000);
+  // httplib writes an answer's headers and body in separate sends; with Nagle's algorithm the
+  // body then waits for the client's delayed ACK of the headers on every keep-alive request.
+  server.set_tcp_nodelay(true);
   const size_t threads = static_cast<size_t>(options.threads);
   server.new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
 }

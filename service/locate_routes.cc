@@ -18,7 +18,7 @@ namespace tinbase::service {
 namespace {
 
 // The point of a GET: x, y (in crs= or the store's CRS) or lon, lat; moved into the store's CRS.
-Result<Point2> QueryPoint(const httplib::Request& req, const std::optional<Crs>& store_crs) {
+Result<Point2> QueryPoint(const httplib::Request& req, const StoreCrs* store_crs) {
   const bool lonlat = req.has_param("lon") || req.has_param("lat");
   if (lonlat && (req.has_param("x") || req.has_param("y") || req.has_param("crs")))
     return Status::InvalidArgument("give x and y (with crs= or not), or lon and lat, not both");

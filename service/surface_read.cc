@@ -9,8 +9,8 @@ Result<SurfaceRead> BeginSurfaceRead(ServiceContext& context, const httplib::Req
   TB_ASSIGN_OR_RETURN(StoreLease lease, context.stores().Reader());
   TB_ASSIGN_OR_RETURN(std::unique_ptr<ReadSnapshot> snapshot, ReadSnapshot::Begin(lease.store()));
   TB_ASSIGN_OR_RETURN(SurfaceInfo surface, SurfaceFromPath(lease.store(), req));
-  TB_ASSIGN_OR_RETURN(std::optional<Crs> crs, lease.store().GetCrs());
-  return SurfaceRead{std::move(lease), std::move(snapshot), std::move(surface), std::move(crs)};
+  TB_ASSIGN_OR_RETURN(const StoreCrs* crs, StoreCrs::Of(lease.store()));
+  return SurfaceRead{std::move(lease), std::move(snapshot), std::move(surface), crs};
 }
 
 }  // namespace tinbase::service

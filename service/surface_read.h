@@ -13,6 +13,7 @@
 #include "core/geometry/crs.h"
 #include "db/store.h"
 #include "db/surface_store.h"
+#include "service/client_crs.h"
 #include "service/service_context.h"
 
 namespace tinbase::service {
@@ -21,7 +22,7 @@ struct SurfaceRead {
   StoreLease lease;  // declared first: the snapshot ends before the connection goes back
   std::unique_ptr<ReadSnapshot> snapshot;
   SurfaceInfo surface;
-  std::optional<Crs> crs;  // the store's; nullopt when it has none
+  const StoreCrs* crs = nullptr;  // the store's (this thread's cache); null when it has none
 
   Store& store() { return lease.store(); }
 };

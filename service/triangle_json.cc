@@ -48,14 +48,15 @@ Result<std::vector<TriangleView>> ViewsOf(Store& store, const SurfaceInfo& surfa
 }
 
 Result<nlohmann::json> TrianglesJson(const std::vector<TriangleView>& views,
-                                     const std::optional<Crs>& store_crs) {
+                                     const StoreCrs* store_crs) {
   std::vector<TinVertex> corners;
   corners.reserve(views.size() * 3);
   for (const TriangleView& v : views)
     corners.insert(corners.end(), v.corners.begin(), v.corners.end());
   std::vector<TinVertex> lonlat;
-  if (store_crs) {
-    TB_ASSIGN_OR_RETURN(lonlat, VerticesToLonLat(*store_crs, corners));
+  if (store_crs != nullptr) {
+    lonlat = corners;
+    TB_RETURN_IF_ERROR(store_crs->ToLonLat(lonlat));
   }
   nlohmann::json out = nlohmann::json::array();
   for (size_t t = 0; t < views.size(); ++t) {
@@ -64,7 +65,7 @@ Result<nlohmann::json> TrianglesJson(const std::vector<TriangleView>& views,
                    neighbours = nlohmann::json::array();
     for (int i = 0; i < 3; ++i) {
       xyz.push_back({v.corners[i].x, v.corners[i].y, v.corners[i].z});
-      if (store_crs) {
+      if (store_crs != nullptr) {
         const TinVertex& g = lonlat[t * 3 + static_cast<size_t>(i)];
         geo.push_back({g.x, g.y, g.z});
       }
@@ -73,7 +74,7 @@ Result<nlohmann::json> TrianglesJson(const std::vector<TriangleView>& views,
     }
     out.push_back({{"id", v.id},
                    {"vertices", xyz},
-                   {"lonlat", store_crs ? geo : nlohmann::json(nullptr)},
+                   {"lonlat", store_crs != nullptr ? geo : nlohmann::json(nullptr)},
                    {"neighbours", neighbours},
                    {"visible", v.visible},
                    {"tag", v.tag ? nlohmann::json(*v.tag) : nlohmann::json(nullptr)}});

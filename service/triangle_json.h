@@ -17,6 +17,7 @@
 #include "db/query/topology.h"
 #include "db/store.h"
 #include "db/surface_store.h"
+#include "service/client_crs.h"
 
 namespace tinbase::service {
 
@@ -38,9 +39,9 @@ TriangleView ViewOf(const TriangleNeighbours& t);
 Result<std::vector<TriangleView>> ViewsOf(Store& store, const SurfaceInfo& surface,
                                           const LoadedSurface& selected);
 
-// The triangle objects of `views`, in order, with lon/lat when `store_crs` is set.
+// The triangle objects of `views`, in order, with lon/lat when `store_crs` is not null.
 // InvalidArgument naming the vertex when a corner does not transform to lon/lat.
 Result<nlohmann::json> TrianglesJson(const std::vector<TriangleView>& views,
-                                     const std::optional<Crs>& store_crs);
+                                     const StoreCrs* store_crs);
 
 }  // namespace tinbase::service

@@ -221,9 +221,12 @@ TEST_F(ServiceBadInputTest, AHundredConcurrentClientsAllGetTheirAnswers) {
         auto a = client->Get("/surfaces/t/locate?x=360000&y=4862000");
         auto b = client->Post("/surfaces/t/locate", body, "application/json");
         auto t = client->Get(triangle.c_str());
-        if (!a || !b || !t) {
-          failures[c] = "no answer";
-          return;
+        for (const httplib::Result* r : {&a, &b, &t}) {
+          if (!*r) {
+            failures[c] = "no answer in round " + std::to_string(round) + ": " +
+                          httplib::to_string(r->error());
+            return;
+          }
         }
         if (a->status != 200 || nlohmann::json::parse(a->body) != one || b->status != 200 ||
             nlohmann::json::parse(b->body) != many || t->status != 200 ||
