@@ -140,9 +140,6 @@ TEST_F(ChangeRoutesTest, BadParametersAreJsonErrors) {
 
 // Waiting feed clients may take only half the request threads, so readers are still served.
 TEST_F(ChangeRoutesTest, FeedClientsLeaveThreadsForReaders) {
-  // Stopped once it is surely accepting: a stop before the accept loop starts is missed by
-  // cpp-httplib 0.11 (Server::stop does nothing while is_running() is still false).
-  JsonAnswer(service_->Client()->Get("/surfaces"));
   service_.reset();
   service::ServiceOptions options;
   options.store_path = store_;
@@ -170,18 +167,18 @@ TEST_F(ChangeRoutesTest, FeedClientsLeaveThreadsForReaders) {
 
 // Stopping the service ends the streams and polls still open, instead of waiting for them.
 TEST_F(ChangeRoutesTest, StoppingTheServiceEndsOpenStreams) {
-  std::promise<void> opened;
-  std::string text;
+  std::promise<std::string> opened;  // the stream's first bytes
   auto stream = std::async(std::launch::async, [&] {
+    bool first = true;
     auto client = service_->Client();
     return client->Get("/changes", {{"Accept", "text/event-stream"}},
                        [&](const char* data, size_t size) {
-                         if (text.empty()) opened.set_value();
-                         text.append(data, size);
+                         if (first) opened.set_value(std::string(data, size));
+                         first = false;
                          return true;
                        });
   });
-  opened.get_future().wait();  // the stream's first line ("retry: ...") came
+  const std::string text = opened.get_future().get();
   EXPECT_EQ(text.rfind("retry: ", 0), 0u) << text;
   service_.reset();  // must end the open stream rather than wait for it
   stream.get();
