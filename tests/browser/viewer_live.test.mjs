@@ -86,9 +86,13 @@ test('a polygon drawn in the page is posted with the typed token', async () => {
   const tx = Number(await page.getAttribute('#draw-status', 'data-tx'));
   await page.waitForSelector('#legend li[data-tag="drawn-in-page"]', { timeout: 60000 });
   assert.ok((await counters(page)).txs.includes(tx));
+  // The globe reloads its tiles after the change; click once they are back.
+  await waitForTerrain(page, log, server.url, 0.25, 0.3);
   await page.mouse.click(cx, cy);
   await page.waitForSelector('#pick[data-state="located"]', { timeout: 30000 });
-  assert.equal(await page.locator('#pick-tag').textContent(), 'drawn-in-page');
+  assert.equal(await page.locator('#pick-tag').textContent(), 'drawn-in-page',
+      JSON.stringify(await page.evaluate(() => ({ picked: window.tinbase.picker.last,
+        drawn: window.tinbase.state.features.geojson }))));
   await screenshotNotBlank(page, 'viewer_drawn_feature');
   // The refused post logs a 401 in the console; nothing else may fail.
   assert.deepEqual(log.errors.filter((e) => !/401/.test(e)), []);
