@@ -14,6 +14,7 @@ PACKAGES=(
   libtbb-dev
   libtinygltf-dev libmeshoptimizer-dev libcpp-httplib-dev
   nodejs
+  chromium
   libgtest-dev libgmock-dev librapidcheck-dev libbenchmark-dev
   clang-format clang-tidy
 )

@@ -8,6 +8,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
 scripts/install-test-tools.sh
+scripts/build-web.sh --browser-tests   # the viewer and its browser tests' npm packages
 cmake -S . -B build/test -G Ninja -DCMAKE_BUILD_TYPE=Release -DTINBASE_BUILD_TESTS=ON \
   -DTINBASE_WERROR=ON -DTINBASE_BUILD_BENCH=ON >/dev/null
 cmake --build build/test -j "$(nproc)"
