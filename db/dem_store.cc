@@ -14,6 +14,7 @@
 #include <set>
 #include <span>
 
+#include "core/base/object_name.h"
 #include "core/raster/bilinear.h"
 #include "core/raster/block_codec.h"
 #include "core/raster/gdal_raster.h"
@@ -243,7 +244,7 @@ struct DemStore::Impl {
                             const nlohmann::json& sources);
   // The level-0 cells of block (bx, by): the stored block of `existing` (if any) with the sheets
   // over it laid on top (under the cells it has, with `keep_first`).
-  Result<std::vector<float>> AssembleBlock(const DemInfo& dem,
+  Result<std::vector<float>> AssembleBlock(int64_t* infinite_cells, const DemInfo& dem,
                                            const std::optional<DemInfo>& existing,
                                            const std::vector<Sheet>& sheets, int64_t bx, int64_t by,
                                            bool keep_first);
@@ -526,6 +527,55 @@ Result<std::vector<GdalRaster>> OpenRasters(const std::vector<std::string>& file
   return rasters;
 }
 
+Status TooManyCells(const std::string& what, int64_t limit) {
+  return Status::InvalidArgument(what + ", more than the limit of " + std::to_string(limit) +
+                                 " cells for one import: check the rasters' sizes, or pass "
+                                 "--force to import anyway");
+}
+
+// Refuses, before anything is read, sources whose headers claim more cells than `limit`
+// (0: no limit).
+Status CheckCellLimit(const std::vector<GdalRaster>& rasters, int64_t limit) {
+  if (limit <= 0) return Status::Ok();
+  int64_t cells = 0;
+  for (const GdalRaster& r : rasters) {
+    const GridGeometry& g = r.geometry();
+    // Each side fits GDAL's int, so one raster's count fits int64; the sum stops at the limit.
+    cells += g.CellCount();
+    if (cells > limit)
+      return TooManyCells(r.path() + " claims " + std::to_string(g.width) + " x " +
+                              std::to_string(g.height) + " cells",
+                          limit);
+  }
+  return Status::Ok();
+}
+
+// Conflict naming the surfaces built on `dem`: importing into it would change the ground under
+// them, and their tolerance would no longer hold.
+Status RefuseUnderSurfaces(Store& store, const DemInfo& dem) {
+  TB_ASSIGN_OR_RETURN(Statement * q,
+                      store.db().Cached("SELECT name FROM surfaces WHERE dem = ? ORDER BY name"));
+  q->Bind(1, dem.id);
+  std::string names;
+  int count = 0;
+  for (;;) {
+    auto row = q->Step();
+    if (!row.ok()) {
+      q->Reset();
+      return row.status();
+    }
+    if (!*row) break;
+    names += (count++ == 0 ? "'" : ", '") + q->ColumnText(0) + "'";
+  }
+  q->Reset();
+  if (count == 0) return Status::Ok();
+  return Status::Conflict(
+      "DEM " + Quoted(dem.name) + " has " +
+      (count == 1 ? "a surface" : std::to_string(count) + " surfaces") + " built on it (" + names +
+      "): importing into it would change the ground under " + (count == 1 ? "it" : "them") +
+      "; import the sheets as a new DEM with --name");
+}
+
 // The sheets of an import on one grid (the existing DEM's, else the first sheet's), each at its
 // first cell in that grid, before the DEM's extent is known.
 struct Placement {
@@ -689,7 +739,8 @@ Result<int64_t> DemStore::Impl::UpsertDem(const DemInfo& dem,
   return existing ? dem.id : store.db().LastInsertRowId();
 }
 
-Result<std::vector<float>> DemStore::Impl::AssembleBlock(const DemInfo& dem,
+Result<std::vector<float>> DemStore::Impl::AssembleBlock(int64_t* infinite_cells,
+                                                         const DemInfo& dem,
                                                          const std::optional<DemInfo>& existing,
                                                          const std::vector<Sheet>& sheets,
                                                          int64_t bx, int64_t by, bool keep_first) {
@@ -709,6 +760,11 @@ Result<std::vector<float>> DemStore::Impl::AssembleBlock(const DemInfo& dem,
     TB_ASSIGN_OR_RETURN(std::vector<float> window,
                         s.raster.ReadWindow(col - s.col0, row - s.row0, b, b));
     for (size_t i = 0; i < cells.size(); ++i) {
+      // An infinite cell holds no elevation: it is nodata, counted so the import can say so.
+      if (std::isinf(window[i])) {
+        ++*infinite_cells;
+        continue;
+      }
       if (std::isnan(window[i]) || (keep_first && !std::isnan(cells[i]))) continue;
       cells[i] = window[i];
     }
@@ -722,15 +778,22 @@ Result<DemImportReport> DemStore::Impl::ImportInTransaction(const std::vector<st
   const std::string name =
       options.name.empty() ? std::filesystem::path(files.front()).stem().string() : options.name;
   if (name.empty()) return Status::InvalidArgument(files.front() + ": no name for the DEM");
+  TB_RETURN_IF_ERROR(CheckObjectName("DEM", name));
 
   DemImportReport report;
   TB_ASSIGN_OR_RETURN(std::optional<DemInfo> existing,
                       FindWhere("WHERE name = ?", [&](Statement& st) { st.Bind(1, name); }));
+  if (existing) TB_RETURN_IF_ERROR(RefuseUnderSurfaces(store, *existing));
+  TB_RETURN_IF_ERROR(CheckCellLimit(rasters, options.max_cells));
   TB_ASSIGN_OR_RETURN(Crs crs, StoreCrsFor(rasters.front()));
   const std::optional<double> first_nodata = rasters.front().nodata();
   TB_ASSIGN_OR_RETURN(Placement placed, PlaceSheets(std::move(rasters), crs, existing, name));
   report.warped = placed.warped;
   report.cells = placed.cells;
+  if (options.max_cells > 0 && placed.cells > options.max_cells)
+    return TooManyCells(
+        "the rasters warped onto the store's CRS have " + std::to_string(placed.cells) + " cells",
+        options.max_cells);
   std::vector<Sheet>& sheets = placed.sheets;
   DemInfo dem =
       DemOverSheets(existing, name, crs, placed.grid, first_nodata, options.block_size, sheets);
@@ -744,8 +807,9 @@ Result<DemImportReport> DemStore::Impl::ImportInTransaction(const std::vector<st
   const std::set<std::pair<int64_t, int64_t>> touched = BlocksUnder(dem, sheets);
   blocks_expected = static_cast<double>(touched.size()) * 4 / 3;
   for (const auto& [by, bx] : touched) {
-    TB_ASSIGN_OR_RETURN(std::vector<float> cells,
-                        AssembleBlock(dem, existing, sheets, bx, by, options.keep_first));
+    TB_ASSIGN_OR_RETURN(
+        std::vector<float> cells,
+        AssembleBlock(&report.infinite_cells, dem, existing, sheets, bx, by, options.keep_first));
     TB_RETURN_IF_ERROR(WriteBlock(dem, 0, bx, by, cells, &report));
   }
   TB_RETURN_IF_ERROR(UpdateOverviews(dem, old_levels, touched, &report));

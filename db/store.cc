@@ -22,6 +22,20 @@ StoreSettings Settings(bool create, Store::Access access) {
   return settings;
 }
 
+// The last ": "-separated part of an SQLite message: the reason without the SQL before it.
+std::string LastClause(const std::string& message) {
+  const size_t colon = message.rfind(": ");
+  return colon == std::string::npos ? message : message.substr(colon + 2);
+}
+
+// The schema version (SQLite's user_version) does not describe the file's tables.
+Status DamagedSchemaVersion(const std::string& path, int64_t version, const std::string& why) {
+  return Status::Corruption(path + ": damaged schema version " + std::to_string(version) +
+                            " (SQLite user_version; " + why +
+                            "): nothing was changed; if the version was set by hand, set it back "
+                            "(PRAGMA user_version) and run `tinbase check --full`");
+}
+
 }  // namespace
 
 Store::Store(std::unique_ptr<Connection> db, int version)
@@ -53,8 +67,9 @@ Result<std::unique_ptr<Store>> Store::Open(const std::string& path, Access acces
       auto db, Connection::Open(path, access == Access::kReadOnly ? Connection::Mode::kReadOnly
                                                                   : Connection::Mode::kReadWrite));
   auto app_id = db->ApplicationId();
-  if (!app_id.ok())
+  if (!app_id.ok() && app_id.status().code() == StatusCode::kCorruption)
     return Status::InvalidArgument(path + " is not a tinbase store (not an SQLite database)");
+  if (!app_id.ok()) return app_id.status();
   if (*app_id != kTinbaseApplicationId)
     return Status::InvalidArgument(path + " is not a tinbase store (SQLite application_id " +
                                    std::to_string(*app_id) + ")");
@@ -64,11 +79,16 @@ Result<std::unique_ptr<Store>> Store::Open(const std::string& path, Access acces
     return Status::InvalidArgument(path + " was made by a newer tinbase (schema version " +
                                    std::to_string(version) + "; this tinbase knows up to " +
                                    std::to_string(LatestSchemaVersion()) + "): upgrade tinbase");
+  if (version < 1) return DamagedSchemaVersion(path, version, "no store has it");
   if (version < LatestSchemaVersion()) {
     if (access == Access::kReadOnly)
       return Status::InvalidArgument(path + " has schema version " + std::to_string(version) +
                                      " and needs migrating: open it read-write once");
-    TB_RETURN_IF_ERROR(MigrateSqlite(*db, LatestSchemaVersion()).WithContext(path));
+    Status migrated = MigrateSqlite(*db, LatestSchemaVersion());
+    // A migration that finds its tables already there means the version lies, not the SQL.
+    if (migrated.code() == StatusCode::kInvalidArgument)
+      return DamagedSchemaVersion(path, version, LastClause(migrated.message()));
+    TB_RETURN_IF_ERROR(migrated.WithContext(path));
   }
   return std::unique_ptr<Store>(new Store(std::move(db), LatestSchemaVersion()));
 }

@@ -2,10 +2,10 @@
 
 #include <sqlite3.h>
 
-#include <filesystem>
 #include <mutex>
 
 #include "db/sqlite/scoped_page_cache.h"
+#include "db/sqlite/store_path.h"
 #include "db/sqlite/wal_checkpointer.h"
 
 namespace tinbase {
@@ -15,6 +15,14 @@ Status StatusFromSqlite(int rc, sqlite3* db, std::string_view context) {
   std::string msg(context);
   msg += ": ";
   msg += db != nullptr ? sqlite3_errmsg(db) : sqlite3_errstr(rc);
+  // SQLite says "disk I/O error" or "unable to open database file" for a full disk, a denied
+  // permission and a read-only file system alike; the operating system's error tells them apart.
+  const int system_error = db != nullptr ? sqlite3_system_errno(db) : 0;
+  const int primary = rc & 0xff;
+  if (system_error != 0 &&
+      (primary == SQLITE_IOERR || primary == SQLITE_CANTOPEN || primary == SQLITE_FULL ||
+       primary == SQLITE_READONLY || primary == SQLITE_PERM))
+    msg += " (" + DescribeSystemError(system_error) + ")";
   switch (rc & 0xff) {
     case SQLITE_BUSY:
     case SQLITE_LOCKED:
@@ -129,10 +137,7 @@ void ConfigureSqliteOnce() {
 Result<std::unique_ptr<SqliteConnection>> SqliteConnection::Open(const std::string& path,
                                                                  Mode mode) {
   ConfigureSqliteOnce();
-  const bool exists = std::filesystem::exists(path);
-  if (mode == Mode::kCreate && exists)
-    return Status::InvalidArgument(path + ": a file already exists there");
-  if (mode != Mode::kCreate && !exists) return Status::NotFound(path + ": no such store");
+  TB_RETURN_IF_ERROR(StorePathProblem(path, mode));
   int flags = SQLITE_OPEN_NOMUTEX;
   if (mode == Mode::kReadOnly) flags |= SQLITE_OPEN_READONLY;
   if (mode == Mode::kReadWrite) flags |= SQLITE_OPEN_READWRITE;
