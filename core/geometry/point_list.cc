@@ -131,10 +131,9 @@ Result<std::vector<Point2>> ReadPointList(std::istream& in, const std::string& s
         return Status::InvalidArgument(where + "'" + std::string(x_ok ? y_text : x_text) +
                                        "' is not a number");
     }
-    for (const double v : {p.x, p.y})
-      if (auto problem = CheckNumber(v))
-        return Status::InvalidArgument(where + "coordinate " + DescribeNumberProblem(*problem) +
-                                       " in '" + line + "'");
+    if (CheckNumber(p.x) || CheckNumber(p.y))
+      return Status::InvalidArgument(where + "coordinates must be finite and at most 1e15 in " +
+                                     "magnitude, got '" + line + "'");
     points.push_back(p);
   }
   if (in.bad()) return Status::IOError(source + ": read failed");
