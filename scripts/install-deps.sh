@@ -15,6 +15,7 @@ PACKAGES=(
   nodejs
   libgtest-dev libgmock-dev librapidcheck-dev libbenchmark-dev
   clang-format clang-tidy
+  clang libclang-rt-14-dev
 )
 
 missing=()
