@@ -20,6 +20,7 @@
 #include "core/raster/gdal_raster.h"
 #include "core/raster/grid.h"
 #include "db/dem_block_cache.h"
+#include "db/dem_import_checks.h"
 
 namespace tinbase {
 
@@ -527,55 +528,6 @@ Result<std::vector<GdalRaster>> OpenRasters(const std::vector<std::string>& file
   return rasters;
 }
 
-Status TooManyCells(const std::string& what, int64_t limit) {
-  return Status::InvalidArgument(what + ", more than the limit of " + std::to_string(limit) +
-                                 " cells for one import: check the rasters' sizes, or pass "
-                                 "--force to import anyway");
-}
-
-// Refuses, before anything is read, sources whose headers claim more cells than `limit`
-// (0: no limit).
-Status CheckCellLimit(const std::vector<GdalRaster>& rasters, int64_t limit) {
-  if (limit <= 0) return Status::Ok();
-  int64_t cells = 0;
-  for (const GdalRaster& r : rasters) {
-    const GridGeometry& g = r.geometry();
-    // Each side fits GDAL's int, so one raster's count fits int64; the sum stops at the limit.
-    cells += g.CellCount();
-    if (cells > limit)
-      return TooManyCells(r.path() + " claims " + std::to_string(g.width) + " x " +
-                              std::to_string(g.height) + " cells",
-                          limit);
-  }
-  return Status::Ok();
-}
-
-// Conflict naming the surfaces built on `dem`: importing into it would change the ground under
-// them, and their tolerance would no longer hold.
-Status RefuseUnderSurfaces(Store& store, const DemInfo& dem) {
-  TB_ASSIGN_OR_RETURN(Statement * q,
-                      store.db().Cached("SELECT name FROM surfaces WHERE dem = ? ORDER BY name"));
-  q->Bind(1, dem.id);
-  std::string names;
-  int count = 0;
-  for (;;) {
-    auto row = q->Step();
-    if (!row.ok()) {
-      q->Reset();
-      return row.status();
-    }
-    if (!*row) break;
-    names += (count++ == 0 ? "'" : ", '") + q->ColumnText(0) + "'";
-  }
-  q->Reset();
-  if (count == 0) return Status::Ok();
-  return Status::Conflict(
-      "DEM " + Quoted(dem.name) + " has " +
-      (count == 1 ? "a surface" : std::to_string(count) + " surfaces") + " built on it (" + names +
-      "): importing into it would change the ground under " + (count == 1 ? "it" : "them") +
-      "; import the sheets as a new DEM with --name");
-}
-
 // The sheets of an import on one grid (the existing DEM's, else the first sheet's), each at its
 // first cell in that grid, before the DEM's extent is known.
 struct Placement {
@@ -783,15 +735,15 @@ Result<DemImportReport> DemStore::Impl::ImportInTransaction(const std::vector<st
   DemImportReport report;
   TB_ASSIGN_OR_RETURN(std::optional<DemInfo> existing,
                       FindWhere("WHERE name = ?", [&](Statement& st) { st.Bind(1, name); }));
-  if (existing) TB_RETURN_IF_ERROR(RefuseUnderSurfaces(store, *existing));
-  TB_RETURN_IF_ERROR(CheckCellLimit(rasters, options.max_cells));
+  if (existing) TB_RETURN_IF_ERROR(RefuseImportUnderSurfaces(store, *existing));
+  TB_RETURN_IF_ERROR(CheckDemImportCells(rasters, options.max_cells));
   TB_ASSIGN_OR_RETURN(Crs crs, StoreCrsFor(rasters.front()));
   const std::optional<double> first_nodata = rasters.front().nodata();
   TB_ASSIGN_OR_RETURN(Placement placed, PlaceSheets(std::move(rasters), crs, existing, name));
   report.warped = placed.warped;
   report.cells = placed.cells;
   if (options.max_cells > 0 && placed.cells > options.max_cells)
-    return TooManyCells(
+    return TooManyDemImportCells(
         "the rasters warped onto the store's CRS have " + std::to_string(placed.cells) + " cells",
         options.max_cells);
   std::vector<Sheet>& sheets = placed.sheets;
@@ -1181,6 +1133,19 @@ Status DemStore::ForEachBlock(const DemInfo& dem, const DemBox& box, int level,
   TB_RETURN_IF_ERROR(CheckLevel(dem, level));
   TB_ASSIGN_OR_RETURN(CellRange range, CellsIn(LevelOf(dem, level).geometry, box, dem.name));
   return impl_->VisitBlocks(dem, level, range, fn);
+}
+
+Result<std::pair<double, double>> DemStore::Relief(const DemInfo& dem) {
+  TB_ASSIGN_OR_RETURN(
+      Statement * q,
+      impl_->store.db().Cached(
+          "SELECT min(zmin), max(zmax) FROM dem_blocks WHERE dem = ? AND level = 0"));
+  q->Bind(1, dem.id);
+  TB_ASSIGN_OR_RETURN(bool row, q->Step());
+  std::pair<double, double> relief{0, 0};
+  if (row && !q->ColumnIsNull(0)) relief = {q->ColumnDouble(0), q->ColumnDouble(1)};
+  q->Reset();
+  return relief;
 }
 
 Result<int> DemStore::ClipLevel(const DemInfo& dem, const DemBox& box, int64_t max_cells) {

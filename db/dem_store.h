@@ -24,6 +24,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/base/status.h"
@@ -187,6 +188,9 @@ class DemStore {
   // Calls `fn` for every stored block of `level` that intersects `box`, row by row from the north
   // west; blocks without data are not stored and not visited. Stops at and returns the first
   // error of `fn`; errors as ReadWindow.
+  // The lowest and highest valid cell of `dem` (from the stored blocks' extents, no cell is
+  // decoded); {0, 0} for a DEM without valid cells.
+  Result<std::pair<double, double>> Relief(const DemInfo& dem);
   Status ForEachBlock(const DemInfo& dem, const DemBox& box, int level,
                       const std::function<Status(const DemBlock&)>& fn);
   // The finest level whose window of `box` holds at most `max_cells` cells (the coarsest if none

@@ -228,16 +228,7 @@ std::string FormatNumber(double v) {
 
 Result<std::pair<double, double>> LevelRange(SurfaceSession& session) {
   if (!session.relief) {
-    TB_ASSIGN_OR_RETURN(
-        Statement * q,
-        session.store.db().Cached(
-            "SELECT min(zmin), max(zmax) FROM dem_blocks WHERE dem = ? AND level = 0"));
-    q->Bind(1, session.dem.id);
-    TB_ASSIGN_OR_RETURN(bool row, q->Step());
-    std::pair<double, double> relief{0, 0};
-    if (row && !q->ColumnIsNull(0)) relief = {q->ColumnDouble(0), q->ColumnDouble(1)};
-    q->Reset();
-    session.relief = relief;
+    TB_ASSIGN_OR_RETURN(session.relief, session.dems.Relief(session.dem));
   }
   const auto [low, high] = *session.relief;
   const double margin = std::max(10 * (high - low), kLevelMargin);
