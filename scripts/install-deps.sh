@@ -17,6 +17,7 @@ PACKAGES=(
   chromium
   libgtest-dev libgmock-dev librapidcheck-dev libbenchmark-dev
   clang-format clang-tidy
+  clang libclang-rt-14-dev
 )
 
 missing=()
