@@ -180,7 +180,7 @@ TEST_F(GpkgCliTest, AnOlderStoreOpensAsAGeoPackageOnceMigrated) {
     ASSERT_TRUE(db.ok()) << db.status().ToString();
     ASSERT_TRUE((*db)
                     ->Exec("PRAGMA application_id = " + std::to_string(kTinbaseApplicationId) +
-                           "; DELETE FROM meta WHERE key = 'application'; PRAGMA user_version = 11")
+                           "; DELETE FROM meta WHERE key = 'application'; PRAGMA user_version = 12")
                     .ok());
   }
   auto before = RunTool("ogrinfo -ro " + Quote(old));
