@@ -138,19 +138,21 @@ std::optional<double> CoordinateArgument(sqlite3_context* context, const char* f
   if (type != SQLITE_INTEGER && type != SQLITE_FLOAT) {
     std::string shown = TypeName(sqlite3_value_type(argv[index]));
     if (sqlite3_value_type(argv[index]) == SQLITE_TEXT) {
-      shown += " '" + std::string(reinterpret_cast<const char*>(sqlite3_value_text(argv[index]))) +
-               "'";
+      shown +=
+          " '" + std::string(reinterpret_cast<const char*>(sqlite3_value_text(argv[index]))) + "'";
     }
-    ResultError(context, function,
-                "argument " + std::to_string(index + 1) + " (" + name + ") must be a number, got " +
-                    shown);
+    ResultError(
+        context, function,
+        "argument " + std::to_string(index + 1) + " (" + name + ") must be a number, got " + shown);
     return std::nullopt;
   }
   const double value = sqlite3_value_double(argv[index]);
   if (!std::isfinite(value)) {
     ResultError(context, function,
                 "argument " + std::to_string(index + 1) + " (" + name + ") must be finite, got " +
-                    (std::isnan(value) ? std::string("NaN") : value > 0 ? "+Inf" : "-Inf"));
+                    (std::isnan(value) ? std::string("NaN")
+                     : value > 0       ? "+Inf"
+                                       : "-Inf"));
     return std::nullopt;
   }
   return value;
@@ -322,7 +324,8 @@ Result<std::vector<Point2>> ParseLine(const std::string& text) {
   }
   const size_t close = text.rfind(')');
   if (close == std::string::npos || close < open) {
-    return Status::InvalidArgument("argument 2 (line) '" + text + "': the LINESTRING is not closed");
+    return Status::InvalidArgument("argument 2 (line) '" + text +
+                                   "': the LINESTRING is not closed");
   }
   // "x y, x y" becomes "x,y;x,y", the point list ParsePointList reads.
   std::string list;
@@ -382,13 +385,13 @@ int Register(sqlite3* db, char** error) {
   auto handle = std::make_shared<StoreHandle>(db);
   for (const Function& f : kFunctions) {
     // Not SQLITE_DETERMINISTIC: the answers follow the store file, which other connections change.
-    const int rc = sqlite3_create_function_v2(db, f.name, f.arguments, SQLITE_UTF8,
-                                              new HandleRef(handle), f.call, nullptr, nullptr,
-                                              DeleteHandleRef);
+    const int rc =
+        sqlite3_create_function_v2(db, f.name, f.arguments, SQLITE_UTF8, new HandleRef(handle),
+                                   f.call, nullptr, nullptr, DeleteHandleRef);
     if (rc != SQLITE_OK) {
       // SQLite has already called DeleteHandleRef on the user data of the failed registration.
-      *error = sqlite3_mprintf("tinbase_sqlite: cannot register %s: %s", f.name,
-                               sqlite3_errmsg(db));
+      *error =
+          sqlite3_mprintf("tinbase_sqlite: cannot register %s: %s", f.name, sqlite3_errmsg(db));
       return rc;
     }
   }

@@ -101,9 +101,8 @@ class SqliteExtensionTest : public ::testing::Test {
                           << R"({"name":"EPSG:28350"}},"features":[{"type":"Feature",)"
                           << R"("properties":{},"geometry":{"type":"Polygon","coordinates":[[)"
                           << "[" << x - 2000 << "," << y - 2000 << "],[" << x + 2000 << ","
-                          << y - 2000 << "],[" << x + 2000 << "," << y + 2000 << "],["
-                          << x - 2000 << "," << y + 2000 << "],[" << x - 2000 << ","
-                          << y - 2000 << "]]]}}]}";
+                          << y - 2000 << "],[" << x + 2000 << "," << y + 2000 << "],[" << x - 2000
+                          << "," << y + 2000 << "],[" << x - 2000 << "," << y - 2000 << "]]]}}]}";
     testing::RunWrite(store_, "polygon add " + Quote(store_) + " " + Quote(square) +
                                   " --surface terrain --mode fill --tag granite");
   }
@@ -198,15 +197,18 @@ TEST_F(SqliteExtensionTest, TagIsTheFillPolygonsTag) {
 
 TEST_F(SqliteExtensionTest, NullCoordinatesGiveNull) {
   EXPECT_TRUE(Value(RunSqlite(store_, Z("NULL", "1"))).is_null());
-  EXPECT_TRUE(Value(RunSqlite(store_, "SELECT tinbase_locate('terrain', 1, NULL) AS v;")).is_null());
+  EXPECT_TRUE(
+      Value(RunSqlite(store_, "SELECT tinbase_locate('terrain', 1, NULL) AS v;")).is_null());
 }
 
 TEST_F(SqliteExtensionTest, NeighboursAreTheClis) {
   const std::string x = Number((bbox_[0] + bbox_[2]) / 3);
   const std::string y = Number((bbox_[1] + bbox_[3]) / 2);
-  const ShellResult r = RunSqlite(
-      store_, "SELECT t, tinbase_neighbours('terrain', t) AS n FROM (SELECT tinbase_locate("
-              "'terrain', " + x + ", " + y + ") AS t);");
+  const ShellResult r =
+      RunSqlite(store_,
+                "SELECT t, tinbase_neighbours('terrain', t) AS n FROM (SELECT tinbase_locate("
+                "'terrain', " +
+                    x + ", " + y + ") AS t);");
   const nlohmann::json rows = Rows(r);
   ASSERT_EQ(rows.size(), 1u);
   const int64_t triangle = rows[0]["t"].get<int64_t>();
@@ -216,14 +218,12 @@ TEST_F(SqliteExtensionTest, NeighboursAreTheClis) {
 }
 
 TEST_F(SqliteExtensionTest, CheckIsTheClis) {
-  const nlohmann::json got =
-      nlohmann::json::parse(Value(RunSqlite(store_, "SELECT tinbase_check('terrain') AS v;"))
-                                .get<std::string>());
+  const nlohmann::json got = nlohmann::json::parse(
+      Value(RunSqlite(store_, "SELECT tinbase_check('terrain') AS v;")).get<std::string>());
   EXPECT_EQ(got, Json(RunCli("check --json --surface terrain " + Quote(store_))));
   EXPECT_TRUE(got["ok"].get<bool>());
-  const nlohmann::json full =
-      nlohmann::json::parse(Value(RunSqlite(store_, "SELECT tinbase_check('terrain', 1) AS v;"))
-                                .get<std::string>());
+  const nlohmann::json full = nlohmann::json::parse(
+      Value(RunSqlite(store_, "SELECT tinbase_check('terrain', 1) AS v;")).get<std::string>());
   EXPECT_EQ(full, Json(RunCli("check --json --full --surface terrain " + Quote(store_))));
 }
 
@@ -235,8 +235,8 @@ TEST_F(SqliteExtensionTest, ProfileIsTheClisInWktOrPointList) {
   const std::string list = Number(x0) + "," + Number(y0) + " " + Number(x1) + "," + Number(y1);
   const std::string wkt =
       "LINESTRING (" + Number(x0) + " " + Number(y0) + ", " + Number(x1) + " " + Number(y1) + ")";
-  const auto want = Json(RunCli("profile --json " + Quote(store_) + " --surface terrain --line " +
-                                Quote(list)));
+  const auto want =
+      Json(RunCli("profile --json " + Quote(store_) + " --surface terrain --line " + Quote(list)));
   for (const std::string& line : {list, wkt}) {
     SCOPED_TRACE(line);
     const nlohmann::json got = nlohmann::json::parse(
