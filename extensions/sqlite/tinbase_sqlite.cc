@@ -35,6 +35,7 @@
 #include "core/geometry/predicates.h"
 #include "core/query/point_input.h"
 #include "db/integrity_check.h"
+#include "db/integrity_check_json.h"
 #include "db/point_locator.h"
 #include "db/query/profile.h"
 #include "db/query/profile_json.h"
@@ -283,8 +284,8 @@ void NeighboursFunction(sqlite3_context* context, int argc, sqlite3_value** argv
   });
 }
 
-// tinbase_check(surface [, full]): what `tinbase check --json --surface S [--full]` prints:
-// {"ok": bool, "problems": [{code, surface, triangle, message}]}.
+// tinbase_check(surface [, full]): what `tinbase check --json --surface S [--full]` prints
+// (db/integrity_check_json.h).
 void CheckFunction(sqlite3_context* context, int argc, sqlite3_value** argv) {
   constexpr const char* kFunction = "tinbase_check";
   std::optional<std::string> name = TextArgument(context, kFunction, argv, 0, "surface");
@@ -305,13 +306,7 @@ void CheckFunction(sqlite3_context* context, int argc, sqlite3_value** argv) {
   if (!store.ok()) return ResultError(context, kFunction, store.status().message());
   auto problems = CheckStore(**store, options);
   if (!problems.ok()) return ResultError(context, kFunction, problems.status().message());
-  nlohmann::json j = {{"ok", problems->empty()}, {"problems", nlohmann::json::array()}};
-  for (const Problem& p : *problems) {
-    nlohmann::json row = {{"code", p.code}, {"surface", p.surface}, {"message", p.message}};
-    row["triangle"] = p.triangle ? nlohmann::json(*p.triangle) : nlohmann::json(nullptr);
-    j["problems"].push_back(std::move(row));
-  }
-  ResultJson(context, j);
+  ResultJson(context, CheckJson(*problems));
 }
 
 // A profile line from SQL: WKT "LINESTRING (x y, x y, ...)" or the CLI's "x,y x,y ...".
