@@ -363,26 +363,33 @@ void ProfileFunction(sqlite3_context* context, int argc, sqlite3_value** argv) {
 void DeleteHandleRef(void* ref) { delete static_cast<HandleRef*>(ref); }
 
 int Register(sqlite3* db, char** error) {
+#ifdef SQLITE_RESULT_SUBTYPE
+  // SQLite 3.45 and later want functions that set a subtype (the JSON ones) to say so.
+  constexpr int kJson = SQLITE_RESULT_SUBTYPE;
+#else
+  constexpr int kJson = 0;
+#endif
   struct Function {
     const char* name;
     int arguments;
     void (*call)(sqlite3_context*, int, sqlite3_value**);
+    int flags;
   };
-  static constexpr Function kFunctions[] = {
-      {"tinbase_z", 3, PointFunction<PointAnswer::kZ>},
-      {"tinbase_locate", 3, PointFunction<PointAnswer::kTriangle>},
-      {"tinbase_tag", 3, PointFunction<PointAnswer::kTag>},
-      {"tinbase_neighbours", 2, NeighboursFunction},
-      {"tinbase_check", 1, CheckFunction},
-      {"tinbase_check", 2, CheckFunction},
-      {"tinbase_profile", 2, ProfileFunction},
+  const Function functions[] = {
+      {"tinbase_z", 3, PointFunction<PointAnswer::kZ>, 0},
+      {"tinbase_locate", 3, PointFunction<PointAnswer::kTriangle>, 0},
+      {"tinbase_tag", 3, PointFunction<PointAnswer::kTag>, 0},
+      {"tinbase_neighbours", 2, NeighboursFunction, kJson},
+      {"tinbase_check", 1, CheckFunction, kJson},
+      {"tinbase_check", 2, CheckFunction, kJson},
+      {"tinbase_profile", 2, ProfileFunction, kJson},
   };
   auto handle = std::make_shared<StoreHandle>(db);
-  for (const Function& f : kFunctions) {
+  for (const Function& f : functions) {
     // Not SQLITE_DETERMINISTIC: the answers follow the store file, which other connections change.
-    const int rc =
-        sqlite3_create_function_v2(db, f.name, f.arguments, SQLITE_UTF8, new HandleRef(handle),
-                                   f.call, nullptr, nullptr, DeleteHandleRef);
+    const int rc = sqlite3_create_function_v2(db, f.name, f.arguments, SQLITE_UTF8 | f.flags,
+                                              new HandleRef(handle), f.call, nullptr, nullptr,
+                                              DeleteHandleRef);
     if (rc != SQLITE_OK) {
       // SQLite has already called DeleteHandleRef on the user data of the failed registration.
       *error =
