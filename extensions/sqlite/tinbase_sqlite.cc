@@ -403,9 +403,11 @@ int Register(sqlite3* db, char** error) {
 }  // namespace
 }  // namespace tinbase
 
-// The entry point SQLite derives from the file name (lower-case letters of "libtinbase_sqlite"
-// without "lib"), and the same under the module's own name for sqlite3_load_extension(db, file,
-// "sqlite3_tinbase_sqlite_init").
+// The entry points. SQLite's `.load FILE` looks up `sqlite3_extension_init` first, and dlsym
+// finds that name in the module's dependencies too: libgdal exports one (GDAL's own SQLite
+// extension), which would be loaded instead of this one. So the module defines it itself (dlsym
+// searches the module before its dependencies), as well as the name SQLite derives from the file
+// name (the lower-case letters of "libtinbase_sqlite" without "lib") and the module's own name.
 extern "C" int sqlite3_tinbasesqlite_init(sqlite3* db, char** error,
                                           const sqlite3_api_routines* api) {
   SQLITE_EXTENSION_INIT2(api);
@@ -414,5 +416,9 @@ extern "C" int sqlite3_tinbasesqlite_init(sqlite3* db, char** error,
 
 extern "C" int sqlite3_tinbase_sqlite_init(sqlite3* db, char** error,
                                            const sqlite3_api_routines* api) {
+  return sqlite3_tinbasesqlite_init(db, error, api);
+}
+
+extern "C" int sqlite3_extension_init(sqlite3* db, char** error, const sqlite3_api_routines* api) {
   return sqlite3_tinbasesqlite_init(db, error, api);
 }

@@ -202,7 +202,7 @@ TEST_F(SqliteExtensionTest, NullCoordinatesGiveNull) {
 }
 
 TEST_F(SqliteExtensionTest, NeighboursAreTheClis) {
-  const std::string x = Number((bbox_[0] + bbox_[2]) / 3);
+  const std::string x = Number(bbox_[0] + (bbox_[2] - bbox_[0]) / 3);
   const std::string y = Number((bbox_[1] + bbox_[3]) / 2);
   const ShellResult r =
       RunSqlite(store_,
