@@ -246,6 +246,28 @@ TEST_F(SqliteExtensionTest, ProfileIsTheClisInWktOrPointList) {
   }
 }
 
+// Any client loads it with load_extension(), by its default entry point or by its own name.
+TEST_F(SqliteExtensionTest, LoadExtensionFromSql) {
+  std::string extension = TINBASE_SQLITE_EXTENSION;
+  const std::string x = Number((bbox_[0] + bbox_[2]) / 2);
+  const std::string y = Number((bbox_[1] + bbox_[3]) / 2);
+  const std::string z = "SELECT tinbase_z('terrain', " + x + ", " + y + ") AS v;";
+  const double want = Value(RunSqlite(store_, z)).get<double>();
+  for (const std::string& load :
+       {"SELECT load_extension('" + extension + "');",
+        "SELECT load_extension('" + extension + "', 'sqlite3_tinbase_sqlite_init');"}) {
+    SCOPED_TRACE(load);
+    TempDir tmp;
+    const std::string script = tmp.Path("script.sql");
+    std::ofstream(script) << ".output /dev/null\n" << load << "\n.output stdout\n" << z << "\n";
+    const std::string command = "sqlite3 -bail -json " + Quote(store_) + " <" + Quote(script) +
+                                " >" + Quote(tmp.Path("out")) + " 2>" + Quote(tmp.Path("err"));
+    ASSERT_EQ(std::system(command.c_str()), 0) << Slurp(tmp.Path("err"));
+    const nlohmann::json rows = nlohmann::json::parse(Slurp(tmp.Path("out")));
+    EXPECT_EQ(rows[0]["v"].get<double>(), want);
+  }
+}
+
 // Every bad argument fails the statement with a message naming the function and the argument.
 TEST_F(SqliteExtensionTest, BadSurfaceNameIsAnError) {
   ExpectSqlError("SELECT tinbase_z('nosuch', 1, 2);", "tinbase_z: no surface named 'nosuch'");
