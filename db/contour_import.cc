@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <optional>
 
+#include "core/base/number_text.h"
 #include "core/raster/gdal_raster.h"
 #include "core/vector/polygon_source.h"
 
@@ -26,12 +27,12 @@ Result<double> Level(const LineFeature& feature, const std::string& field) {
   if (value.is_null()) return Status::InvalidArgument(where + " is empty");
   if (value.is_number()) {
     const double level = value.get<double>();
-    if (std::isfinite(level)) return level;
+    if (!CheckNumber(level)) return level;
   } else if (value.is_string()) {
     const std::string& text = value.get_ref<const std::string&>();
     char* end = nullptr;
     const double level = std::strtod(text.c_str(), &end);
-    if (!text.empty() && end == text.c_str() + text.size() && std::isfinite(level)) return level;
+    if (!text.empty() && end == text.c_str() + text.size() && !CheckNumber(level)) return level;
   }
   return Status::InvalidArgument(where + " is not a number (" + value.dump() + ")");
 }

@@ -14,11 +14,13 @@
 #include <set>
 #include <span>
 
+#include "core/base/object_name.h"
 #include "core/raster/bilinear.h"
 #include "core/raster/block_codec.h"
 #include "core/raster/gdal_raster.h"
 #include "core/raster/grid.h"
 #include "db/dem_block_cache.h"
+#include "db/dem_import_checks.h"
 
 namespace tinbase {
 
@@ -243,7 +245,7 @@ struct DemStore::Impl {
                             const nlohmann::json& sources);
   // The level-0 cells of block (bx, by): the stored block of `existing` (if any) with the sheets
   // over it laid on top (under the cells it has, with `keep_first`).
-  Result<std::vector<float>> AssembleBlock(const DemInfo& dem,
+  Result<std::vector<float>> AssembleBlock(int64_t* infinite_cells, const DemInfo& dem,
                                            const std::optional<DemInfo>& existing,
                                            const std::vector<Sheet>& sheets, int64_t bx, int64_t by,
                                            bool keep_first);
@@ -691,7 +693,8 @@ Result<int64_t> DemStore::Impl::UpsertDem(const DemInfo& dem,
   return RunReturningId(*upsert);
 }
 
-Result<std::vector<float>> DemStore::Impl::AssembleBlock(const DemInfo& dem,
+Result<std::vector<float>> DemStore::Impl::AssembleBlock(int64_t* infinite_cells,
+                                                         const DemInfo& dem,
                                                          const std::optional<DemInfo>& existing,
                                                          const std::vector<Sheet>& sheets,
                                                          int64_t bx, int64_t by, bool keep_first) {
@@ -711,6 +714,11 @@ Result<std::vector<float>> DemStore::Impl::AssembleBlock(const DemInfo& dem,
     TB_ASSIGN_OR_RETURN(std::vector<float> window,
                         s.raster.ReadWindow(col - s.col0, row - s.row0, b, b));
     for (size_t i = 0; i < cells.size(); ++i) {
+      // An infinite cell holds no elevation: it is nodata, counted so the import can say so.
+      if (std::isinf(window[i])) {
+        ++*infinite_cells;
+        continue;
+      }
       if (std::isnan(window[i]) || (keep_first && !std::isnan(cells[i]))) continue;
       cells[i] = window[i];
     }
@@ -724,15 +732,22 @@ Result<DemImportReport> DemStore::Impl::ImportInTransaction(const std::vector<st
   const std::string name =
       options.name.empty() ? std::filesystem::path(files.front()).stem().string() : options.name;
   if (name.empty()) return Status::InvalidArgument(files.front() + ": no name for the DEM");
+  TB_RETURN_IF_ERROR(CheckObjectName("DEM", name));
 
   DemImportReport report;
   TB_ASSIGN_OR_RETURN(std::optional<DemInfo> existing,
                       FindWhere("WHERE name = ?", [&](Statement& st) { st.Bind(1, name); }));
+  if (existing) TB_RETURN_IF_ERROR(RefuseImportUnderSurfaces(store, *existing));
+  TB_RETURN_IF_ERROR(CheckDemImportCells(rasters, options.max_cells));
   TB_ASSIGN_OR_RETURN(Crs crs, StoreCrsFor(rasters.front()));
   const std::optional<double> first_nodata = rasters.front().nodata();
   TB_ASSIGN_OR_RETURN(Placement placed, PlaceSheets(std::move(rasters), crs, existing, name));
   report.warped = placed.warped;
   report.cells = placed.cells;
+  if (options.max_cells > 0 && placed.cells > options.max_cells)
+    return TooManyDemImportCells(
+        "the rasters warped onto the store's CRS have " + std::to_string(placed.cells) + " cells",
+        options.max_cells);
   std::vector<Sheet>& sheets = placed.sheets;
   DemInfo dem =
       DemOverSheets(existing, name, crs, placed.grid, first_nodata, options.block_size, sheets);
@@ -746,8 +761,9 @@ Result<DemImportReport> DemStore::Impl::ImportInTransaction(const std::vector<st
   const std::set<std::pair<int64_t, int64_t>> touched = BlocksUnder(dem, sheets);
   blocks_expected = static_cast<double>(touched.size()) * 4 / 3;
   for (const auto& [by, bx] : touched) {
-    TB_ASSIGN_OR_RETURN(std::vector<float> cells,
-                        AssembleBlock(dem, existing, sheets, bx, by, options.keep_first));
+    TB_ASSIGN_OR_RETURN(
+        std::vector<float> cells,
+        AssembleBlock(&report.infinite_cells, dem, existing, sheets, bx, by, options.keep_first));
     TB_RETURN_IF_ERROR(WriteBlock(dem, 0, bx, by, cells, &report));
   }
   TB_RETURN_IF_ERROR(UpdateOverviews(dem, old_levels, touched, &report));
@@ -1119,6 +1135,19 @@ Status DemStore::ForEachBlock(const DemInfo& dem, const DemBox& box, int level,
   TB_RETURN_IF_ERROR(CheckLevel(dem, level));
   TB_ASSIGN_OR_RETURN(CellRange range, CellsIn(LevelOf(dem, level).geometry, box, dem.name));
   return impl_->VisitBlocks(dem, level, range, fn);
+}
+
+Result<std::pair<double, double>> DemStore::Relief(const DemInfo& dem) {
+  TB_ASSIGN_OR_RETURN(
+      Statement * q,
+      impl_->store.db().Cached(
+          "SELECT min(zmin), max(zmax) FROM dem_blocks WHERE dem = ? AND level = 0"));
+  q->Bind(1, dem.id);
+  TB_ASSIGN_OR_RETURN(bool row, q->Step());
+  std::pair<double, double> relief{0, 0};
+  if (row && !q->ColumnIsNull(0)) relief = {q->ColumnDouble(0), q->ColumnDouble(1)};
+  q->Reset();
+  return relief;
 }
 
 Result<int> DemStore::ClipLevel(const DemInfo& dem, const DemBox& box, int64_t max_cells) {

@@ -24,6 +24,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/base/status.h"
@@ -85,12 +86,19 @@ struct DemClip {
   GridGeometry geometry;  // of the written raster
 };
 
+// The default DemImportOptions::max_cells: 2^34 cells, a 131072 x 131072 grid (64 GiB of float32).
+inline constexpr int64_t kDefaultMaxDemImportCells = int64_t{1} << 34;
+
 struct DemImportOptions {
   std::string name;      // DEM to create or extend; empty: the first file's stem
   int block_size = 256;  // power of two in [8, 4096], used when the DEM is created
   // Where sheets overlap (each other or the DEM being extended), the later sheet's valid cells
   // win; with keep_first, a later sheet only fills cells that are still nodata.
   bool keep_first = false;
+  // At most this many cells are read from the sources (summed over the sheets); a larger import
+  // is refused before anything is read or allocated, since a header can claim any size (a VRT
+  // with no sources, a damaged GeoTIFF). 0: no limit (`dem import --force`).
+  int64_t max_cells = kDefaultMaxDemImportCells;
   // Test seam for failure injection: called after every block written or deleted (level 0 and
   // overviews) with the count so far; a non-OK status aborts the import like a failed write
   // (the transaction rolls back, the store is unchanged) and Import returns it.
@@ -112,6 +120,7 @@ struct DemImportReport {
   int64_t overview_blocks_written = 0;  // blocks of levels >= 1 stored (recomputed)
   int64_t bytes_stored = 0;             // compressed bytes of those blocks
   bool warped = false;                  // a source was reprojected onto the store's CRS
+  int64_t infinite_cells = 0;           // source cells of +/-Inf, stored as nodata
 };
 
 // What is stored of one level of a DEM.
@@ -179,6 +188,9 @@ class DemStore {
   // Calls `fn` for every stored block of `level` that intersects `box`, row by row from the north
   // west; blocks without data are not stored and not visited. Stops at and returns the first
   // error of `fn`; errors as ReadWindow.
+  // The lowest and highest valid cell of `dem` (from the stored blocks' extents, no cell is
+  // decoded); {0, 0} for a DEM without valid cells.
+  Result<std::pair<double, double>> Relief(const DemInfo& dem);
   Status ForEachBlock(const DemInfo& dem, const DemBox& box, int level,
                       const std::function<Status(const DemBlock&)>& fn);
   // The finest level whose window of `box` holds at most `max_cells` cells (the coarsest if none

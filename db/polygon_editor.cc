@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <memory>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "core/tin/drape.h"
@@ -197,6 +200,8 @@ struct SurfaceSession {
   MeshCache mesh;
   // The ring points of every feature of a load feature by feature (LocalEdit::load_points).
   size_t load_points = 0;
+  // The lowest and highest z of the DEM's cells, read when a level is first checked.
+  std::optional<std::pair<double, double>> relief;
 };
 
 Result<std::unique_ptr<SurfaceSession>> OpenSession(Store& store, const SurfaceInfo& surface) {
@@ -247,7 +252,38 @@ struct NewFeature {
   std::vector<EditPolyline> lines;
 };
 
+// The range a replace level may take: the DEM's relief widened by ten times its height, and by
+// at least kLevelMargin. A level beyond it is a typing or unit mistake (1e100, a level in
+// millimetres); the flat region it makes would also be steeper than any check can follow.
+constexpr double kLevelMargin = 10000;
+
+std::string FormatNumber(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.10g", v);
+  return text;
+}
+
+Result<std::pair<double, double>> LevelRange(SurfaceSession& session) {
+  if (!session.relief) {
+    TB_ASSIGN_OR_RETURN(session.relief, session.dems.Relief(session.dem));
+  }
+  const auto [low, high] = *session.relief;
+  const double margin = std::max(10 * (high - low), kLevelMargin);
+  return std::pair{low - margin, high + margin};
+}
+
+Status CheckLevel(SurfaceSession& session, const EditorFeature& f) {
+  if (!f.level) return Status::Ok();
+  TB_ASSIGN_OR_RETURN(auto range, LevelRange(session));
+  if (*f.level >= range.first && *f.level <= range.second) return Status::Ok();
+  return Status::InvalidArgument(f.label + ": level " + FormatNumber(*f.level) +
+                                 " is far outside the relief of surface '" + session.surface.name +
+                                 "' (levels from " + FormatNumber(range.first) + " to " +
+                                 FormatNumber(range.second) + " are accepted)");
+}
+
 Result<NewFeature> Prepare(SurfaceSession& session, EditorFeature f) {
+  TB_RETURN_IF_ERROR(CheckLevel(session, f));
   NewFeature out;
   TB_RETURN_IF_ERROR(DrapeFeature(session.store, session.surface, f, session.elevation,
                                   session.drape, &out.lines));

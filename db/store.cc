@@ -30,9 +30,12 @@ constexpr int32_t kGeoPackage11ApplicationId = 0x47503131;
 // with meta's application row (from 0013 on, docs/format.md): another GeoPackage is not one.
 Status CheckIsStore(Connection& db, const std::string& path) {
   auto app_id = db.ApplicationId();
-  if (!app_id.ok())
+  // Corruption: the file is not a database of the backend at all; other errors (I/O, permission)
+  // say what they are.
+  if (!app_id.ok() && app_id.status().code() == StatusCode::kCorruption)
     return Status::InvalidArgument(path + " is not a tinbase store (" + app_id.status().message() +
                                    ")");
+  if (!app_id.ok()) return app_id.status();
   if (*app_id == kTinbaseApplicationId) return Status::Ok();
   if (*app_id == kGeoPackage11ApplicationId) {
     auto marked = db.QueryInt(
@@ -45,6 +48,20 @@ Status CheckIsStore(Connection& db, const std::string& path) {
   }
   return Status::InvalidArgument(path + " is not a tinbase store (application_id " +
                                  std::to_string(*app_id) + ")");
+}
+
+// The last ": "-separated part of an SQLite message: the reason without the SQL before it.
+std::string LastClause(const std::string& message) {
+  const size_t colon = message.rfind(": ");
+  return colon == std::string::npos ? message : message.substr(colon + 2);
+}
+
+// The schema version (SQLite's user_version) does not describe the file's tables.
+Status DamagedSchemaVersion(const std::string& path, int64_t version, const std::string& why) {
+  return Status::Corruption(path + ": damaged schema version " + std::to_string(version) +
+                            " (SQLite user_version; " + why +
+                            "): nothing was changed; if the version was set by hand, set it back "
+                            "(PRAGMA user_version) and run `tinbase check --full`");
 }
 
 }  // namespace
@@ -84,11 +101,16 @@ Result<std::unique_ptr<Store>> Store::Open(const std::string& path, Access acces
     return Status::InvalidArgument(path + " was made by a newer tinbase (schema version " +
                                    std::to_string(version) + "; this tinbase knows up to " +
                                    std::to_string(LatestSchemaVersion()) + "): upgrade tinbase");
+  if (version < 1) return DamagedSchemaVersion(path, version, "no store has it");
   if (version < LatestSchemaVersion()) {
     if (access == Access::kReadOnly)
       return Status::InvalidArgument(path + " has schema version " + std::to_string(version) +
                                      " and needs migrating: open it read-write once");
-    TB_RETURN_IF_ERROR(MigrateStore(*db, LatestSchemaVersion()).WithContext(path));
+    Status migrated = MigrateStore(*db, LatestSchemaVersion());
+    // A migration that finds its tables already there means the version lies, not the SQL.
+    if (migrated.code() == StatusCode::kInvalidArgument)
+      return DamagedSchemaVersion(path, version, LastClause(migrated.message()));
+    TB_RETURN_IF_ERROR(migrated.WithContext(path));
   }
   return std::unique_ptr<Store>(new Store(std::move(db), LatestSchemaVersion()));
 }

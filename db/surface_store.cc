@@ -14,6 +14,7 @@
 #include <optional>
 #include <unordered_map>
 
+#include "core/base/object_name.h"
 #include "core/base/paged_id_map.h"
 #include "db/mesh/mesh_tables.h"
 #include "db/sql/large_write_hint.h"
@@ -91,6 +92,7 @@ BlockGrid GridFor(const std::vector<TinVertex>& vertices, size_t triangles) {
 // Conflict when the name is taken.
 Result<SurfaceInfo> InsertSurfaceRow(Connection& db, const SurfaceInfo& spec,
                                      const BlockGrid& grid) {
+  TB_RETURN_IF_ERROR(CheckObjectName("surface", spec.name));
   {
     TB_ASSIGN_OR_RETURN(Statement * taken, db.Cached("SELECT 1 FROM surfaces WHERE name = ?"));
     taken->Bind(1, spec.name);

@@ -6,4 +6,5 @@ cd "$(dirname "$0")/.."
 scripts/install-deps.sh
 cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release -DTINBASE_BUILD_TESTS=OFF >/dev/null
 cmake --build build/release --target tinbase -j "$(nproc)"
+scripts/build-web.sh   # the web viewer of `tinbase serve` (web/dist)
 build/release/apps/tinbase demo --workdir "${TINBASE_DEMO_DIR:-build/demo}"

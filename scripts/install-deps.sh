@@ -14,8 +14,10 @@ PACKAGES=(
   libtbb-dev
   libtinygltf-dev libmeshoptimizer-dev libcpp-httplib-dev
   nodejs
+  chromium
   libgtest-dev libgmock-dev librapidcheck-dev libbenchmark-dev
   clang-format clang-tidy
+  clang libclang-rt-14-dev
 )
 
 missing=()

@@ -12,6 +12,7 @@
 #include "apps/tinbase/command.h"
 #include "apps/tinbase/output.h"
 #include "apps/tinbase/progress.h"
+#include "core/base/number_text.h"
 #include "core/base/output_file.h"
 #include "core/export/export_format.h"
 #include "core/export/tin_export.h"
@@ -31,6 +32,7 @@ struct ImportArgs {
   std::string name;
   int block_size = 256;
   bool keep_first = false;
+  bool force = false;
 };
 
 int RunImport(const ImportArgs& args) {
@@ -41,6 +43,7 @@ int RunImport(const ImportArgs& args) {
   options.name = args.name;
   options.block_size = args.block_size;
   options.keep_first = args.keep_first;
+  if (args.force) options.max_cells = 0;
   Stopwatch watch;
   auto report = WithProgress("dem import", [&](std::function<void(double)> progress) {
     options.progress = std::move(progress);
@@ -53,6 +56,8 @@ int RunImport(const ImportArgs& args) {
             << report->blocks_written << " blocks, " << Num(report->bytes_stored / 1048576.0, 3)
             << " MiB stored" << (report->warped ? ", warped onto the store's CRS" : "") << " in "
             << Num(watch.Seconds(), 3) << " s\n";
+  if (report->infinite_cells > 0)
+    std::cout << report->infinite_cells << " cell(s) of +/-Inf in the sources stored as nodata\n";
   return kExitOk;
 }
 
@@ -199,7 +204,7 @@ Result<DemBox> ParseBbox(const std::string& text) {
     const std::string part = text.substr(start, comma - start);
     char* end = nullptr;
     const double d = std::strtod(part.c_str(), &end);
-    if (part.empty() || end != part.c_str() + part.size() || !std::isfinite(d))
+    if (part.empty() || end != part.c_str() + part.size() || CheckNumber(d))
       return Status::InvalidArgument("--bbox '" + text + "': '" + part + "' is not a number");
     v.push_back(d);
     start = comma + 1;
@@ -359,6 +364,9 @@ void RegisterDemCommands(CLI::App& app, int* exit_code) {
                      "Block edge in cells, a power of two (default 256)");
   import->add_flag("--keep-first", import_args->keep_first,
                    "Where sheets overlap, keep the earlier sheet's cells");
+  import->add_flag("--force", import_args->force,
+                   "Import even more than 2^34 cells (the limit that stops a raster whose header "
+                   "claims an absurd size)");
   import->callback([=] { *exit_code = RunImport(*import_args);
 });
 

@@ -4,12 +4,15 @@
 
 #include <cstdint>
 #include <cstdlib>
+#include <exception>
 #include <iostream>
 #include <memory>
+#include <new>
 #include <optional>
 #include <string>
 
 #include "apps/tinbase/command.h"
+#include "apps/tinbase/number_options.h"
 #include "apps/tinbase/progress.h"
 #include "db/dem_block_cache.h"
 #include "db/store.h"
@@ -17,7 +20,11 @@
 namespace tinbase::cli {
 
 int ReportError(const Status& status) {
-  std::cerr << "tinbase: " << status.message() << "\n";
+  // One line, whatever a library put into the message: scripts read the first line.
+  std::string line = status.message();
+  for (char& c : line)
+    if (c == '\n' || c == '\r') c = ' ';
+  std::cerr << "tinbase: " << line << "\n";
   return kExitFailure;
 }
 
@@ -101,10 +108,24 @@ int main(int argc, char** argv) {
   tinbase::cli::RegisterDemoCommand(app, &exit_code);
   tinbase::cli::RegisterMeasureCommands(app, &exit_code);
   tinbase::cli::RegisterServeCommand(app, &exit_code);
+  tinbase::cli::CheckNumberOptions(app);
+  // Bad arguments are reported like every other error: one line that scripts can read.
+  app.failure_message([](const CLI::App*, const CLI::Error& e) {
+    return std::string("tinbase: ") + e.what() + " (see --help)\n";
+  });
+  // Handlers return errors as values; anything thrown past them (a library's exception, memory
+  // exhausted) still ends as one line and an exit code, never as an abort.
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
+  } catch (const std::bad_alloc&) {
+    return tinbase::cli::ReportError(
+        tinbase::Status::IOError("out of memory (an input larger than this machine can hold?)"));
+  } catch (const std::exception& e) {
+    return tinbase::cli::ReportError(tinbase::Status::IOError(std::string("failed: ") + e.what()));
+  } catch (...) {
+    return tinbase::cli::ReportError(tinbase::Status::IOError("failed: unknown exception"));
   }
   return exit_code;
 }

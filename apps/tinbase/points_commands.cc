@@ -97,10 +97,14 @@ void RegisterPointsCommands(CLI::App& app, int* exit_code) {
       "--class", args->classes,
       "LAS classes to keep (repeatable; default: ground = 2 when present, else all)");
   import->add_flag("--thin", args->options.thin, "Voronoi density thinning (paper 003)");
-  import->add_option("--vertical-threshold", args->options.thresholds.vertical_threshold,
-                     "--thin: drop a dense point within this z of its Voronoi neighbours");
-  import->add_option("--max-cell-area", args->max_cell_area,
-                     "--thin: cells smaller than this are dense (default 0.75 x median)");
+  import
+      ->add_option("--vertical-threshold", args->options.thresholds.vertical_threshold,
+                   "--thin: drop a dense point within this z of its Voronoi neighbours")
+      ->check(CLI::NonNegativeNumber);
+  import
+      ->add_option("--max-cell-area", args->max_cell_area,
+                   "--thin: cells smaller than this are dense (default 0.75 x median)")
+      ->check(CLI::PositiveNumber);
   import->add_option("--density", args->density,
                      "--thin: dense where more than COUNT points lie in the disc of AREA around "
                      "a point, as COUNT/AREA (paper 003: 10/150 in square feet)");

@@ -2,10 +2,11 @@
 
 #include <algorithm>
 #include <cctype>
-#include <charconv>
 #include <cmath>
 #include <optional>
 #include <string_view>
+
+#include "core/base/number_text.h"
 
 namespace tinbase {
 namespace {
@@ -48,10 +49,11 @@ std::vector<std::string_view> AllFields(std::string_view line) {
   }
 }
 
+// False when `field` is no number at all; a number that is not usable is checked per point.
 bool ParseNumber(std::string_view field, double* value) {
-  if (!field.empty() && field.front() == '+') field.remove_prefix(1);
-  const auto [end, ec] = std::from_chars(field.data(), field.data() + field.size(), *value);
-  return ec == std::errc() && end == field.data() + field.size() && !field.empty();
+  const NumberText n = ParseNumberText(field);
+  *value = n.value;
+  return n.problem != NumberProblem::kNotANumber;
 }
 
 // The header's column named one of `names` (any case, quotes ignored), or -1.
@@ -129,8 +131,9 @@ Result<std::vector<Point2>> ReadPointList(std::istream& in, const std::string& s
         return Status::InvalidArgument(where + "'" + std::string(x_ok ? y_text : x_text) +
                                        "' is not a number");
     }
-    if (!std::isfinite(p.x) || !std::isfinite(p.y))
-      return Status::InvalidArgument(where + "coordinates must be finite, got '" + line + "'");
+    if (CheckNumber(p.x) || CheckNumber(p.y))
+      return Status::InvalidArgument(where + "coordinates must be finite and at most 1e15 in " +
+                                     "magnitude, got '" + line + "'");
     points.push_back(p);
   }
   if (in.bad()) return Status::IOError(source + ": read failed");

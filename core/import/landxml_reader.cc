@@ -13,6 +13,7 @@
 #include <tuple>
 #include <unordered_map>
 
+#include "core/base/number_text.h"
 #include "core/geometry/predicates.h"
 
 namespace tinbase {
@@ -38,7 +39,7 @@ std::vector<std::string_view> Tokens(std::string_view text) {
 bool ToDouble(std::string_view s, double* v) {
   if (!s.empty() && s.front() == '+') s.remove_prefix(1);
   const auto r = std::from_chars(s.data(), s.data() + s.size(), *v);
-  return r.ec == std::errc() && r.ptr == s.data() + s.size() && std::isfinite(*v);
+  return r.ec == std::errc() && r.ptr == s.data() + s.size() && !CheckNumber(*v);
 }
 
 bool ToInt(std::string_view s, int64_t* v) {

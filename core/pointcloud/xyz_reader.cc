@@ -1,12 +1,13 @@
 #include "core/pointcloud/xyz_reader.h"
 
-#include <charconv>
 #include <cmath>
 #include <cstring>
 #include <fstream>
 #include <optional>
 #include <string_view>
 #include <vector>
+
+#include "core/base/number_text.h"
 
 namespace tinbase {
 namespace {
@@ -64,18 +65,6 @@ Fields SplitFields(std::string_view line) {
   return out;
 }
 
-// The whole field as a double; nullopt when it is not one number.
-std::optional<double> ParseNumber(std::string_view field) {
-  double value = 0;
-  const char* begin = field.data();
-  const char* end = begin + field.size();
-  if (begin != end && *begin == '+') ++begin;
-  auto [ptr, ec] = std::from_chars(begin, end, value);
-  if (ec == std::errc::result_out_of_range) return HUGE_VAL;  // reported as not finite
-  if (ec != std::errc() || ptr != end || begin == end) return std::nullopt;
-  return value;
-}
-
 // Appends the points of successive lines to a cloud; knows whether a header may still come.
 class LineParser {
  public:
@@ -90,27 +79,28 @@ class LineParser {
       return Status::InvalidArgument(Where(line_no) + ": expected x y z, found " +
                                      std::to_string(fields.count) + " field(s)");
     }
-    std::optional<double> v[3];
-    for (int i = 0; i < 3; ++i) v[i] = ParseNumber(fields.field[i]);
-    if (!seen_data_ && !v[0] && !v[1] && !v[2]) {
+    NumberText v[3];
+    for (int i = 0; i < 3; ++i) v[i] = ParseNumberText(fields.field[i]);
+    const auto not_number = [](const NumberText& n) {
+      return n.problem == NumberProblem::kNotANumber;
+    };
+    if (!seen_data_ && not_number(v[0]) && not_number(v[1]) && not_number(v[2])) {
       seen_data_ = true;  // a header line of names
       return Status::Ok();
     }
     seen_data_ = true;
     static const char* kAxis[] = {"x", "y", "z"};
     for (int i = 0; i < 3; ++i) {
-      const char* problem = !v[i]                   ? "is not a number"
-                            : !std::isfinite(*v[i]) ? "is not finite"
-                                                    : nullptr;
-      if (problem != nullptr) {
+      if (v[i].problem) {
         return Status::InvalidArgument(Where(line_no) + ": " + kAxis[i] + " '" +
-                                       std::string(fields.field[i]) + "' " + problem);
+                                       std::string(fields.field[i]) + "' " +
+                                       DescribeNumberProblem(*v[i].problem));
       }
     }
     CloudPoint p;
-    p.x = *v[0];
-    p.y = *v[1];
-    p.z = *v[2];
+    p.x = v[0].value;
+    p.y = v[1].value;
+    p.z = v[2].value;
     cloud_.points.push_back(p);
     return Status::Ok();
   }

@@ -5,13 +5,13 @@
 
 #include <algorithm>
 #include <cctype>
-#include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <memory>
 
+#include "core/base/number_text.h"
 #include "core/geometry/point_list.h"
 #include "core/vector/gdal_session.h"
 
@@ -19,13 +19,11 @@ namespace tinbase {
 
 namespace {
 
-// The whole field as a double; nullopt when it is not exactly one number.
+// The whole field as a usable number (core/base/number_text.h); nullopt otherwise.
 std::optional<double> Number(std::string_view field) {
-  if (!field.empty() && field.front() == '+') field.remove_prefix(1);
-  double value = 0;
-  const auto [end, ec] = std::from_chars(field.data(), field.data() + field.size(), value);
-  if (ec != std::errc() || end != field.data() + field.size() || field.empty()) return std::nullopt;
-  return value;
+  const NumberText n = ParseNumberText(field);
+  if (n.problem) return std::nullopt;
+  return n.value;
 }
 
 // The points of x,y text (core/geometry/point_list.h); InvalidArgument when there are none.
@@ -84,8 +82,8 @@ Result<std::vector<Point2>> ReadOgrPoints(GDALDataset& ds, const std::optional<C
     double x = p->getX(), y = p->getY();
     if (transform && !transform->Transform(1, &x, &y))
       return Status::InvalidArgument(where + ": cannot be reprojected" + LastGdalError());
-    if (!std::isfinite(x) || !std::isfinite(y))
-      return Status::InvalidArgument(where + ": coordinates are not finite");
+    if (CheckNumber(x) || CheckNumber(y))
+      return Status::InvalidArgument(where + ": coordinates are not finite or beyond 1e15");
     points.push_back({x, y});
   }
   if (points.empty()) return Status::InvalidArgument(name + ": no points");
@@ -115,8 +113,8 @@ Result<std::optional<std::vector<Point2>>> ReadOgrLine(GDALDataset& ds,
     const std::string where = name + ", vertex " + std::to_string(i);
     if (transform && !transform->Transform(1, &x, &y))
       return Status::InvalidArgument(where + ": cannot be reprojected" + LastGdalError());
-    if (!std::isfinite(x) || !std::isfinite(y))
-      return Status::InvalidArgument(where + ": coordinates are not finite");
+    if (CheckNumber(x) || CheckNumber(y))
+      return Status::InvalidArgument(where + ": coordinates are not finite or beyond 1e15");
     points.push_back({x, y});
   }
   return std::optional<std::vector<Point2>>(std::move(points));
@@ -175,8 +173,7 @@ Result<std::vector<Point2>> ParsePointList(const std::string& text, const std::s
       x = Number(std::string_view(token).substr(0, comma));
       y = Number(std::string_view(token).substr(comma + 1));
     }
-    if (!x || !y || !std::isfinite(*x) || !std::isfinite(*y))
-      return Status::InvalidArgument(where + " '" + token + "' is not x,y");
+    if (!x || !y) return Status::InvalidArgument(where + " '" + token + "' is not x,y");
     points.push_back({*x, *y});
     token.clear();
     return Status::Ok();

@@ -13,6 +13,9 @@
 #include <cmath>
 #include <limits>
 #include <mutex>
+#include <string_view>
+
+#include "core/vector/gdal_session.h"
 
 namespace tinbase {
 
@@ -28,7 +31,7 @@ class QuietGdal {
   // " (GDAL: <last message>)" or "" when GDAL said nothing.
   static std::string Detail() {
     const char* msg = CPLGetLastErrorMsg();
-    return msg != nullptr && *msg != '\0' ? std::string(" (GDAL: ") + msg + ")" : "";
+    return msg != nullptr && *msg != '\0' ? " (GDAL: " + OneLineGdalMessage(msg) + ")" : "";
   }
 
  private:
@@ -40,6 +43,24 @@ void CloseDataset(GDALDataset* ds) {
 }
 
 std::string Num(double v) { return CPLSPrintf("%.17g", v); }
+
+// An uncompressed GeoTIFF holds every cell of band 1 in the file, so a header that claims more
+// cells than the file has bytes for is damaged; caught here before anything sizes a buffer or a
+// loop by it. Compressed and virtual rasters cannot be bounded by their size: the importer's
+// cell limit bounds them.
+Status CheckSizeAgainstFile(GDALDataset& ds, const std::string& path, int64_t file_bytes) {
+  if (ds.GetDriver() == nullptr || std::string_view(ds.GetDriver()->GetDescription()) != "GTiff" ||
+      ds.GetRasterCount() < 1 || ds.GetMetadataItem("COMPRESSION", "IMAGE_STRUCTURE") != nullptr)
+    return Status::Ok();
+  const int64_t cell_bytes = GDALGetDataTypeSizeBytes(ds.GetRasterBand(1)->GetRasterDataType());
+  const int64_t width = ds.GetRasterXSize(), height = ds.GetRasterYSize();
+  // width, height < 2^31: their product fits int64, times cell_bytes it may not.
+  if (width * height <= file_bytes / std::max<int64_t>(cell_bytes, 1)) return Status::Ok();
+  return Status::Corruption(path + ": the header claims " + std::to_string(width) + " x " +
+                            std::to_string(height) + " uncompressed cells of " +
+                            std::to_string(cell_bytes) + " bytes, but the file has " +
+                            std::to_string(file_bytes) + " bytes: truncated or damaged");
+}
 
 }  // namespace
 
@@ -58,7 +79,17 @@ Result<GdalRaster> GdalRaster::Open(const std::string& path) {
   GDALDataset* raw = GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY);
   if (raw == nullptr)
     return Status::InvalidArgument(path + ": not a raster GDAL can read" + QuietGdal::Detail());
-  return FromDataset(std::shared_ptr<GDALDataset>(raw, CloseDataset), path);
+  // A file cut short still opens when its first directory is whole; what was lost (the CRS, the
+  // geotransform, nodata) GDAL reports only as warnings of a failed read, which would otherwise
+  // surface later as a misleading "no CRS".
+  if (CPLGetLastErrorType() >= CE_Warning &&
+      std::string_view(CPLGetLastErrorMsg()).find("IO error") != std::string_view::npos) {
+    GDALClose(GDALDataset::ToHandle(raw));
+    return Status::Corruption(path + ": the file is truncated or damaged" + QuietGdal::Detail());
+  }
+  std::shared_ptr<GDALDataset> dataset(raw, CloseDataset);
+  TB_RETURN_IF_ERROR(CheckSizeAgainstFile(*dataset, path, static_cast<int64_t>(stat.st_size)));
+  return FromDataset(std::move(dataset), path);
 }
 
 Result<GdalRaster> GdalRaster::FromDataset(std::shared_ptr<GDALDataset> dataset,

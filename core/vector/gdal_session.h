@@ -36,10 +36,28 @@ class QuietGdalErrors {
   QuietGdalErrors& operator=(const QuietGdalErrors&) = delete;
 };
 
+// GDAL's message `msg` on one line: some messages draw the text they could not parse on a second
+// line and a caret under the place on a third (OGR's SQL parser: "... Occurred around :\n<text>\n
+// <spaces>^"); that becomes "... at character N" so that a user's error stays one line.
+inline std::string OneLineGdalMessage(std::string msg) {
+  const size_t first_break = msg.find('\n');
+  if (first_break == std::string::npos) return msg;
+  const size_t caret = msg.rfind('^');
+  const size_t caret_line = msg.rfind('\n', caret);
+  std::string out = msg.substr(0, first_break);
+  const std::string around = " Occurred around :";
+  if (out.size() >= around.size() &&
+      out.compare(out.size() - around.size(), around.size(), around) == 0)
+    out.resize(out.size() - around.size());
+  if (caret != std::string::npos && caret_line != std::string::npos && caret_line >= first_break)
+    out += " at character " + std::to_string(caret - caret_line);
+  return out;
+}
+
 // " (GDAL's last message)" or "" when there is none, to append to our own message.
 inline std::string LastGdalError() {
   const char* msg = CPLGetLastErrorMsg();
-  return msg != nullptr && *msg != '\0' ? std::string(" (") + msg + ")" : "";
+  return msg != nullptr && *msg != '\0' ? " (" + OneLineGdalMessage(msg) + ")" : "";
 }
 
 }  // namespace tinbase

@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/base/number_text.h"
 #include "db/mesh/mesh_tables.h"
 #include "db/point_locator.h"
 
@@ -258,7 +259,7 @@ Result<Box> ParseBbox(const std::string& text) {
   for (double& value : v) {
     char* end = nullptr;
     value = std::strtod(p, &end);
-    if (end == p || !std::isfinite(value))
+    if (end == p || CheckNumber(value))
       return Status::InvalidArgument("bbox '" + text + "': expected minx,miny,maxx,maxy");
     p = end;
   }

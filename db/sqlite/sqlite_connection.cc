@@ -2,10 +2,10 @@
 
 #include <sqlite3.h>
 
-#include <filesystem>
 #include <mutex>
 
 #include "db/sqlite/scoped_page_cache.h"
+#include "db/sqlite/store_path.h"
 #include "db/sqlite/wal_checkpointer.h"
 
 namespace tinbase {
@@ -15,6 +15,14 @@ Status StatusFromSqlite(int rc, sqlite3* db, std::string_view context) {
   std::string msg(context);
   msg += ": ";
   msg += db != nullptr ? sqlite3_errmsg(db) : sqlite3_errstr(rc);
+  // SQLite says "disk I/O error" or "unable to open database file" for a full disk, a denied
+  // permission and a read-only file system alike; the operating system's error tells them apart.
+  const int system_error = db != nullptr ? sqlite3_system_errno(db) : 0;
+  const int primary = rc & 0xff;
+  if (system_error != 0 &&
+      (primary == SQLITE_IOERR || primary == SQLITE_CANTOPEN || primary == SQLITE_FULL ||
+       primary == SQLITE_READONLY || primary == SQLITE_PERM))
+    msg += " (" + DescribeSystemError(system_error) + ")";
   switch (rc & 0xff) {
     case SQLITE_BUSY:
     case SQLITE_LOCKED:
@@ -118,10 +126,21 @@ namespace {
 // process (GDAL's GeoPackage driver) came first, the default stays, which is only slower.
 constexpr int kStatementJournalInMemory = (128 << 10) - 1;
 
+// Set on the thread whose connection found a WAL left by a process that did not close its
+// store (SQLite rebuilds the WAL index then and says so through its log): the mark of an
+// unclean shutdown, after which a writer checks the file before it writes.
+thread_local bool g_recovered_wal = false;
+
+void SqliteLog(void*, int code, const char*) {
+  if (code == SQLITE_NOTICE_RECOVER_WAL) g_recovered_wal = true;
+}
+
 void ConfigureSqliteOnce() {
   static std::once_flag once;
-  std::call_once(
-      once, [] { (void)sqlite3_config(SQLITE_CONFIG_STMTJRNL_SPILL, kStatementJournalInMemory); });
+  std::call_once(once, [] {
+    (void)sqlite3_config(SQLITE_CONFIG_STMTJRNL_SPILL, kStatementJournalInMemory);
+    (void)sqlite3_config(SQLITE_CONFIG_LOG, SqliteLog, nullptr);
+  });
 }
 
 }  // namespace
@@ -129,10 +148,8 @@ void ConfigureSqliteOnce() {
 Result<std::unique_ptr<SqliteConnection>> SqliteConnection::Open(const std::string& path,
                                                                  Mode mode) {
   ConfigureSqliteOnce();
-  const bool exists = std::filesystem::exists(path);
-  if (mode == Mode::kCreate && exists)
-    return Status::InvalidArgument(path + ": a file already exists there");
-  if (mode != Mode::kCreate && !exists) return Status::NotFound(path + ": no such store");
+  g_recovered_wal = false;
+  TB_RETURN_IF_ERROR(StorePathProblem(path, mode));
   int flags = SQLITE_OPEN_NOMUTEX;
   if (mode == Mode::kReadOnly) flags |= SQLITE_OPEN_READONLY;
   if (mode == Mode::kReadWrite) flags |= SQLITE_OPEN_READWRITE;
@@ -232,8 +249,27 @@ Status SqliteConnection::ConfigureForStore(const StoreSettings& settings) {
   TB_RETURN_IF_ERROR(Exec("PRAGMA foreign_keys = ON"));
   TB_RETURN_IF_ERROR(Exec("PRAGMA mmap_size = " + std::to_string(settings.memory_map_bytes)));
   TB_RETURN_IF_ERROR(Exec("PRAGMA synchronous = NORMAL"));
+  if (settings.writer) TB_RETURN_IF_ERROR(CheckAfterUncleanShutdown());
   if (settings.writer && !checkpointer_) checkpointer_ = std::make_unique<WalCheckpointer>(*this);
   return Status::Ok();
+}
+
+Status SqliteConnection::CheckAfterUncleanShutdown() {
+  // The first read runs the WAL recovery if there is one to run.
+  TB_RETURN_IF_ERROR(Exec("SELECT count(*) FROM sqlite_master"));
+  if (!g_recovered_wal) return Status::Ok();
+  g_recovered_wal = false;
+  TB_ASSIGN_OR_RETURN(Statement * check, Cached("PRAGMA quick_check(1)"));
+  TB_ASSIGN_OR_RETURN(bool row, check->Step());
+  const std::string verdict = row ? check->ColumnText(0) : "no answer";
+  check->Reset();
+  if (verdict == "ok") return Status::Ok();
+  return Status::Corruption(path_ +
+                            ": the store was not closed cleanly and fails SQLite's "
+                            "quick_check (" +
+                            verdict +
+                            "): writes are refused; `tinbase check --full` shows what is damaged; "
+                            "restore a backup, or salvage with `sqlite3 STORE .recover`");
 }
 
 std::unique_ptr<Connection::Scope> SqliteConnection::BeginLargeWrite(size_t rows) {

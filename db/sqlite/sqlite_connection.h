@@ -94,7 +94,9 @@ class SqliteConnection final : public Connection {
 
   // WAL journal (on create), foreign keys on, synchronous NORMAL (durable at checkpoints, never
   // corrupt: docs/design.md, Pitfalls we already know of), the memory map, and for a writer a
-  // WalCheckpointer.
+  // WalCheckpointer. A writer opening a store that was not closed cleanly (SQLite had to recover
+  // its WAL) runs PRAGMA quick_check first: Corruption naming `tinbase check` and the recovery
+  // path when the file fails it, so nothing is written to a damaged store.
   Status ConfigureForStore(const StoreSettings& settings) override;
   // Unlike PRAGMA foreign_keys this also works inside a transaction; statements prepared before
   // are re-prepared on their next step.
@@ -111,6 +113,7 @@ class SqliteConnection final : public Connection {
 
  private:
   SqliteConnection(sqlite3* db, std::string path);
+  Status CheckAfterUncleanShutdown();
   sqlite3* db_;
   std::string path_;
   std::unordered_map<std::string, std::unique_ptr<SqliteStatement>> cache_;

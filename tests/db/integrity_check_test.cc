@@ -254,7 +254,7 @@ TEST_F(IntegrityCheckTest, ConstraintThatIsNotAnEdge) {
 TEST_F(IntegrityCheckTest, OrphanVertexBreaksEuler) {
   Sql("INSERT INTO vertices(surface, x, y, z, kind) VALUES (" + Id(terrain_.id) +
       ", 1, 2, 3, 'user')");
-  const int64_t orphan = store_->db().LastInsertRowId();
+  const int64_t orphan = *store_->db().QueryInt("SELECT max(id) FROM vertices");
   const Problem p = First();
   EXPECT_EQ(p.code, "euler");
   EXPECT_EQ(p.triangle, std::nullopt);
@@ -266,7 +266,7 @@ TEST_F(IntegrityCheckTest, CopiedTriangleOverusesEdgesAndOverlaps) {
   Sql("INSERT INTO triangles(surface, v0, v1, v2, n0, n1, n2, block) "
       "SELECT surface, v0, v1, v2, n0, n1, n2, block FROM triangles WHERE id = " +
       Id(t));
-  const int64_t copy = store_->db().LastInsertRowId();
+  const int64_t copy = *store_->db().QueryInt("SELECT max(id) FROM triangles");
   const std::vector<Problem> problems = Check();
   auto first_on_copy = std::find_if(problems.begin(), problems.end(),
                                     [&](const Problem& p) { return p.triangle == copy; });
