@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Style checks that CI runs (scripts/test.sh calls this after the tests; also `ninja lint`):
 #   format  clang-format --dry-run -Werror (.clang-format: Google, 100 columns) over every *.cc
-#           and *.h in core/ db/ service/ apps/ tests/ bench/ fuzz/;
+#           and *.h in core/ db/ service/ apps/ extensions/ tests/ bench/ fuzz/;
 #   tidy    clang-tidy with the checks of .clang-tidy (warnings are errors) over every translation
 #           unit of those folders in BUILD_DIR/compile_commands.json, and the headers they include
 #           from those folders.
@@ -18,7 +18,7 @@ build=${2:-build/test}
 clang_format=${CLANG_FORMAT:-clang-format}
 clang_tidy=${CLANG_TIDY:-clang-tidy}
 jobs=${LINT_JOBS:-$(nproc)}
-dirs=(core db service apps tests bench fuzz)
+dirs=(core db service apps extensions tests bench fuzz)
 
 case "$what" in
   format | tidy | all) ;;

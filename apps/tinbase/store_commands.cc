@@ -6,6 +6,7 @@
 #include "apps/tinbase/output.h"
 #include "db/dem_store.h"
 #include "db/integrity_check.h"
+#include "db/integrity_check_json.h"
 #include "db/store.h"
 #include "db/surface_store.h"
 
@@ -104,13 +105,7 @@ int RunCheck(const CheckArgs& args) {
   auto problems = CheckStore(**store, options);
   if (!problems.ok()) return ReportError(problems.status());
   if (args.json) {
-    nlohmann::json j = {{"ok", problems->empty()}, {"problems", nlohmann::json::array()}};
-    for (const Problem& p : *problems) {
-      nlohmann::json row = {{"code", p.code}, {"surface", p.surface}, {"message", p.message}};
-      row["triangle"] = p.triangle ? nlohmann::json(*p.triangle) : nlohmann::json(nullptr);
-      j["problems"].push_back(std::move(row));
-    }
-    std::cout << j.dump(2) << "\n";
+    std::cout << CheckJson(*problems).dump(2) << "\n";
   } else if (problems->empty()) {
     std::cout << "ok: " << args.store << " keeps every checked invariant"
               << (args.full ? " (full: 1-8)" : " (1-5, 8)") << "\n";
