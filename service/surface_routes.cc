@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/geometry/crs.h"
+#include "db/surface_json.h"
 #include "db/tiles/tile_store.h"
 #include "service/client_crs.h"
 #include "service/json_reply.h"
@@ -52,15 +53,7 @@ Result<nlohmann::json> TilePyramids(Store& store, const SurfaceInfo& s) {
 Result<nlohmann::json> DescribeSurface(Store& store, const SurfaceInfo& s) {
   TB_ASSIGN_OR_RETURN(SurfaceCounts c, SurfaceStore(store).Count(s));
   TB_ASSIGN_OR_RETURN(std::optional<Crs> crs, store.GetCrs());
-  nlohmann::json j = {{"name", s.name},
-                      {"kind", SurfaceKindName(s.kind)},
-                      {"method", s.method},
-                      {"vertices", c.vertices},
-                      {"triangles", c.triangles},
-                      {"visible_triangles", c.visible_triangles},
-                      {"constraints", c.constraints},
-                      {"features", c.features}};
-  j["tolerance"] = s.tolerance ? nlohmann::json(*s.tolerance) : nlohmann::json(nullptr);
+  nlohmann::json j = SurfaceSummaryJson(s, c);
   j["crs"] = crs ? nlohmann::json(crs->Label()) : nlohmann::json(nullptr);
   TB_ASSIGN_OR_RETURN(j["extent"], SurfaceExtent(store, s));
   TB_ASSIGN_OR_RETURN(j["extent_lonlat"], ExtentLonLat(crs, j["extent"]));

@@ -8,6 +8,7 @@
 #include "db/integrity_check.h"
 #include "db/integrity_check_json.h"
 #include "db/store.h"
+#include "db/surface_json.h"
 #include "db/surface_store.h"
 
 namespace tinbase::cli {
@@ -57,16 +58,7 @@ Result<nlohmann::json> DescribeStore(Store& store) {
   out["surfaces"] = nlohmann::json::array();
   for (const SurfaceInfo& s : surface_list) {
     TB_ASSIGN_OR_RETURN(SurfaceCounts c, surfaces.Count(s));
-    nlohmann::json j = {{"name", s.name},
-                        {"kind", SurfaceKindName(s.kind)},
-                        {"method", s.method},
-                        {"vertices", c.vertices},
-                        {"triangles", c.triangles},
-                        {"visible_triangles", c.visible_triangles},
-                        {"constraints", c.constraints},
-                        {"features", c.features}};
-    j["tolerance"] = s.tolerance ? nlohmann::json(*s.tolerance) : nlohmann::json(nullptr);
-    out["surfaces"].push_back(std::move(j));
+    out["surfaces"].push_back(SurfaceSummaryJson(s, c));
   }
   return out;
 }
