@@ -1,7 +1,10 @@
 // HttpServer: the limits, the JSON errors and the route groups on one cpp-httplib server.
 #include "service/http_server.h"
 
+#include <sys/socket.h>
+
 #include <exception>
+#include <memory>
 #include <thread>
 #include <utility>
 
@@ -55,6 +58,29 @@ void ApplyLimits(httplib::Server& server, const ServiceOptions& options) {
   server.new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
 }
 
+// Debian's cpp-httplib listens with a backlog of 5. A burst of new connections overflows that
+// queue; the kernel then drops their handshakes, a client's request arrives seconds late, and
+// httplib closes the accepted connection unanswered when it outlasts the keep-alive wait. So the
+// listening socket is remembered here and listen() is called again with the system's maximum,
+// which Linux applies to a socket that is already listening.
+struct ListeningSocket {
+  socket_t fd = -1;
+};
+
+void RememberListeningSocket(httplib::Server& server,
+                             const std::shared_ptr<ListeningSocket>& listening) {
+  server.set_socket_options([listening](socket_t fd) {
+    httplib::default_socket_options(fd);
+    listening->fd = fd;
+  });
+}
+
+Status WidenBacklog(const ListeningSocket& listening) {
+  if (listening.fd < 0 || ::listen(listening.fd, SOMAXCONN) != 0)
+    return Status::IOError("cannot widen the listening socket's backlog");
+  return Status::Ok();
+}
+
 }  // namespace
 
 HttpServer::HttpServer(std::unique_ptr<ServiceContext> context,
@@ -70,6 +96,8 @@ Result<std::unique_ptr<HttpServer>> HttpServer::Start(const ServiceOptions& opti
   TB_ASSIGN_OR_RETURN(auto context, ServiceContext::Open(options));
   auto server = std::make_unique<httplib::Server>();
   ApplyLimits(*server, options);
+  auto listening = std::make_shared<ListeningSocket>();
+  RememberListeningSocket(*server, listening);
   ReplyJsonForBareErrors(*server);
   RegisterSurfaceRoutes(*server, *context);
   RegisterTileRoutes(*server, *context);
@@ -85,6 +113,7 @@ Result<std::unique_ptr<HttpServer>> HttpServer::Start(const ServiceOptions& opti
     return Status::IOError("cannot listen on " + options.host + ":" + std::to_string(port) +
                            " (in use, or not an address of this machine)");
   }
+  TB_RETURN_IF_ERROR(WidenBacklog(*listening));
   return std::unique_ptr<HttpServer>(new HttpServer(std::move(context), std::move(server), port));
 }
 
