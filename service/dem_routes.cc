@@ -11,6 +11,7 @@
 #include "db/dem_store.h"
 #include "db/dem_window_tin.h"
 #include "service/crs_box.h"
+#include "service/dem_read.h"
 #include "service/entity_tag.h"
 #include "service/hillshade_png.h"
 #include "service/json_reply.h"
@@ -51,11 +52,6 @@ bool ReplyIfTooLarge(const ServiceContext& context, httplib::Response& res, size
              what + " is " + std::to_string(bytes) + " bytes, over the service's limit of " +
                  std::to_string(limit) + ": " + advice);
   return true;
-}
-
-Result<DemInfo> DemFromPath(DemStore& dems, const httplib::Request& req) {
-  if (req.matches.size() < 2) return Status::InvalidArgument("the path names no DEM");
-  return dems.Find(req.matches[1].str());
 }
 
 Result<nlohmann::json> DescribeDem(const DemInfo& dem) {
@@ -112,18 +108,14 @@ Result<int> OverviewLevel(const DemInfo& dem, const httplib::Request& req) {
 }
 
 void GetOverview(ServiceContext& context, const httplib::Request& req, httplib::Response& res) {
-  auto lease = context.stores().Reader();
-  if (!lease.ok()) return ReplyStatus(res, lease.status());
-  // One snapshot: the DEM's description and its blocks from the same import.
-  auto snapshot = ReadSnapshot::Begin(lease->store());
-  if (!snapshot.ok()) return ReplyStatus(res, snapshot.status());
-  DemStore dems(lease->store());
-  auto dem = DemFromPath(dems, req);
-  if (!dem.ok()) return ReplyStatus(res, dem.status());
-  auto level = OverviewLevel(*dem, req);
+  auto read = BeginDemRead(context, req);
+  if (!read.ok()) return ReplyStatus(res, read.status());
+  DemStore dems(read->store());
+  const DemInfo& dem = read->dem;
+  auto level = OverviewLevel(dem, req);
   if (!level.ok()) return ReplyStatus(res, level.status());
-  const GridGeometry& g = LevelOf(*dem, *level).geometry;
-  auto grid = dems.ReadWindow(*dem, DemBox{g.MinX(), g.MinY(), g.MaxX(), g.MaxY()}, *level);
+  const GridGeometry& g = LevelOf(dem, *level).geometry;
+  auto grid = dems.ReadWindow(dem, DemBox{g.MinX(), g.MinY(), g.MaxX(), g.MaxY()}, *level);
   if (!grid.ok()) return ReplyStatus(res, grid.status());
   auto image = HillshadePng(*grid);
   if (!image.ok()) return ReplyStatus(res, image.status());
@@ -154,32 +146,25 @@ Result<DemBox> RequestBox(const DemInfo& dem, const httplib::Request& req) {
 }
 
 void GetClip(ServiceContext& context, const httplib::Request& req, httplib::Response& res) {
-  auto lease = context.stores().Reader();
-  if (!lease.ok()) return ReplyStatus(res, lease.status());
-  // One snapshot: the DEM's description and its blocks from the same import.
-  auto snapshot = ReadSnapshot::Begin(lease->store());
-  if (!snapshot.ok()) return ReplyStatus(res, snapshot.status());
-  DemStore dems(lease->store());
-  auto dem = DemFromPath(dems, req);
-  if (!dem.ok()) return ReplyStatus(res, dem.status());
-  auto box = RequestBox(*dem, req);
+  auto read = BeginDemRead(context, req);
+  if (!read.ok()) return ReplyStatus(res, read.status());
+  DemStore dems(read->store());
+  const DemInfo& dem = read->dem;
+  auto box = RequestBox(dem, req);
   if (!box.ok()) return ReplyStatus(res, box.status());
   auto max_cells = IntegerParam(req, "max_cells", 1, kMaxClipCells, kDefaultClipCells);
   if (!max_cells.ok()) return ReplyStatus(res, max_cells.status());
   MemoryFile file(".tif");
-  auto clip = dems.Clip(*dem, *box, *max_cells, file.path());
+  auto clip = dems.Clip(dem, *box, *max_cells, file.path());
   if (!clip.ok()) return ReplyStatus(res, clip.status());
   auto bytes = file.Read();
   if (!bytes.ok()) return ReplyStatus(res, bytes.status());
-  if (bytes->size() > context.options().max_result_bytes)
-    return ReplyError(
-        res, 413, "too_large",
-        "the GeoTIFF is " + std::to_string(bytes->size()) + " bytes, over the service's limit of " +
-            std::to_string(context.options().max_result_bytes) + ": ask for fewer max_cells");
+  if (ReplyIfTooLarge(context, res, bytes->size(), "the GeoTIFF", "ask for fewer max_cells"))
+    return;
   res.set_header("X-Tinbase-Level", std::to_string(clip->level));
   res.set_header("X-Tinbase-Cells", std::to_string(clip->geometry.width) + "x" +
                                         std::to_string(clip->geometry.height));
-  res.set_header("Content-Disposition", "attachment; filename=\"" + dem->name + "-clip.tif\"");
+  res.set_header("Content-Disposition", "attachment; filename=\"" + dem.name + "-clip.tif\"");
   res.set_content(*bytes, "image/tiff");
 }
 
@@ -216,19 +201,15 @@ Result<DemWindowTinOptions> TinOptions(const httplib::Request& req) {
 void GetTin(ServiceContext& context, const httplib::Request& req, httplib::Response& res) {
   auto options = TinOptions(req);
   if (!options.ok()) return ReplyStatus(res, options.status());
-  auto lease = context.stores().Reader();
-  if (!lease.ok()) return ReplyStatus(res, lease.status());
-  // One snapshot: the DEM's description and its blocks from the same import.
-  auto snapshot = ReadSnapshot::Begin(lease->store());
-  if (!snapshot.ok()) return ReplyStatus(res, snapshot.status());
-  DemStore dems(lease->store());
-  auto dem = DemFromPath(dems, req);
-  if (!dem.ok()) return ReplyStatus(res, dem.status());
-  auto box = RequestBox(*dem, req);
+  auto read = BeginDemRead(context, req);
+  if (!read.ok()) return ReplyStatus(res, read.status());
+  DemStore dems(read->store());
+  const DemInfo& dem = read->dem;
+  auto box = RequestBox(dem, req);
   if (!box.ok()) return ReplyStatus(res, box.status());
-  auto tin = BuildDemWindowTin(dems, *dem, *box, *options);
+  auto tin = BuildDemWindowTin(dems, dem, *box, *options);
   if (!tin.ok()) return ReplyStatus(res, tin.status());
-  auto crs = Crs::FromWkt(dem->crs_wkt);
+  auto crs = Crs::FromWkt(dem.crs_wkt);
   if (!crs.ok()) return ReplyStatus(res, crs.status());
   ScratchFile file(".glb");
   ExportOptions glb;
