@@ -51,7 +51,7 @@ Result<bool> MeshCache::Begin(int64_t tx) {
 
 void MeshCache::Committed(int64_t tx) {
   committed_tx_ = tx;
-  data_version_ = pending_version_;
+  data_version_ = store_.db().DataVersionAfterCommit(pending_version_, tx);
 }
 
 void MeshCache::Clear() {

@@ -289,9 +289,12 @@ Result<Statement*> PgConnection::Cached(std::string_view sql) {
 }
 
 Result<int64_t> PgConnection::DataVersion() {
-  // Every write that changes a surface appends to `changes`; the newest transaction number says
-  // whether anything a cache holds may have changed.
-  return QueryInt("SELECT coalesce(max(tx), 0) FROM changes");
+  // Every write that changes a surface appends to `changes`; the newest transaction number
+  // committed by others says whether anything a cache holds may have changed. The rows of this
+  // connection's open transaction (xmin is its id) do not count: they are not another's commit.
+  return QueryInt(
+      "SELECT coalesce(max(tx), 0) FROM changes "
+      "WHERE xmin IS DISTINCT FROM pg_current_xact_id_if_assigned()::xid");
 }
 
 Status PgConnection::BeginWrite() {

@@ -97,6 +97,7 @@ class PgConnection final : public Connection {
   int64_t Changes() const override { return changes_; }
   int64_t TotalChanges() const override { return total_changes_; }
   Result<int64_t> DataVersion() override;
+  int64_t DataVersionAfterCommit(int64_t /*read*/, int64_t tx) const override { return tx; }
 
   // READ COMMITTED plus the store's advisory write lock (see the file comment).
   Status BeginWrite() override;

@@ -122,9 +122,13 @@ class Connection {
   // Rows changed by the last statement, and by all statements since the connection opened.
   virtual int64_t Changes() const = 0;
   virtual int64_t TotalChanges() const = 0;
-  // A number that changes when another connection commits a change to the store (it may also
-  // change after this connection's own commits): caches compare it to know they are stale.
+  // A number that changes when another connection commits a change to the store: caches compare
+  // it to know they are stale. Read inside a write transaction whose `changes` row is `tx`, it is
+  // `read`; the value the next read will give if no other connection commits in between is
+  // DataVersionAfterCommit(read, tx) (SQLite's own commits leave it as it is; PostgreSQL's is the
+  // newest transaction number, then this one's).
   virtual Result<int64_t> DataVersion() = 0;
+  virtual int64_t DataVersionAfterCommit(int64_t read, int64_t tx) const = 0;
 
   // --- transactions (use db/sql/transaction.h rather than these) ----------------------------
 

@@ -73,6 +73,7 @@ class SqliteConnection final : public Connection {
   int64_t TotalChanges() const override;
   // PRAGMA data_version.
   Result<int64_t> DataVersion() override;
+  int64_t DataVersionAfterCommit(int64_t read, int64_t /*tx*/) const override { return read; }
 
   // BEGIN IMMEDIATE: the write lock is taken at once, so a second writer waits (busy timeout)
   // here rather than failing at its first write.

@@ -26,6 +26,7 @@
 #include "db/sql/connection.h"
 #include "db/store.h"
 #include "tests/support/dem_checks.h"
+#include "tests/support/store_target.h"
 #include "tests/support/test_support.h"
 #include "tests/support/tin_fixtures.h"
 
@@ -39,6 +40,7 @@ using testing::ExpectedBlocks;
 using testing::MakeStore;
 using testing::OpenRaster;
 using testing::Options;
+using testing::StoreTarget;
 using testing::TableChecksums;
 using testing::TempDir;
 using testing::WriteGrid;
@@ -377,7 +379,7 @@ TEST(DemStore, FailureAfterWritingRollsEverythingBack) {
 // into block_col0 / block_row0 (rounded to whole cells), and a DEM without sources gets 0, 0.
 TEST(DemStore, Migration0003FillsTheBlockAnchorFromTheFirstSource) {
   TempDir dir;
-  const std::string path = dir.Path("v2.tinbase");
+  const std::string path = StoreTarget(dir, "v2.tinbase");
   {
     auto db = Connection::Open(path, Connection::Mode::kCreate);
     ASSERT_TRUE(db.ok());

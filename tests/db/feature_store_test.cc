@@ -8,12 +8,14 @@
 #include "db/polygon_editor.h"
 #include "db/surface_builder.h"
 #include "tests/support/polygon_files.h"
+#include "tests/support/store_target.h"
 #include "tests/support/test_support.h"
 
 namespace tinbase {
 namespace {
 
 using testing::Ngon;
+using testing::StoreTarget;
 using testing::TempDir;
 
 double RingArea(const testing::PointList& ring) {
@@ -25,7 +27,7 @@ double RingArea(const testing::PointList& ring) {
 
 TEST(FeatureStoreTest, FeatureSurfaceIsTheInsideWithoutTheHole) {
   TempDir dir;
-  auto store = Store::Create(dir.Path("s.tinbase"), "");
+  auto store = Store::Create(StoreTarget(dir, "s.tinbase"), "");
   ASSERT_TRUE(store.ok());
   DemStore dems(**store);
   ASSERT_TRUE(dems.Import({testing::DataPath("geology/hamersley/dtm_rp.tif")}, {}).ok());

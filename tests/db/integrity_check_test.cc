@@ -10,18 +10,20 @@
 
 #include "core/geometry/predicates.h"
 #include "db/surface_store.h"
+#include "tests/support/store_target.h"
 #include "tests/support/test_support.h"
 #include "tests/support/tin_fixtures.h"
 
 namespace tinbase {
 namespace {
 
+using testing::StoreTarget;
 using testing::TempDir;
 
 class IntegrityCheckTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    auto store = Store::Create(dir_.Path("s.tinbase"), "EPSG:32632");
+    auto store = Store::Create(StoreTarget(dir_, "s.tinbase"), "EPSG:32632");
     ASSERT_TRUE(store.ok()) << store.status().ToString();
     store_ = std::move(*store);
     auto tx = store_->BeginWrite();
@@ -381,7 +383,7 @@ TEST_F(IntegrityCheckTest, WrongBlockIsReported) {
 // triangles.tag is not a declared foreign key (migration 0009): the check stands in for it.
 TEST_F(IntegrityCheckTest, TagThatIsNotARowOfTagsIsUnknown) {
   const int64_t tagged = TriangleId(7), dangling = TriangleId(loaded_.tin.triangles.size() / 2);
-  Sql("INSERT OR IGNORE INTO tags(value) VALUES ('granite')");
+  Sql("INSERT INTO tags(value) VALUES ('granite') ON CONFLICT DO NOTHING");
   const int64_t granite = Int("SELECT id FROM tags WHERE value = 'granite'");
   Sql("UPDATE triangles SET tag = " + Id(granite) + " WHERE id = " + Id(tagged));
   EXPECT_TRUE(Check().empty()) << "a tag that exists is not a problem";
@@ -414,7 +416,7 @@ TEST_F(IntegrityCheckTest, ProblemsAreOrderedBySurfaceThenTriangle) {
 RC_GTEST_PROP(IntegrityCheckProperty, ValidSurfacesAreIntact, ()) {
   const auto seed = *rc::gen::arbitrary<uint32_t>();
   TempDir dir;
-  auto store = Store::Create(dir.Path("p.tinbase"), "");
+  auto store = Store::Create(StoreTarget(dir, "p.tinbase"), "");
   RC_ASSERT(store.ok());
   {
     auto tx = (*store)->BeginWrite();

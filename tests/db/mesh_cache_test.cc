@@ -13,6 +13,7 @@
 #include "db/polygon_editor.h"
 #include "db/surface_builder.h"
 #include "tests/support/polygon_files.h"
+#include "tests/support/store_target.h"
 #include "tests/support/test_support.h"
 
 namespace tinbase {
@@ -20,6 +21,7 @@ namespace {
 
 using testing::DataPath;
 using testing::Ngon;
+using testing::StoreTarget;
 using testing::TempDir;
 using testing::WritePolygons;
 
@@ -28,7 +30,7 @@ constexpr double kCx = 539300, kCy = 7497340, kCell = 344.404386931320971;  // H
 class MeshCacheTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    auto store = Store::Create(dir_.Path("s.tinbase"), "");
+    auto store = Store::Create(StoreTarget(dir_, "s.tinbase"), "");
     ASSERT_TRUE(store.ok()) << store.status().ToString();
     store_ = std::move(*store);
     ASSERT_TRUE(DemStore(*store_).Import({DataPath("geology/hamersley/dtm_rp.tif")}, {}).ok());

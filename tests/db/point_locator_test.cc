@@ -10,12 +10,14 @@
 #include <random>
 
 #include "core/geometry/predicates.h"
+#include "tests/support/store_target.h"
 #include "tests/support/test_support.h"
 #include "tests/support/tin_fixtures.h"
 
 namespace tinbase {
 namespace {
 
+using testing::StoreTarget;
 using testing::TempDir;
 
 // The answers LocatePoint must agree with, by testing every triangle of a loaded surface.
@@ -91,7 +93,7 @@ Result<StoredTin> StoreTin(const std::string& path, const std::string& name, Sur
 class PointLocatorTest : public ::testing::Test {
  protected:
   void Create(const std::string& name, SurfaceKind kind, const Tin& tin) {
-    auto stored = StoreTin(dir_.Path("s.tinbase"), name, kind, tin);
+    auto stored = StoreTin(StoreTarget(dir_, "s.tinbase"), name, kind, tin);
     ASSERT_TRUE(stored.ok()) << stored.status().ToString();
     store_ = std::move(stored->store);
     info_ = stored->info;
@@ -317,8 +319,8 @@ RC_GTEST_PROP(PointLocatorProperty, AgreesWithBruteForce, ()) {
                  {.points = *rc::gen::inRange(3, 300), .seed = seed, .size = 500});
   RC_PRE(!tin.triangles.empty());
   TempDir dir;
-  auto stored =
-      StoreTin(dir.Path("p.tinbase"), "p", grid ? SurfaceKind::kFree : SurfaceKind::kDelaunay, tin);
+  auto stored = StoreTin(StoreTarget(dir, "p.tinbase"), "p",
+                         grid ? SurfaceKind::kFree : SurfaceKind::kDelaunay, tin);
   RC_ASSERT(stored.ok());
   const BruteForce brute(stored->loaded);
   std::vector<Point2> queries;

@@ -25,12 +25,14 @@
 #include "db/surface_builder.h"
 #include "db/surface_store.h"
 #include "tests/support/polygon_files.h"
+#include "tests/support/store_target.h"
 #include "tests/support/test_support.h"
 
 namespace tinbase {
 namespace {
 
 using testing::PointList;
+using testing::StoreTarget;
 using testing::TempDir;
 
 // RapidCheck reads RC_PARAMS on first use; a user's setting wins.
@@ -45,7 +47,7 @@ constexpr double kCx = 539300, kCy = 7497340, kCell = 344.404386931320971;
 const std::string& BaseStore() {
   static TempDir dir;
   static const std::string path = [] {
-    const std::string p = dir.Path("base.tinbase");
+    const std::string p = StoreTarget(dir, "base.tinbase");
     auto store = Store::Create(p, "");
     EXPECT_TRUE(store.ok());
     DemStore dems(**store);
@@ -113,7 +115,7 @@ FeatureMode RandomMode() {
 
 // A private copy of the base store in `dir`, opened: each case edits its own.
 std::unique_ptr<Store> OpenCopyOfBaseStore(const TempDir& dir) {
-  const std::string path = dir.Path("p.tinbase");
+  const std::string path = StoreTarget(dir, "p.tinbase");
   std::filesystem::copy_file(BaseStore(), path);
   auto opened = Store::Open(path);
   RC_ASSERT(opened.ok());

@@ -29,6 +29,7 @@
 #include "db/polygon_editor.h"
 #include "db/surface_builder.h"
 #include "tests/support/polygon_files.h"
+#include "tests/support/store_target.h"
 #include "tests/support/test_support.h"
 #include "tests/support/tin_fixtures.h"
 
@@ -36,6 +37,7 @@ namespace tinbase {
 namespace {
 
 using testing::DataPath;
+using testing::StoreTarget;
 using testing::TempDir;
 
 // Centre of the Hamersley DEM (EPSG:28350), and its cell size.
@@ -62,7 +64,7 @@ struct Row {
 class UpdateEngineTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    auto store = Store::Create(dir_.Path("s.tinbase"), "");
+    auto store = Store::Create(StoreTarget(dir_, "s.tinbase"), "");
     ASSERT_TRUE(store.ok()) << store.status().ToString();
     store_ = std::move(*store);
     DemStore dems(*store_);
@@ -202,7 +204,7 @@ class UpdateEngineTest : public ::testing::Test {
   }
 
   void Reopen() {
-    auto store = Store::Open(dir_.Path("s.tinbase"));
+    auto store = Store::Open(StoreTarget(dir_, "s.tinbase"));
     ASSERT_TRUE(store.ok()) << store.status().ToString();
     store_ = std::move(*store);
   }
@@ -211,7 +213,7 @@ class UpdateEngineTest : public ::testing::Test {
   // succeeds; every failed attempt must leave the store byte-for-byte as it was and intact.
   // Returns the report of the attempt that succeeded.
   PolygonAddReport FailEachWriteStepUntilItSucceeds(PolygonAddOptions options) {
-    const std::string path = dir_.Path("s.tinbase");
+    const std::string path = StoreTarget(dir_, "s.tinbase");
     for (int fail_at = 1; fail_at < 50; ++fail_at) {
       store_.reset();
       const auto before = testing::TableChecksums(path);
@@ -270,7 +272,7 @@ TEST_F(UpdateEngineTest, OverlappingCrossingTouchingFeatures) {
   AddChecked(WritePolygons(dir_, "d.geojson", {{Ngon(kCx, kCy, 30 * kCell, 16)}}), "clip");
   // Shared edges have one row per feature.
   EXPECT_GT(Int("SELECT count(*) FROM (SELECT va, vb FROM constraints GROUP BY va, vb "
-                "HAVING count(*) > 1)"),
+                "HAVING count(*) > 1) AS shared"),
             0);
 }
 
@@ -284,7 +286,7 @@ TEST_F(UpdateEngineTest, RingAlongStoredConstraintsRetriangulatesNothing) {
   const int64_t edges = Int(count_a);
   ASSERT_GE(edges, 30);
   std::reverse(ring.begin(), ring.end());  // the same edges, traversed the other way
-  const int64_t visible = Int("SELECT count(*) FROM triangles WHERE visible");
+  const int64_t visible = Int("SELECT count(*) FROM triangles WHERE visible = 1");
   const PolygonAddReport b = AddChecked(WritePolygons(dir_, "b.geojson", {{ring}}), "erase");
   EXPECT_EQ(b.removed, 0);
   EXPECT_EQ(b.added, 0);
@@ -292,7 +294,7 @@ TEST_F(UpdateEngineTest, RingAlongStoredConstraintsRetriangulatesNothing) {
       Int("SELECT count(*) FROM constraints WHERE feature = " + std::to_string(b.first_feature_id)),
       edges);
   EXPECT_EQ(Int(count_a), edges);
-  EXPECT_LT(Int("SELECT count(*) FROM triangles WHERE visible"), visible);
+  EXPECT_LT(Int("SELECT count(*) FROM triangles WHERE visible = 1"), visible);
   // Removing either feature leaves the other's ring whole.
   RemoveChecked(a.first_feature_id);
   EXPECT_EQ(Int("SELECT count(*) FROM constraints"), edges);
@@ -317,7 +319,7 @@ TEST_F(UpdateEngineTest, RingAlongStoredConstraintsFollowsTheirSplits) {
   // Every piece of the ring has both owners.
   EXPECT_EQ(Int("SELECT count(*) FROM (SELECT va, vb FROM constraints WHERE feature IN (" +
                 std::to_string(a.first_feature_id) + ", " + std::to_string(bc.first_feature_id) +
-                ") GROUP BY va, vb HAVING count(*) = 2)"),
+                ") GROUP BY va, vb HAVING count(*) = 2) AS shared"),
             rows_of(a.first_feature_id));
 }
 
@@ -446,7 +448,7 @@ TEST_F(UpdateEngineTest, RingsOnTheDomainBoundary) {
 // triangles, which must stay hidden.
 TEST(UpdateEngineNodataTest, PolygonsNearNodataKeepEveryInvariant) {
   TempDir dir;
-  auto store = Store::Create(dir.Path("lux.tinbase"), "");
+  auto store = Store::Create(StoreTarget(dir, "lux.tinbase"), "");
   ASSERT_TRUE(store.ok());
   DemStore dems(**store);
   auto imported = dems.Import({DataPath("dem/elev.tif")}, {});
@@ -492,7 +494,7 @@ TEST(UpdateEngineNodataTest, LargeFillAroundANodataHole) {
               ? std::numeric_limits<float>::quiet_NaN()
               : static_cast<float>(300 + 20 * std::sin(c * 0.05) * std::cos(r * 0.04));
   ASSERT_TRUE(WriteGeoTiff(grid, dir.Path("hole.tif")).ok());
-  auto store = Store::Create(dir.Path("hole.tinbase"), "");
+  auto store = Store::Create(StoreTarget(dir, "hole.tinbase"), "");
   ASSERT_TRUE(store.ok());
   DemStore dems(**store);
   ASSERT_TRUE(dems.Import({dir.Path("hole.tif")}, {}).ok());
@@ -641,8 +643,8 @@ TEST_F(UpdateEngineTest, RingOnAnotherRingsEdgesSnapsAndBothGoAgain) {
 
 TEST_F(UpdateEngineTest, BadInputLeavesTheStoreUnchanged) {
   store_.reset();
-  const auto before = testing::TableChecksums(dir_.Path("s.tinbase"));
-  auto store = Store::Open(dir_.Path("s.tinbase"));
+  const auto before = testing::TableChecksums(StoreTarget(dir_, "s.tinbase"));
+  auto store = Store::Open(StoreTarget(dir_, "s.tinbase"));
   ASSERT_TRUE(store.ok());
   store_ = std::move(*store);
   // Partly outside the DEM.
@@ -669,7 +671,7 @@ TEST_F(UpdateEngineTest, BadInputLeavesTheStoreUnchanged) {
   auto empty = Add(dir_.Path("empty.geojson"), "fill");
   EXPECT_FALSE(empty.ok());
   store_.reset();
-  EXPECT_EQ(testing::TableChecksums(dir_.Path("s.tinbase")), before);
+  EXPECT_EQ(testing::TableChecksums(StoreTarget(dir_, "s.tinbase")), before);
 }
 
 // A self-intersecting ring (a figure of eight) of half-width d around the centre.
@@ -829,7 +831,7 @@ TEST_F(UpdateEngineTest, EachDropsTheMeshRowsWhenAnotherWriterCommits) {
   for (int k = 0; k < 5; ++k)
     rings.push_back({Ngon(kCx + (k - 2) * 3 * kCell, kCy + kCell, 4 * kCell, 15)});
   PolygonAddOptions o = EachFillOptions("over.geojson", rings);
-  const std::string path = dir_.Path("s.tinbase");
+  const std::string path = StoreTarget(dir_, "s.tinbase");
   int edits = 0;
   const FaultHook other_writer = [&](int step) -> Status {
     if (step != 0) return Status::Ok();
@@ -932,7 +934,7 @@ TEST_F(UpdateEngineTest, ManyFeaturesOverMostOfTheSurfaceReplaceItWhole) {
   const auto terrain_before = Rows();  // both surfaces' rows
   // The same load feature by feature, every edit local, in a copy of the store.
   store_.reset();
-  std::filesystem::copy_file(dir_.Path("s.tinbase"), dir_.Path("each.tinbase"));
+  std::filesystem::copy_file(StoreTarget(dir_, "s.tinbase"), StoreTarget(dir_, "each.tinbase"));
   Reopen();
 
   PolygonAddOptions o;
@@ -968,7 +970,7 @@ TEST_F(UpdateEngineTest, ManyFeaturesOverMostOfTheSurfaceReplaceItWhole) {
             kMapSide * kMapSide);
   const std::vector<std::string> whole = PaintSamples(*store_);
 
-  auto each_store = Store::Open(dir_.Path("each.tinbase"));
+  auto each_store = Store::Open(StoreTarget(dir_, "each.tinbase"));
   ASSERT_TRUE(each_store.ok());
   o.each = true;
   auto each = AddPolygons(**each_store, o);

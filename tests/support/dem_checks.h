@@ -20,6 +20,7 @@
 #include "core/raster/gdal_raster.h"
 #include "db/dem_store.h"
 #include "db/store.h"
+#include "tests/support/store_target.h"
 #include "tests/support/test_support.h"
 
 namespace tinbase::testing {
@@ -33,7 +34,7 @@ inline DemImportOptions Options(const std::string& name, int block_size = 256) {
 
 inline std::unique_ptr<Store> MakeStore(const TempDir& dir, const std::string& crs,
                                         const std::string& name = "s.tinbase") {
-  auto store = Store::Create(dir.Path(name), crs);
+  auto store = Store::Create(StoreTarget(dir, name), crs);
   EXPECT_TRUE(store.ok()) << store.status().ToString();
   return std::move(store).value();
 }

@@ -15,6 +15,7 @@
 #include "db/surface_builder.h"
 #include "db/surface_store.h"
 #include "tests/support/polygon_files.h"
+#include "tests/support/store_target.h"
 #include "tests/support/test_support.h"
 
 namespace tinbase::testing {
@@ -25,7 +26,7 @@ inline constexpr double kEditCx = 539300, kEditCy = 7497340, kEditCell = 344.404
 class EditFixture : public ::testing::Test {
  protected:
   void SetUp() override {
-    auto store = Store::Create(dir_.Path("s.tinbase"), "");
+    auto store = Store::Create(StoreTarget(dir_, "s.tinbase"), "");
     ASSERT_TRUE(store.ok()) << store.status().ToString();
     store_ = std::move(*store);
     dems_ = std::make_unique<DemStore>(*store_);
@@ -44,7 +45,7 @@ class EditFixture : public ::testing::Test {
     dems_.reset();
     store_.reset();
     if (!reopen) return;
-    auto store = Store::Open(dir_.Path("s.tinbase"));
+    auto store = Store::Open(StoreTarget(dir_, "s.tinbase"));
     ASSERT_TRUE(store.ok()) << store.status().ToString();
     store_ = std::move(*store);
     dems_ = std::make_unique<DemStore>(*store_);

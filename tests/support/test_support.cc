@@ -43,8 +43,11 @@ std::map<std::string, std::string> TableChecksums(const std::string& store_path)
   auto db = Connection::Open(store_path, Connection::Mode::kReadOnly);
   if (!db.ok()) return {{"<error>", db.status().ToString()}};
   auto tables = (*db)->Prepare(
-      "SELECT name FROM sqlite_master WHERE type = 'table' AND name NOT LIKE 'sqlite_%' "
-      "ORDER BY name");
+      (*db)->backend() == Backend::kSqlite
+          ? "SELECT name FROM sqlite_master WHERE type = 'table' AND name NOT LIKE 'sqlite_%' "
+            "ORDER BY name"
+          : "SELECT table_name FROM information_schema.tables WHERE table_schema = "
+            "current_schema() AND table_type = 'BASE TABLE' ORDER BY table_name");
   if (!tables.ok()) return {{"<error>", tables.status().ToString()}};
   while (true) {
     auto row = (*tables)->Step();
