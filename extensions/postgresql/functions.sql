@@ -1,0 +1,143 @@
+-- The SQL functions of the PostgreSQL extension `tinbase` (extensions/postgresql/CMakeLists.txt
+-- appends this file to schema/postgresql.sql). They read the store's tables in the caller's
+-- transaction, so they see its own uncommitted edits and a ROLLBACK undoes whatever it did.
+-- Each pins search_path to the store's schema and PostGIS's (SET search_path FROM CURRENT: the
+-- path CREATE EXTENSION ran the script with), so they answer the same from any search_path.
+--
+-- Point location is the walk of tinbase's PointLocator (docs/format.md, "Block index of
+-- triangles"): start from a triangle of the query point's block, cross the first edge the point
+-- lies strictly outside of. The orientation tests are in double precision, not CGAL's exact
+-- predicates, so a point within rounding of an edge may be given either triangle; a walk that
+-- meets the boundary of a surface with holes, or that runs longer than the surface has
+-- triangles, ends with a scan instead.
+
+-- Twice the signed area of (a, b, p): positive when p lies left of a->b.
+CREATE FUNCTION tinbase_orient(ax double precision, ay double precision, bx double precision,
+                               by_ double precision, px double precision, py double precision)
+RETURNS double precision LANGUAGE sql IMMUTABLE STRICT PARALLEL SAFE AS $$
+  SELECT (bx - ax) * (py - ay) - (by_ - ay) * (px - ax)
+$$;
+
+-- The surface row of `surface_name`; an error naming it when there is none.
+CREATE FUNCTION tinbase_surface(surface_name text) RETURNS surfaces
+LANGUAGE plpgsql STABLE STRICT SET search_path FROM CURRENT AS $$
+DECLARE
+  found_surface surfaces;
+BEGIN
+  SELECT * INTO found_surface FROM surfaces WHERE name = surface_name;
+  IF NOT FOUND THEN
+    RAISE EXCEPTION 'tinbase: no surface named %', quote_literal(surface_name)
+      USING ERRCODE = 'invalid_parameter_value';
+  END IF;
+  RETURN found_surface;
+END $$;
+
+-- The triangle of `surface_name` that holds (px, py), by a scan: the walk's fallback.
+CREATE FUNCTION tinbase_locate_by_scan(surface_id bigint, px double precision,
+                                       py double precision)
+RETURNS bigint LANGUAGE sql STABLE STRICT SET search_path FROM CURRENT AS $$
+  SELECT t.id
+  FROM triangles t
+    JOIN vertices a ON a.id = t.v0 JOIN vertices b ON b.id = t.v1 JOIN vertices c ON c.id = t.v2
+  WHERE t.surface = surface_id
+    AND px BETWEEN least(a.x, b.x, c.x) AND greatest(a.x, b.x, c.x)
+    AND py BETWEEN least(a.y, b.y, c.y) AND greatest(a.y, b.y, c.y)
+    AND tinbase_orient(b.x, b.y, c.x, c.y, px, py) >= 0
+    AND tinbase_orient(c.x, c.y, a.x, a.y, px, py) >= 0
+    AND tinbase_orient(a.x, a.y, b.x, b.y, px, py) >= 0
+  ORDER BY t.id
+  LIMIT 1
+$$;
+
+-- The id of the triangle of surface `surface_name` that holds (px, py), visible or not; NULL
+-- outside the surface. An error when the surface does not exist.
+CREATE FUNCTION tinbase_locate(surface_name text, px double precision, py double precision)
+RETURNS bigint LANGUAGE plpgsql STABLE STRICT SET search_path FROM CURRENT AS $$
+DECLARE
+  s surfaces := tinbase_surface(surface_name);
+  cell_x bigint := least(greatest(floor((px - s.block_origin_x) / s.block_size), 0), 16777215);
+  cell_y bigint := least(greatest(floor((py - s.block_origin_y) / s.block_size), 0), 16777215);
+  here bigint;
+  next bigint;
+  t record;
+  steps bigint := 0;
+  limit_steps bigint;
+BEGIN
+  SELECT id INTO here FROM triangles
+  WHERE surface = s.id AND block = cell_y * 16777216 + cell_x LIMIT 1;
+  IF here IS NULL THEN
+    SELECT id INTO here FROM triangles WHERE surface = s.id LIMIT 1;
+    IF here IS NULL THEN RETURN NULL; END IF;
+  END IF;
+  SELECT count(*) INTO limit_steps FROM triangles WHERE surface = s.id;
+  LOOP
+    SELECT tr.n0, tr.n1, tr.n2, a.x AS ax, a.y AS ay, b.x AS bx, b.y AS by_, c.x AS cx, c.y AS cy
+      INTO t
+    FROM triangles tr
+      JOIN vertices a ON a.id = tr.v0 JOIN vertices b ON b.id = tr.v1
+      JOIN vertices c ON c.id = tr.v2
+    WHERE tr.id = here;
+    -- n_i is across the edge opposite v_i.
+    IF tinbase_orient(t.bx, t.by_, t.cx, t.cy, px, py) < 0 THEN
+      next := t.n0;
+    ELSIF tinbase_orient(t.cx, t.cy, t.ax, t.ay, px, py) < 0 THEN
+      next := t.n1;
+    ELSIF tinbase_orient(t.ax, t.ay, t.bx, t.by_, px, py) < 0 THEN
+      next := t.n2;
+    ELSE
+      RETURN here;
+    END IF;
+    steps := steps + 1;
+    IF next IS NULL OR steps > limit_steps THEN
+      RETURN tinbase_locate_by_scan(s.id, px, py);
+    END IF;
+    here := next;
+  END LOOP;
+END $$;
+
+CREATE FUNCTION tinbase_locate(surface_name text, point geometry)
+RETURNS bigint LANGUAGE sql STABLE STRICT SET search_path FROM CURRENT AS $$
+  SELECT tinbase_locate(surface_name, ST_X(point), ST_Y(point))
+$$;
+
+-- The height of surface `surface_name` at (px, py): the plane of the triangle that holds the
+-- point. NULL outside the surface and on a triangle that is not visible (cut by a clip or erase).
+CREATE FUNCTION tinbase_z(surface_name text, px double precision, py double precision)
+RETURNS double precision LANGUAGE sql STABLE STRICT SET search_path FROM CURRENT AS $$
+  SELECT (tinbase_orient(b.x, b.y, c.x, c.y, px, py) * a.z +
+          tinbase_orient(c.x, c.y, a.x, a.y, px, py) * b.z +
+          tinbase_orient(a.x, a.y, b.x, b.y, px, py) * c.z) /
+         tinbase_orient(a.x, a.y, b.x, b.y, c.x, c.y)
+  FROM triangles t
+    JOIN vertices a ON a.id = t.v0 JOIN vertices b ON b.id = t.v1 JOIN vertices c ON c.id = t.v2
+  WHERE t.id = tinbase_locate(surface_name, px, py) AND t.visible = 1
+$$;
+
+-- The triangles across the edges of `triangle` (of surface `surface_name`), in edge order; none
+-- on the boundary. An error when the triangle is not one of the surface's.
+CREATE FUNCTION tinbase_neighbours(surface_name text, triangle bigint)
+RETURNS SETOF bigint LANGUAGE plpgsql STABLE STRICT SET search_path FROM CURRENT AS $$
+DECLARE
+  s surfaces := tinbase_surface(surface_name);
+  t triangles;
+BEGIN
+  SELECT * INTO t FROM triangles WHERE id = triangle AND surface = s.id;
+  IF NOT FOUND THEN
+    RAISE EXCEPTION 'tinbase: surface % has no triangle %', quote_literal(surface_name), triangle
+      USING ERRCODE = 'invalid_parameter_value';
+  END IF;
+  RETURN QUERY SELECT n FROM unnest(ARRAY[t.n0, t.n1, t.n2]) n WHERE n IS NOT NULL;
+END $$;
+
+-- pg_dump keeps the rows of a store made by the extension: its tables belong to the extension,
+-- whose objects pg_dump otherwise leaves to CREATE EXTENSION. Every table of the script is
+-- marked but tinbase_store, whose one row this script makes.
+DO $$
+DECLARE
+  name text;
+BEGIN
+  FOR name IN SELECT tablename FROM pg_tables
+              WHERE schemaname = current_schema() AND tablename <> 'tinbase_store' LOOP
+    PERFORM pg_extension_config_dump(quote_ident(name)::regclass, '');
+  END LOOP;
+END $$;
