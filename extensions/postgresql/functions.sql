@@ -8,8 +8,21 @@
 -- triangles"): start from a triangle of the query point's block, cross the first edge the point
 -- lies strictly outside of. The orientation tests are in double precision, not CGAL's exact
 -- predicates, so a point within rounding of an edge may be given either triangle; a walk that
--- meets the boundary of a surface with holes, or that runs longer than the surface has
--- triangles, ends with a scan instead.
+-- meets the boundary (the point is outside, or the surface has holes) or runs past 100000 steps
+-- (a cycle among constrained triangles) ends with a scan instead.
+
+-- The functions of the migrations (the id triggers, tinbase_srid of the PostGIS views) name the
+-- store's tables unqualified, for the CLI's search_path; pinned here too, the views and the
+-- triggers work from any search_path.
+DO $$
+DECLARE
+  f regprocedure;
+BEGIN
+  FOR f IN SELECT p.oid FROM pg_proc p
+           WHERE p.pronamespace = current_schema()::regnamespace AND p.proconfig IS NULL LOOP
+    EXECUTE format('ALTER FUNCTION %s SET search_path FROM CURRENT', f);
+  END LOOP;
+END $$;
 
 -- Twice the signed area of (a, b, p): positive when p lies left of a->b.
 CREATE FUNCTION tinbase_orient(ax double precision, ay double precision, bx double precision,
@@ -60,8 +73,7 @@ DECLARE
   here bigint;
   next bigint;
   t record;
-  steps bigint := 0;
-  limit_steps bigint;
+  steps integer := 0;
 BEGIN
   SELECT id INTO here FROM triangles
   WHERE surface = s.id AND block = cell_y * 16777216 + cell_x LIMIT 1;
@@ -69,7 +81,6 @@ BEGIN
     SELECT id INTO here FROM triangles WHERE surface = s.id LIMIT 1;
     IF here IS NULL THEN RETURN NULL; END IF;
   END IF;
-  SELECT count(*) INTO limit_steps FROM triangles WHERE surface = s.id;
   LOOP
     SELECT tr.n0, tr.n1, tr.n2, a.x AS ax, a.y AS ay, b.x AS bx, b.y AS by_, c.x AS cx, c.y AS cy
       INTO t
@@ -88,7 +99,7 @@ BEGIN
       RETURN here;
     END IF;
     steps := steps + 1;
-    IF next IS NULL OR steps > limit_steps THEN
+    IF next IS NULL OR steps > 100000 THEN
       RETURN tinbase_locate_by_scan(s.id, px, py);
     END IF;
     here := next;
@@ -101,17 +112,23 @@ RETURNS bigint LANGUAGE sql STABLE STRICT SET search_path FROM CURRENT AS $$
 $$;
 
 -- The height of surface `surface_name` at (px, py): the plane of the triangle that holds the
--- point. NULL outside the surface and on a triangle that is not visible (cut by a clip or erase).
+-- point, visible or not (as `tinbase locate`); NULL outside the surface.
 CREATE FUNCTION tinbase_z(surface_name text, px double precision, py double precision)
-RETURNS double precision LANGUAGE sql STABLE STRICT SET search_path FROM CURRENT AS $$
+RETURNS double precision LANGUAGE plpgsql STABLE STRICT SET search_path FROM CURRENT AS $$
+DECLARE
+  here bigint := tinbase_locate(surface_name, px, py);
+  z double precision;
+BEGIN
   SELECT (tinbase_orient(b.x, b.y, c.x, c.y, px, py) * a.z +
           tinbase_orient(c.x, c.y, a.x, a.y, px, py) * b.z +
           tinbase_orient(a.x, a.y, b.x, b.y, px, py) * c.z) /
          tinbase_orient(a.x, a.y, b.x, b.y, c.x, c.y)
+    INTO z
   FROM triangles t
     JOIN vertices a ON a.id = t.v0 JOIN vertices b ON b.id = t.v1 JOIN vertices c ON c.id = t.v2
-  WHERE t.id = tinbase_locate(surface_name, px, py) AND t.visible = 1
-$$;
+  WHERE t.id = here;
+  RETURN z;
+END $$;
 
 -- The triangles across the edges of `triangle` (of surface `surface_name`), in edge order; none
 -- on the boundary. An error when the triangle is not one of the surface's.
