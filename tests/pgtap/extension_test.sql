@@ -4,7 +4,7 @@
 -- without the store on it: they find their tables themselves.
 BEGIN;
 SET search_path TO public;
-SELECT plan(22);
+SELECT plan(26);
 
 -- The extension makes a store, as `tinbase init` does.
 SELECT has_extension('tinbase');
@@ -46,6 +46,15 @@ SELECT is((SELECT count(*) FROM (SELECT t.id, t.n0, t.n1, t.n2 FROM terrain.tria
                  IS DISTINCT FROM ARRAY(SELECT n FROM unnest(ARRAY[t.n0, t.n1, t.n2]) n
                                         WHERE n IS NOT NULL)), 0::bigint,
           'tinbase_neighbours gives the triangles across the edges, in edge order');
+
+-- tinbase_check finds what `tinbase check` finds, with the same codes and words.
+SELECT is_empty($$SELECT * FROM terrain.tinbase_check('terrain')$$, 'a sound surface has no problems');
+SELECT cmp_ok((SELECT count(*) FROM cli_problems), '>=', 5::bigint,
+              'the damage run_pgtap.sh made was seen by the CLI');
+SELECT bag_eq('SELECT * FROM sql_problems', 'SELECT * FROM cli_problems',
+              'tinbase_check reported the CLI''s problems on the damaged surface');
+SELECT throws_ok($$SELECT * FROM terrain.tinbase_check('nowhere')$$, '22023',
+                 'tinbase: no surface named ''nowhere''', 'tinbase_check names an unknown surface');
 
 -- Bad input is refused with an error naming it, and changes nothing.
 SELECT throws_ok($$SELECT terrain.tinbase_z('nowhere', 0, 0)$$, '22023',

@@ -39,4 +39,34 @@ awk 'BEGIN { srand(27); for (i = 0; i < 300; ++i)
   triangle bigint, z double precision, visible boolean, tag text)"
 "${psql[@]}" -c "\\copy public.cli_answers FROM '$dir/answers.csv' WITH (FORMAT csv, HEADER true)"
 
+# The same damage seen by `tinbase check` and by tinbase_check(): a link to no triangle, a
+# clockwise triangle, a tag that is not a row (committed, so the CLI sees it), then repaired.
+# public.cli_problems holds the CLI's problems of the codes tinbase_check() covers,
+# public.sql_problems the function's.
+"${psql[@]}" <<'SQL'
+CREATE TABLE public.saved AS SELECT * FROM terrain.triangles WHERE id IN (100, 200, 300);
+UPDATE terrain.triangles SET n0 = 99999999 WHERE id = 100;
+UPDATE terrain.triangles SET v0 = v1, v1 = v0 WHERE id = 200;
+UPDATE terrain.triangles SET tag = 77 WHERE id = 300;
+CREATE TABLE public.sql_problems AS SELECT * FROM terrain.tinbase_check('terrain');
+CREATE TABLE public.cli_problems(problem text, triangle_id bigint, detail text);
+SQL
+if "$cli" check --json "$store" >"$dir/check.json"; then
+  echo "run_pgtap: tinbase check passed a damaged store" >&2
+  exit 1
+fi
+python3 - "$dir/check.json" >"$dir/problems.csv" <<'PY'
+import csv, json, sys
+covered = {"vertex-missing", "clockwise-triangle", "degenerate-triangle", "unknown-tag",
+           "missing-neighbour", "bad-neighbour", "neighbour-edge-mismatch", "asymmetric-neighbour"}
+out = csv.writer(sys.stdout)
+for p in json.load(open(sys.argv[1]))["problems"]:
+    if p["code"] in covered:
+        out.writerow([p["code"], p["triangle"], p["message"].split(": ", 1)[1]])
+PY
+"${psql[@]}" -c "\\copy public.cli_problems FROM '$dir/problems.csv' WITH (FORMAT csv)"
+"${psql[@]}" -c "UPDATE terrain.triangles t SET v0 = s.v0, v1 = s.v1, n0 = s.n0, tag = s.tag
+  FROM public.saved s WHERE t.id = s.id"
+"$cli" check --full "$store" >/dev/null
+
 pg_prove -h 127.0.0.1 -p "$port" -U tinbase -d tinbase "$here"/*.sql
