@@ -2,9 +2,11 @@
 # The pgTAP tests of the PostgreSQL extension (CTest runs this; tests/CMakeLists.txt):
 #   tests/pgtap/run_pgtap.sh TINBASE_CLI EXTENSION_DIR
 # starts a throwaway server with the extension's files (scripts/pg-server.sh --extension-dir),
-# makes a store with CREATE EXTENSION tinbase, builds a surface into it with the CLI, records the
-# CLI's answers for a set of points (table public.cli_answers), then runs every tests/pgtap/*.sql
-# with pg_prove. A missing pgTAP or pg_prove fails the test, saying which package to install.
+# makes a store with CREATE EXTENSION tinbase (and one with `tinbase init`, to compare), builds a
+# surface into the first with the CLI, records the CLI's answers for a set of points (table
+# public.cli_answers) and its check of a damaged surface, then runs every tests/pgtap/*.sql with
+# pg_prove. A missing pgTAP or pg_prove fails the test, saying which package to install.
+# TINBASE_PGTAP_KEEP=1 keeps the server and its directory (under /tmp) for a look afterwards.
 set -euo pipefail
 cli=${1:?usage: run_pgtap.sh TINBASE_CLI EXTENSION_DIR}
 ext=${2:?usage: run_pgtap.sh TINBASE_CLI EXTENSION_DIR}
@@ -18,7 +20,7 @@ command -v pg_prove >/dev/null ||
 
 dir=$(mktemp -d /tmp/tinbase-pgtap.XXXXXX)
 chmod 755 "$dir"  # the server may run as the postgres user (scripts/pg-server.sh)
-trap '[ -n "${TINBASE_PGTAP_KEEP:-}" ] || "$root/scripts/pg-server.sh" stop "$dir/server"' EXIT
+trap '[ -n "${TINBASE_PGTAP_KEEP:-}" ] || { "$root/scripts/pg-server.sh" stop "$dir/server"; rm -rf "$dir"; }' EXIT
 url=$("$root/scripts/pg-server.sh" start "$dir/server" --extension-dir "$ext")
 port=${url##*:}
 port=${port%%/*}
@@ -26,6 +28,8 @@ psql=(psql "$url" -qAt -v ON_ERROR_STOP=1)
 
 "${psql[@]}" -c "CREATE EXTENSION pgtap; CREATE SCHEMA terrain; CREATE EXTENSION tinbase SCHEMA terrain"
 store="$url?schema=terrain"
+# A store made the CLI's way beside it, for same_store_test.sql.
+"$cli" init "$url?schema=cli_made" >/dev/null
 "$cli" dem import "$store" "$root/tests/data/geology/hamersley/dtm_rp.tif" >/dev/null
 "$cli" tin build "$store" --surface terrain --tolerance 10 >/dev/null
 "$cli" check --full "$store" >/dev/null
