@@ -21,7 +21,7 @@ set -euo pipefail
 action=${1:-}
 dir=${2:-}
 usage="usage: scripts/pg-server.sh start DIR [--extension-dir EXT] [-c NAME=VALUE ...] | stop DIR"
-[ -n "$action" ] && [ -n "$dir" ] || { echo "$usage" >&2; exit 2; }
+if [ -z "$action" ] || [ -z "$dir" ]; then echo "$usage" >&2; exit 2; fi
 shift 2
 pgbin=/usr/lib/postgresql/15/bin
 pgshare=/usr/share/postgresql/15

@@ -43,8 +43,9 @@ pg_start() {
     -c max_parallel_workers_per_gather=0)
   pg_port=${url##*:}
   pg_port=${pg_port%%/*}
-  pg_data=$pg_dir/data  # holds postmaster.pid
   # shellcheck disable=SC2034  # for the sourcing script
+  pg_data=$pg_dir/data  # holds postmaster.pid
+  # shellcheck disable=SC2034
   psql=("$pg_bin/psql" -h 127.0.0.1 -p "$pg_port" -U tinbase -d postgres -v ON_ERROR_STOP=1 -qAt)
 }
 
