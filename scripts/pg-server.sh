@@ -2,7 +2,8 @@
 # A throwaway PostgreSQL 15 with PostGIS for the tests, the benchmarks (scripts/throwaway-postgis.sh
 # sources a wrapper of it) and anyone trying the PostgreSQL backend: a cluster initialised in DIR,
 # on a free port of 127.0.0.1 only, with trust authentication for the local user `tinbase`, a
-# database `tinbase` with PostGIS, nothing kept after `stop`.
+# database `tinbase` with PostGIS, nothing kept after `stop`. A role `tinbase_password`, if a
+# test makes one, must log in with its password.
 #   scripts/pg-server.sh start DIR [--extension-dir EXT] [-c NAME=VALUE ...]
 #       starts it; prints its URL, also written to DIR/url. --extension-dir adds the extension
 #       files of EXT (the build's extensions/postgresql/extension: CREATE EXTENSION tinbase);
@@ -66,6 +67,11 @@ case "$action" in
     make_root "$dir" "$ext"
     [ "$(id -u)" = 0 ] && chown -R postgres "$dir"
     "${as_pg[@]}" "$pgbin/initdb" -D "$dir/data" -U tinbase --auth=trust >"$dir/initdb.log"
+    # One role must give a password, so the tests can try a wrong one (the first matching line
+    # of pg_hba.conf wins; everyone else is trusted).
+    { echo "host all tinbase_password 127.0.0.1/32 scram-sha-256"; cat "$dir/data/pg_hba.conf"; } \
+      >"$dir/pg_hba.conf"
+    "${as_pg[@]}" cp "$dir/pg_hba.conf" "$dir/data/pg_hba.conf"
     # A random high port; another one when it is taken. Durability is not what the tests check
     # here (the crash tests kill tinbase, not the server).
     started=""
