@@ -4,7 +4,7 @@
 -- without the store on it: they find their tables themselves.
 BEGIN;
 SET search_path TO public;
-SELECT plan(26);
+SELECT plan(30);
 
 -- The extension makes a store, as `tinbase init` does.
 SELECT has_extension('tinbase');
@@ -46,6 +46,28 @@ SELECT is((SELECT count(*) FROM (SELECT t.id, t.n0, t.n1, t.n2 FROM terrain.tria
                  IS DISTINCT FROM ARRAY(SELECT n FROM unnest(ARRAY[t.n0, t.n1, t.n2]) n
                                         WHERE n IS NOT NULL)), 0::bigint,
           'tinbase_neighbours gives the triangles across the edges, in edge order');
+
+-- tinbase_profile gives the CLI's stations along 20 random lines.
+CREATE TEMP TABLE sql_profile AS
+SELECT l.line, p.*
+FROM profile_lines l,
+  LATERAL terrain.tinbase_profile('terrain', ST_GeomFromText(l.wkt)) WITH ORDINALITY
+    AS p(distance, x, y, z, kind, triangle, visible, tag, seq);
+SELECT cmp_ok((SELECT count(*) FROM cli_profile), '>', 100::bigint,
+              'the CLI profiled the lines (they cross many triangles)');
+SELECT is((SELECT count(*) FROM sql_profile), (SELECT count(*) FROM cli_profile),
+          'tinbase_profile gives as many stations');
+SELECT is((SELECT count(*) FROM cli_profile c FULL JOIN sql_profile s USING (line, seq)
+           WHERE c.kind IS DISTINCT FROM s.kind OR c.triangle IS DISTINCT FROM s.triangle
+              OR c.visible IS DISTINCT FROM s.visible OR c.tag IS DISTINCT FROM s.tag
+              OR abs(c.distance - s.distance) > 1e-6 OR abs(c.x - s.x) > 1e-6
+              OR abs(c.y - s.y) > 1e-6 OR abs(c.z - s.z) > 1e-6
+              OR s.line IS NULL OR c.line IS NULL), 0::bigint,
+          'each station of the same kind, place, z and stretch, in the same order');
+SELECT throws_like(
+  $$SELECT * FROM terrain.tinbase_profile('terrain', 'LINESTRING(530000 7490000, 0 0)'::geometry)$$,
+  'tinbase_profile: the line leaves the surface at % on its way to point 2',
+  'a line that leaves the surface is refused, naming where');
 
 -- tinbase_check finds what `tinbase check` finds, with the same codes and words.
 SELECT is_empty($$SELECT * FROM terrain.tinbase_check('terrain')$$, 'a sound surface has no problems');

@@ -4,7 +4,7 @@
 # starts a throwaway server with the extension's files (scripts/pg-server.sh --extension-dir),
 # makes a store with CREATE EXTENSION tinbase (and one with `tinbase init`, to compare), builds a
 # surface into the first with the CLI, records the CLI's answers for a set of points (table
-# public.cli_answers) and its check of a damaged surface, then runs every tests/pgtap/*.sql with
+# public.cli_answers), its profiles of random lines and its check of a damaged surface, then runs every tests/pgtap/*.sql with
 # pg_prove. A missing pgTAP or pg_prove fails the test, saying which package to install.
 # TINBASE_PGTAP_KEEP=1 keeps the server and its directory (under /tmp) for a look afterwards.
 set -euo pipefail
@@ -42,6 +42,25 @@ awk 'BEGIN { srand(27); for (i = 0; i < 300; ++i)
 "${psql[@]}" -c "CREATE TABLE public.cli_answers(x double precision, y double precision,
   triangle bigint, z double precision, visible boolean, tag text)"
 "${psql[@]}" -c "\\copy public.cli_answers FROM '$dir/answers.csv' WITH (FORMAT csv, HEADER true)"
+
+# 20 lines of three points inside the surface, with the CLI's profile of each (public.cli_profile,
+# the stations in order as `seq`; public.profile_lines, the lines as WKT).
+awk 'BEGIN { srand(28); for (i = 1; i <= 20; ++i) {
+  printf "%d", i; for (k = 0; k < 3; ++k) printf " %.3f,%.3f", 512000 + rand() * 54000, 7468000 + rand() * 58000
+  printf "\n" } }' >"$dir/lines.txt"
+: >"$dir/profiles.csv"
+: >"$dir/lines.csv"
+while read -r id p1 p2 p3; do
+  "$cli" profile "$store" --surface terrain --line "$p1 $p2 $p3" |
+    awk -v id="$id" 'NR > 1 { printf "%d,%d,%s\n", id, NR - 1, $0 }' >>"$dir/profiles.csv"
+  echo "$id,LINESTRING(${p1/,/ }, ${p2/,/ }, ${p3/,/ })" | sed 's/,LINESTRING/,"LINESTRING/; s/$/"/' >>"$dir/lines.csv"
+done <"$dir/lines.txt"
+"${psql[@]}" -c "CREATE TABLE public.cli_profile(line integer, seq integer, distance double precision,
+  x double precision, y double precision, z double precision, kind text, triangle bigint,
+  visible boolean, tag text)"
+"${psql[@]}" -c "\\copy public.cli_profile FROM '$dir/profiles.csv' WITH (FORMAT csv)"
+"${psql[@]}" -c "CREATE TABLE public.profile_lines(line integer, wkt text)"
+"${psql[@]}" -c "\\copy public.profile_lines FROM '$dir/lines.csv' WITH (FORMAT csv)"
 
 # The same damage seen by `tinbase check` and by tinbase_check(): a link to no triangle, a
 # clockwise triangle, a tag that is not a row (committed, so the CLI sees it), then repaired.
