@@ -309,13 +309,18 @@ END $$;
 
 -- pg_dump keeps the rows of a store made by the extension: its tables belong to the extension,
 -- whose objects pg_dump otherwise leaves to CREATE EXTENSION. Every table of the script is
--- marked but tinbase_store, whose one row this script makes.
+-- marked, less the rows this script makes itself (a restore runs it again before it loads the
+-- rows): tinbase_store's one row and the rows of meta the migrations wrote.
 DO $$
 DECLARE
   name text;
+  made_here text;
 BEGIN
+  SELECT 'WHERE key NOT IN (' || string_agg(quote_literal(key), ', ') || ')' INTO made_here
+  FROM meta;
   FOR name IN SELECT tablename FROM pg_tables
               WHERE schemaname = current_schema() AND tablename <> 'tinbase_store' LOOP
-    PERFORM pg_extension_config_dump(quote_ident(name)::regclass, '');
+    PERFORM pg_extension_config_dump(quote_ident(name)::regclass,
+                                     CASE WHEN name = 'meta' THEN coalesce(made_here, '') ELSE '' END);
   END LOOP;
 END $$;

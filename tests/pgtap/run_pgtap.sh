@@ -4,8 +4,8 @@
 # starts a throwaway server with the extension's files (scripts/pg-server.sh --extension-dir),
 # makes a store with CREATE EXTENSION tinbase (and one with `tinbase init`, to compare), builds a
 # surface into the first with the CLI, records the CLI's answers for a set of points (table
-# public.cli_answers), its profiles of random lines and its check of a damaged surface, then runs every tests/pgtap/*.sql with
-# pg_prove. A missing pgTAP or pg_prove fails the test, saying which package to install.
+# public.cli_answers), its profiles of random lines and its check of a damaged surface, dumps and
+# restores the store (pg_dump), then runs every tests/pgtap/*.sql with pg_prove. A missing pgTAP or pg_prove fails the test, saying which package to install.
 # TINBASE_PGTAP_KEEP=1 keeps the server and its directory (under /tmp) for a look afterwards.
 set -euo pipefail
 cli=${1:?usage: run_pgtap.sh TINBASE_CLI EXTENSION_DIR}
@@ -91,5 +91,17 @@ PY
 "${psql[@]}" -c "UPDATE terrain.triangles t SET v0 = s.v0, v1 = s.v1, n0 = s.n0, tag = s.tag
   FROM public.saved s WHERE t.id = s.id"
 "$cli" check --full "$store" >/dev/null
+
+# pg_dump keeps an extension-made store: restored into a new database, it checks clean and holds
+# the same rows.
+pg_dump -h 127.0.0.1 -p "$port" -U tinbase -d tinbase -Fc -f "$dir/store.dump"
+psql "${url%/*}/postgres" -qAt -v ON_ERROR_STOP=1 -c "CREATE DATABASE restored"
+pg_restore -h 127.0.0.1 -p "$port" -U tinbase -d restored --exit-on-error "$dir/store.dump"
+"$cli" check --full "${url%/*}/restored?schema=terrain" >/dev/null
+count_rows="SELECT (SELECT count(*) FROM terrain.triangles) || ' ' ||
+  (SELECT count(*) FROM terrain.vertices) || ' ' || (SELECT count(*) FROM terrain.meta) || ' ' ||
+  (SELECT count(*) FROM terrain.tinbase_store)"
+[ "$(psql "${url%/*}/restored" -qAt -c "$count_rows")" = "$("${psql[@]}" -c "$count_rows")" ] ||
+  { echo "run_pgtap: the restored store differs from the dumped one" >&2; exit 1; }
 
 pg_prove -h 127.0.0.1 -p "$port" -U tinbase -d tinbase "$here"/*.sql
