@@ -5,7 +5,8 @@
 # makes a store with CREATE EXTENSION tinbase (and one with `tinbase init`, to compare), builds a
 # surface into the first with the CLI, records the CLI's answers for a set of points (table
 # public.cli_answers), its profiles of random lines and its check of a damaged surface, dumps and
-# restores the store (pg_dump), then runs every tests/pgtap/*.sql with pg_prove. A missing pgTAP or pg_prove fails the test, saying which package to install.
+# restores the store (pg_dump), then runs every tests/pgtap/*.sql with pg_prove. A missing pgTAP
+# or pg_prove fails the test, saying which package to install.
 # TINBASE_PGTAP_KEEP=1 keeps the server and its directory (under /tmp) for a look afterwards.
 set -euo pipefail
 cli=${1:?usage: run_pgtap.sh TINBASE_CLI EXTENSION_DIR}
