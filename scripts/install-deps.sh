@@ -10,6 +10,7 @@ PACKAGES=(
   libopenvdb-dev libboost-iostreams-dev
   libsqlite3-dev sqlite3 libblosc-dev libzstd-dev zlib1g-dev
   libpq-dev postgresql-15 postgresql-15-postgis-3
+  postgresql-15-pgtap libtap-parser-sourcehandler-pgtap-perl
   nlohmann-json3-dev libcli11-dev
   libtbb-dev
   libtinygltf-dev libmeshoptimizer-dev libcpp-httplib-dev

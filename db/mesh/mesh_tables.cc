@@ -656,7 +656,7 @@ Result<int64_t> MeshTables::CountTriangles() {
 Result<int64_t> MeshTables::CountTrianglesUpTo(int64_t limit) {
   TB_ASSIGN_OR_RETURN(Statement * stmt,
                       db_.Cached("SELECT count(*) FROM (SELECT 1 FROM triangles WHERE surface = ? "
-                                 "LIMIT ?)"));
+                                 "LIMIT ?) AS capped"));
   stmt->Bind(1, surface_.id).Bind(2, limit);
   TB_ASSIGN_OR_RETURN(std::optional<int64_t> count, FirstValue(*stmt));
   return count.value_or(0);
