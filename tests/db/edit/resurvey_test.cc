@@ -21,6 +21,7 @@
 #include "db/change_log.h"
 #include "db/dem_store.h"
 #include "db/feature_store.h"
+#include "db/integrity_check.h"
 #include "db/polygon_editor.h"
 #include "db/surface_builder.h"
 #include "db/surface_store.h"
@@ -208,6 +209,20 @@ TEST_F(ResurveyTest, EqualsARebuildFromTheNewDem) {
   EXPECT_EQ(resurveyed->features, rebuilt->features);
   EXPECT_EQ(resurveyed->triangles - resurveyed->visible_triangles,
             rebuilt->triangles - rebuilt->visible_triangles);
+}
+
+// The control: the same sheet imported with the surfaces left as they were breaks the tolerance
+// (invariant 7), which the tests above would then see.
+TEST_F(ResurveyTest, WithoutTheUpdateTheSurfacesMissTheNewCells) {
+  DemImportOptions o;
+  o.name = "dtm";
+  o.under_surfaces = [](const DemImportReport&) { return Status::Ok(); };
+  ASSERT_TRUE(DemStore(*store_).Import({CorrectedSheet(95, 92, 24, 120)}, o).ok());
+  auto problems = CheckStore(*store_, {.surface = {}, .full = true});
+  ASSERT_TRUE(problems.ok());
+  size_t tolerance = 0;
+  for (const Problem& p : *problems) tolerance += p.code == "tolerance" ? 1 : 0;
+  EXPECT_GT(tolerance, 0u);
 }
 
 TEST_F(ResurveyTest, SheetGrowingTheGridIsRefusedAndChangesNothing) {
