@@ -120,6 +120,29 @@ Box BoxOfDemBox(const DemBox& b) {
   return box;
 }
 
+// InvalidArgument when a flagged cell of `window` lies within a cell of the DEM's outer rows or
+// columns, whose centres are the surface's boundary: a local edit keeps the boundary's edges (R's
+// outline) and cannot refine along them, so the new cells there could not be met.
+Status RefuseBoundaryCells(const DemInfo& dem, const Grid& window,
+                           const std::vector<uint8_t>& flags) {
+  const GridGeometry& g = dem.geometry;
+  const GridGeometry& w = window.geometry;
+  const auto col0 = std::llround((w.origin_x - g.origin_x) / g.cell_x);
+  const auto row0 = std::llround((w.origin_y - g.origin_y) / g.cell_y);
+  for (int64_t r = 0; r < w.height; ++r)
+    for (int64_t c = 0; c < w.width; ++c) {
+      if (!flags[static_cast<size_t>(r * w.width + c)]) continue;
+      const int64_t col = col0 + c, row = row0 + r;
+      if (col > 1 && col < g.width - 2 && row > 1 && row < g.height - 2) continue;
+      return Status::InvalidArgument(
+          "the new cell at column " + std::to_string(col) + ", row " + std::to_string(row) +
+          " of DEM '" + dem.name +
+          "' lies by the surface's boundary and differs from it by more than its tolerance; a "
+          "local update cannot refine along the boundary: build the surface again");
+    }
+  return Status::Ok();
+}
+
 // One surface brought up to date with the cells of `written` (inside the import's transaction).
 Result<SurfaceResurvey> ResurveySurface(Store& store, DemStore& dems, const DemInfo& dem,
                                         const SurfaceInfo& surface, const DemBox& written) {
@@ -129,6 +152,7 @@ Result<SurfaceResurvey> ResurveySurface(Store& store, DemStore& dems, const DemI
   TB_ASSIGN_OR_RETURN(Grid window, dems.ReadWindow(dem, written, 0));
   const std::vector<uint8_t> flags =
       MissedCells(loaded.tin, window, surface.tolerance.value_or(1.0), &out.cells_missed);
+  TB_RETURN_IF_ERROR(RefuseBoundaryCells(dem, window, flags));
   const FlaggedCells flagged(window.geometry, flags);
   LocalEdit edit;
   for (size_t t = 0; t < loaded.tin.triangles.size(); ++t) {

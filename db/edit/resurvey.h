@@ -43,7 +43,9 @@ struct ResurveyReport {
 // set here) and brings every surface built on it up to date, all in one transaction. Errors of
 // Import; InvalidArgument naming the DEM and its surfaces when the sheets would grow the DEM's
 // grid (a surface's hull cannot grow locally: import under a new name and build); errors of the
-// update engine (Corruption, DEM read errors). The store is unchanged on every error.
+// update engine (Corruption, DEM read errors); InvalidArgument naming the surface and the cell
+// when a cell the surface misses lies within a cell of the DEM's outer rows or columns (the
+// surface's boundary, which a local edit cannot refine). The store is unchanged on every error.
 Result<ResurveyReport> ImportUnderSurfaces(Store& store, const std::vector<std::string>& files,
                                            DemImportOptions options);
 

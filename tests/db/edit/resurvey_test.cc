@@ -211,6 +211,68 @@ TEST_F(ResurveyTest, EqualsARebuildFromTheNewDem) {
             rebuilt->triangles - rebuilt->visible_triangles);
 }
 
+// A new sheet over nodata: the Hamersley DEM first stored with a hole of nodata near its corner,
+// then the whole sheet imported over it. The triangles there come into view (invariant 6 recomputes
+// paint) and meet the new cells (invariant 7). The store of the nodata tests: the DEM with a 30 x
+// 30 hole of nodata from (first, first), and surface "t" built on it.
+std::unique_ptr<Store> StoreWithHole(const TempDir& dir, int64_t first) {
+  auto store = Store::Create(dir.Path("s.tinbase"), "");
+  EXPECT_TRUE(store.ok()) << store.status().ToString();
+  auto raster = GdalRaster::Open(DataPath("geology/hamersley/dtm_rp.tif"));
+  EXPECT_TRUE(raster.ok());
+  auto grid = raster->Read();
+  EXPECT_TRUE(grid.ok());
+  for (int64_t r = first; r < first + 30; ++r)
+    for (int64_t c = first; c < first + 30; ++c)
+      grid->cells[static_cast<size_t>(r * grid->geometry.width + c)] = NAN;
+  const std::string holed = dir.Path("holed.tif");
+  EXPECT_TRUE(WriteGeoTiff(*grid, holed).ok());
+  DemImportOptions dem;
+  dem.name = "dtm";
+  EXPECT_TRUE(DemStore(**store).Import({holed}, dem).ok());
+  SurfaceBuildOptions b;
+  b.surface = "t";
+  b.greedy.tolerance = 5;
+  EXPECT_TRUE(BuildSurfaceFromDem(**store, b).ok());
+  return std::move(*store);
+}
+
+TEST(ResurveyNodataTest, NewSheetOverNodataShowsTheTrianglesThere) {
+  TempDir dir;
+  std::unique_ptr<Store> store = StoreWithHole(dir, 5);
+  auto counts_before = SurfaceStore(*store).Count(*SurfaceStore(*store).Find("t"));
+  ASSERT_TRUE(counts_before.ok());
+  DemImportOptions dem;
+  dem.name = "dtm";
+  auto report = ImportUnderSurfaces(*store, {DataPath("geology/hamersley/dtm_rp.tif")}, dem);
+  ASSERT_TRUE(report.ok()) << report.status().ToString();
+  ASSERT_EQ(report->surfaces.size(), 1u);
+  EXPECT_GT(report->surfaces[0].cells_missed, 0);
+  testing::ExpectStoreIntact(*store, /*full=*/true);
+  ExpectSameAsFromScratch(*store, "t");
+  auto counts_after = SurfaceStore(*store).Count(*SurfaceStore(*store).Find("t"));
+  ASSERT_TRUE(counts_after.ok());
+  EXPECT_GT(counts_after->visible_triangles, counts_before->visible_triangles);
+}
+
+// The hole at the corner: the new cells on the surface's boundary cannot be met locally.
+TEST(ResurveyNodataTest, NewCellsOnTheBoundaryAreRefusedAndChangeNothing) {
+  TempDir dir;
+  StoreWithHole(dir, 0).reset();
+  const auto before = testing::TableChecksums(dir.Path("s.tinbase"));
+  auto store = Store::Open(dir.Path("s.tinbase"));
+  ASSERT_TRUE(store.ok());
+  DemImportOptions dem;
+  dem.name = "dtm";
+  auto report = ImportUnderSurfaces(**store, {DataPath("geology/hamersley/dtm_rp.tif")}, dem);
+  ASSERT_EQ(report.status().code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(report.status().message().find("surface 't'"), std::string::npos);
+  EXPECT_NE(report.status().message().find("lies by the surface's boundary"), std::string::npos)
+      << report.status().message();
+  store->reset();
+  EXPECT_EQ(testing::TableChecksums(dir.Path("s.tinbase")), before);
+}
+
 // The control: the same sheet imported with the surfaces left as they were breaks the tolerance
 // (invariant 7), which the tests above would then see.
 TEST_F(ResurveyTest, WithoutTheUpdateTheSurfacesMissTheNewCells) {
