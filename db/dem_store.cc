@@ -726,6 +726,27 @@ Result<std::vector<float>> DemStore::Impl::AssembleBlock(int64_t* infinite_cells
   return cells;
 }
 
+// The level-0 extent of blocks `touched` (by, bx), clipped to the DEM's grid.
+DemBox WrittenBox(const DemInfo& dem, const std::set<std::pair<int64_t, int64_t>>& touched) {
+  const GridGeometry& g = dem.geometry;
+  const int64_t b = dem.block_size;
+  int64_t c0 = g.width, c1 = 0, r0 = g.height, r1 = 0;
+  for (const auto& [by, bx] : touched) {
+    c0 = std::min(c0, dem.block_col0 + bx * b);
+    c1 = std::max(c1, dem.block_col0 + (bx + 1) * b);
+    r0 = std::min(r0, dem.block_row0 + by * b);
+    r1 = std::max(r1, dem.block_row0 + (by + 1) * b);
+  }
+  c0 = std::max<int64_t>(c0, 0), r0 = std::max<int64_t>(r0, 0);
+  c1 = std::min(c1, g.width), r1 = std::min(r1, g.height);
+  if (c0 >= c1 || r0 >= r1) return {};
+  const double xa = g.origin_x + static_cast<double>(c0) * g.cell_x;
+  const double xb = g.origin_x + static_cast<double>(c1) * g.cell_x;
+  const double ya = g.origin_y + static_cast<double>(r0) * g.cell_y;
+  const double yb = g.origin_y + static_cast<double>(r1) * g.cell_y;
+  return {std::min(xa, xb), std::min(ya, yb), std::max(xa, xb), std::max(ya, yb)};
+}
+
 Result<DemImportReport> DemStore::Impl::ImportInTransaction(const std::vector<std::string>& files,
                                                             const DemImportOptions& options) {
   TB_ASSIGN_OR_RETURN(std::vector<GdalRaster> rasters, OpenRasters(files));
@@ -737,7 +758,9 @@ Result<DemImportReport> DemStore::Impl::ImportInTransaction(const std::vector<st
   DemImportReport report;
   TB_ASSIGN_OR_RETURN(std::optional<DemInfo> existing,
                       FindWhere("WHERE name = ?", [&](Statement& st) { st.Bind(1, name); }));
-  if (existing) TB_RETURN_IF_ERROR(RefuseImportUnderSurfaces(store, *existing));
+  if (existing && !options.under_surfaces)
+    TB_RETURN_IF_ERROR(RefuseImportUnderSurfaces(store, *existing));
+  if (existing) report.geometry_before = existing->geometry;
   TB_RETURN_IF_ERROR(CheckDemImportCells(rasters, options.max_cells));
   TB_ASSIGN_OR_RETURN(Crs crs, StoreCrsFor(rasters.front()));
   const std::optional<double> first_nodata = rasters.front().nodata();
@@ -768,6 +791,7 @@ Result<DemImportReport> DemStore::Impl::ImportInTransaction(const std::vector<st
   }
   TB_RETURN_IF_ERROR(UpdateOverviews(dem, old_levels, touched, &report));
   report.dem = dem;
+  report.written = WrittenBox(dem, touched);
   return report;
 }
 
@@ -793,7 +817,20 @@ Result<DemImportReport> DemStore::Import(const std::vector<std::string>& files,
   TB_ASSIGN_OR_RETURN(DemImportReport report, impl_->ImportInTransaction(files, options));
   const uint64_t new_token = NewToken();
   TB_RETURN_IF_ERROR(impl_->store.SetMeta(kCacheTokenKey, std::to_string(new_token)));
-  TB_RETURN_IF_ERROR(tx->Commit());
+  if (options.under_surfaces) {
+    // Reads in the hook go through the new token: blocks cached under the old one hold the old
+    // cells. On failure the new token's entries hold cells the rollback undid.
+    impl_->token = new_token;
+  }
+  Status written = options.under_surfaces ? options.under_surfaces(report) : Status::Ok();
+  if (written.ok()) written = tx->Commit();
+  if (!written.ok()) {
+    if (options.under_surfaces) {
+      impl_->token = old_token;
+      DemBlockCache::Instance().EraseStore(new_token);
+    }
+    return written;
+  }
   impl_->token = new_token;
   DemBlockCache::Instance().EraseStore(old_token);
   if (options.progress) options.progress(1.0);  // the overviews' 4/3 is an upper bound

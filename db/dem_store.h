@@ -89,6 +89,8 @@ struct DemClip {
 // The default DemImportOptions::max_cells: 2^34 cells, a 131072 x 131072 grid (64 GiB of float32).
 inline constexpr int64_t kDefaultMaxDemImportCells = int64_t{1} << 34;
 
+struct DemImportReport;
+
 struct DemImportOptions {
   std::string name;      // DEM to create or extend; empty: the first file's stem
   int block_size = 256;  // power of two in [8, 4096], used when the DEM is created
@@ -106,6 +108,11 @@ struct DemImportOptions {
   // Called now and then with the fraction of the import done (by blocks written, the overviews
   // counted), from the calling thread; empty: not called. For progress bars.
   std::function<void(double fraction)> progress;
+  // When set, an import into a DEM that surfaces are built on is allowed (`dem import
+  // --update-surfaces`, db/edit/resurvey.h): it is called inside the import's transaction once
+  // every block is written, with the import's report; reads through this DemStore then see the new
+  // cells. A non-OK status rolls the whole import back and Import returns it.
+  std::function<Status(const DemImportReport& report)> under_surfaces;
 };
 
 enum class DemSampling {
@@ -121,6 +128,10 @@ struct DemImportReport {
   int64_t bytes_stored = 0;             // compressed bytes of those blocks
   bool warped = false;                  // a source was reprojected onto the store's CRS
   int64_t infinite_cells = 0;           // source cells of +/-Inf, stored as nodata
+  // The level-0 extent of the blocks written (a sheet's cells lie inside it), clipped to the DEM.
+  DemBox written;
+  // The DEM's grid before the import, when it existed.
+  std::optional<GridGeometry> geometry_before;
 };
 
 // What is stored of one level of a DEM.

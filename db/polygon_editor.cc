@@ -202,6 +202,7 @@ struct SurfaceSession {
   size_t load_points = 0;
   // The lowest and highest z of the DEM's cells, read when a level is first checked.
   std::optional<std::pair<double, double>> relief;
+  bool strict = false;  // PolygonAddOptions::strict: no clipping to the data area
 };
 
 Result<std::unique_ptr<SurfaceSession>> OpenSession(Store& store, const SurfaceInfo& surface) {
@@ -250,6 +251,8 @@ Result<size_t> LoadPointsThatReadTheSurface(Store& store, const SurfaceInfo& sur
 struct NewFeature {
   EditorFeature feature;
   std::vector<EditPolyline> lines;
+  ClipVerdict verdict = ClipVerdict::kInside;  // of OverhangClip; kOutside: nothing to add
+  double area_outside = 0;
 };
 
 // The range a replace level may take: the DEM's relief widened by ten times its height, and by
@@ -282,13 +285,31 @@ Status CheckLevel(SurfaceSession& session, const EditorFeature& f) {
                                  FormatNumber(range.second) + " are accepted)");
 }
 
+// The feature checked, cut to the data area (unless strict) and draped; a feature wholly outside
+// comes back undraped with verdict kOutside.
 Result<NewFeature> Prepare(SurfaceSession& session, EditorFeature f) {
   TB_RETURN_IF_ERROR(CheckLevel(session, f));
   NewFeature out;
+  if (!session.strict) {
+    TB_ASSIGN_OR_RETURN(DataAreaClip clip, ClipFeatureToDataArea(session.dems, session.dem, f));
+    out.verdict = clip.verdict;
+    out.area_outside = clip.area_outside;
+    if (clip.verdict == ClipVerdict::kOutside) {
+      out.feature = std::move(f);
+      return out;
+    }
+  }
   TB_RETURN_IF_ERROR(DrapeFeature(session.store, session.surface, f, session.elevation,
                                   session.drape, &out.lines));
   out.feature = std::move(f);
   return out;
+}
+
+// InvalidArgument "<label>: lies wholly outside ..." for a feature of verdict kOutside.
+Status RefuseOutside(const SurfaceSession& session, const NewFeature& n) {
+  if (n.verdict != ClipVerdict::kOutside) return Status::Ok();
+  return Status::InvalidArgument(n.feature.label + ": " +
+                                 WhollyOutsideMessage(session.surface.name));
 }
 
 // The surface's features before the edit of change `tx`: the session's when they are those of
@@ -412,6 +433,9 @@ Result<PolygonAddReport> ApplyEditOnce(SurfaceSession& session, std::vector<NewF
   report.first_feature_id = added.empty() ? 0 : added.front().feature.id;
   for (const NewFeature& n : added) report.feature_ids.push_back(n.feature.id);
   report.visible = result.visible_added;
+  for (const NewFeature& n : added)
+    if (n.verdict == ClipVerdict::kCut)
+      report.clipped.push_back({n.feature.id, n.feature.label, n.area_outside});
   return report;
 }
 
@@ -452,6 +476,7 @@ Result<PolygonAddReport> AddPolygons(Store& store, const PolygonAddOptions& opti
   TB_RETURN_IF_ERROR(CheckModeOptions(options));
   TB_ASSIGN_OR_RETURN(SurfaceInfo surface, SurfaceStore(store).Find(options.surface));
   TB_ASSIGN_OR_RETURN(auto session, OpenSession(store, surface));
+  session->strict = options.strict;
   PolygonAddReport total;
   TB_ASSIGN_OR_RETURN(
       std::vector<EditorFeature> features,
@@ -466,6 +491,7 @@ Result<PolygonAddReport> AddPolygons(Store& store, const PolygonAddOptions& opti
     std::vector<NewFeature> prepared;
     for (EditorFeature& f : features) {
       TB_ASSIGN_OR_RETURN(NewFeature n, Prepare(*session, std::move(f)));
+      TB_RETURN_IF_ERROR(RefuseOutside(*session, n));
       prepared.push_back(std::move(n));
       progress(0.5 * static_cast<double>(prepared.size()));
     }
@@ -476,16 +502,20 @@ Result<PolygonAddReport> AddPolygons(Store& store, const PolygonAddOptions& opti
   for (EditorFeature& f : features) {
     progress(done++);
     const std::string label = f.label;
+    bool outside = false;
     auto one = [&]() -> Result<PolygonAddReport> {
       TB_ASSIGN_OR_RETURN(NewFeature n, Prepare(*session, std::move(f)));
+      outside = n.verdict == ClipVerdict::kOutside;
+      if (outside) return Status::InvalidArgument(WhollyOutsideMessage(session->surface.name));
       std::vector<NewFeature> single;
       single.push_back(std::move(n));
       return ApplyEdit(*session, std::move(single), {}, "polygon add");
     }();
     if (!one.ok()) {
-      total.failures.push_back(label + ": " + one.status().message());
+      (outside ? total.skipped : total.failures).push_back(label + ": " + one.status().message());
       continue;
     }
+    total.clipped.insert(total.clipped.end(), one->clipped.begin(), one->clipped.end());
     if (total.first_feature_id == 0) total.first_feature_id = one->first_feature_id;
     total.feature_ids.insert(total.feature_ids.end(), one->feature_ids.begin(),
                              one->feature_ids.end());
@@ -516,6 +546,7 @@ Result<PolygonAddReport> UpdatePolygon(Store& store, int64_t id, const PolygonAd
   if (!o.level) o.level = old.level;
   TB_RETURN_IF_ERROR(CheckModeOptions(o));
   TB_ASSIGN_OR_RETURN(auto session, OpenSession(store, surface));
+  session->strict = o.strict;
   TB_ASSIGN_OR_RETURN(std::vector<EditorFeature> read, ReadFeatures(o, *session->crs));
   if (read.empty()) return Status::InvalidArgument(o.file + ": no features to update with");
   EditorFeature merged = read.front();
@@ -526,6 +557,7 @@ Result<PolygonAddReport> UpdatePolygon(Store& store, int64_t id, const PolygonAd
   if (o.tag.empty() && o.tag_field.empty() && !merged.tag) merged.tag = old.tag;
   if (merged.attributes.empty()) merged.attributes = old.attributes;
   TB_ASSIGN_OR_RETURN(NewFeature n, Prepare(*session, std::move(merged)));
+  TB_RETURN_IF_ERROR(RefuseOutside(*session, n));
   std::vector<NewFeature> added;
   added.push_back(std::move(n));
   return ApplyEdit(*session, std::move(added), {id}, "polygon update");

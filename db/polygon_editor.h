@@ -18,6 +18,7 @@
 
 #include "core/base/status.h"
 #include "core/tin/feature_mode.h"
+#include "db/edit/overhang_clip.h"
 #include "db/edit/update_engine.h"
 #include "db/feature_store.h"
 #include "db/store.h"
@@ -56,6 +57,9 @@ struct PolygonAddOptions {
   // preparing them is counted as half the work, the one edit the other half), from the calling
   // thread; empty: not called. For progress bars.
   std::function<void(double fraction)> progress;
+  // Refuse polygons that overhang the surface's data area (its hull minus nodata), as before
+  // clipping existed; otherwise they are cut to it (db/edit/overhang_clip.h).
+  bool strict = false;
 };
 
 struct PolygonAddReport {
@@ -76,6 +80,11 @@ struct PolygonAddReport {
   // rows stay kept.
   int64_t surface_reads = 0;
   std::vector<std::string> failures;  // with `each`: "label: message" of features not added
+  // Polygon features cut to the surface's data area, in input order (none with `strict`).
+  std::vector<OverhangCut> clipped;
+  // With `each`: "label: message" of features wholly outside the data area, skipped (a warning,
+  // not a failure). Without `each` such a feature fails the call.
+  std::vector<std::string> skipped;
 };
 
 // InvalidArgument naming the file, feature, ring and vertex for bad input (and for no mode);
@@ -84,6 +93,9 @@ struct PolygonAddReport {
 // error.
 // With options.each, a feature that fails is listed in the report's failures and the others go
 // on (the call fails only when none could be read).
+// Unless options.strict, a polygon feature overhanging the surface's data area is cut to it and
+// listed in the report's `clipped`; one wholly outside is InvalidArgument "<label>: lies wholly
+// outside the data area ..." (with `each`: listed in `skipped`, the others go on).
 Result<PolygonAddReport> AddPolygons(Store& store, const PolygonAddOptions& options);
 
 // Removes feature `id` locally: its constraints go, the region is re-triangulated from the DEM to

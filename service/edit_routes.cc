@@ -131,6 +131,7 @@ Result<nlohmann::json> Answer(Store& store, const PolygonAddReport& report, int6
   answer["bbox_lonlat"] = change["bbox_lonlat"];
   answer["removed"] = report.removed;
   answer["added"] = report.added;
+  answer["clipped"] = OverhangCutsJson(report.clipped);  // polygons cut to the data area
   UpdateTiles(store, answer);
   return answer;
 }

@@ -20,6 +20,7 @@
 #include "core/tin/edge_collapse.h"
 #include "core/tin/grid_triangulation.h"
 #include "db/dem_store.h"
+#include "db/edit/resurvey.h"
 #include "db/surface_builder.h"
 
 namespace tinbase::cli {
@@ -33,7 +34,18 @@ struct ImportArgs {
   int block_size = 256;
   bool keep_first = false;
   bool force = false;
+  bool update_surfaces = false;
 };
+
+// One line per surface brought up to date by `dem import --update-surfaces`.
+void PrintResurveys(const std::vector<SurfaceResurvey>& surfaces) {
+  for (const SurfaceResurvey& s : surfaces)
+    std::cout << "surface '" << s.surface << "': " << s.cells_missed
+              << " new cell(s) off by more than its tolerance; " << s.removed
+              << " triangles replaced by " << s.added << " (" << s.refinement_points
+              << " refinement points" << (s.whole_surface ? ", the whole surface" : "")
+              << "); transaction " << s.tx << "\n";
+}
 
 int RunImport(const ImportArgs& args) {
   auto store = Store::Open(args.store);
@@ -45,9 +57,14 @@ int RunImport(const ImportArgs& args) {
   options.keep_first = args.keep_first;
   if (args.force) options.max_cells = 0;
   Stopwatch watch;
+  std::vector<SurfaceResurvey> resurveyed;
   auto report = WithProgress("dem import", [&](std::function<void(double)> progress) {
     options.progress = std::move(progress);
-    return dems.Import(args.files, options);
+    if (!args.update_surfaces) return dems.Import(args.files, options);
+    auto updated = ImportUnderSurfaces(**store, args.files, options);
+    if (!updated.ok()) return Result<DemImportReport>(updated.status());
+    resurveyed = std::move(updated->surfaces);
+    return Result<DemImportReport>(std::move(updated->import));
   });
   if (!report.ok()) return ReportError(report.status());
   const DemInfo& d = report->dem;
@@ -58,6 +75,7 @@ int RunImport(const ImportArgs& args) {
             << Num(watch.Seconds(), 3) << " s\n";
   if (report->infinite_cells > 0)
     std::cout << report->infinite_cells << " cell(s) of +/-Inf in the sources stored as nodata\n";
+  PrintResurveys(resurveyed);
   return kExitOk;
 }
 
@@ -367,6 +385,9 @@ void RegisterDemCommands(CLI::App& app, int* exit_code) {
   import->add_flag("--force", import_args->force,
                    "Import even more than 2^34 cells (the limit that stops a raster whose header "
                    "claims an absurd size)");
+  import->add_flag("--update-surfaces", import_args->update_surfaces,
+                   "Into a DEM that surfaces are built on: re-triangulate each of them locally "
+                   "where the new cells differ by more than its tolerance (one transaction)");
   import->callback([=] { *exit_code = RunImport(*import_args);
 });
 

@@ -1,6 +1,7 @@
 // Kernels: `polygon add` (features from any OGR source into a surface, one transaction or one
 // per feature), `polygon remove` and `polygon update` (one feature, locally).
 #include <iostream>
+#include <nlohmann/json.hpp>
 
 #include "apps/tinbase/command.h"
 #include "apps/tinbase/output.h"
@@ -27,6 +28,7 @@ int UpdateTilesAfterEdit(Store& store, bool wanted, int exit_code) {
 struct AddArgs {
   std::string store;
   bool update_tiles = false;
+  bool json = false;
   PolygonAddOptions options;
   std::string mode;  // parsed into options.mode by the handler
   double level = 0;
@@ -37,6 +39,26 @@ Status ParseModeOption(const std::string& text, PolygonAddOptions* options) {
   if (text.empty()) return Status::Ok();  // update: keep the feature's mode
   TB_ASSIGN_OR_RETURN(options->mode, ParseFeatureMode(text));
   return Status::Ok();
+}
+
+// What was cut off overhanging polygons and which were skipped, as warnings on stderr.
+void PrintOverhangs(const PolygonAddReport& r) {
+  for (const OverhangCut& cut : r.clipped)
+    std::cerr << "tinbase: clipped to the surface's data area: " << cut.label << " (feature "
+              << cut.feature << "), " << Num(cut.area_outside, 6) << " square units outside\n";
+  for (const std::string& skipped : r.skipped) std::cerr << "tinbase: skipped: " << skipped << "\n";
+}
+
+nlohmann::json AddJson(const PolygonAddReport& r) {
+  return {{"tx", r.tx},
+          {"features", r.feature_ids},
+          {"ring_vertices", r.ring_vertices},
+          {"removed", r.removed},
+          {"added", r.added},
+          {"visible", r.visible},
+          {"failures", r.failures},
+          {"clipped", OverhangCutsJson(r.clipped)},
+          {"skipped", r.skipped}};
 }
 
 int RunAdd(AddArgs args, bool level_given) {
@@ -52,6 +74,12 @@ int RunAdd(AddArgs args, bool level_given) {
   if (!report.ok()) return ReportError(report.status());
   for (const std::string& failure : report->failures)
     std::cerr << "tinbase: not added: " << failure << "\n";
+  PrintOverhangs(*report);
+  if (args.json) {
+    std::cout << AddJson(*report).dump() << "\n";
+    return UpdateTilesAfterEdit(**store, args.update_tiles,
+                                report->failures.empty() ? kExitOk : kExitFailure);
+  }
   std::cout << "added " << report->features << " " << args.mode << " feature(s) to '"
             << args.options.surface << "' (" << report->ring_vertices
             << " draped ring vertices): " << report->removed << " triangles replaced by "
@@ -94,6 +122,7 @@ int RunUpdate(EditArgs args, bool level_given) {
   Stopwatch watch;
   auto report = UpdatePolygon(**store, args.id, args.options);
   if (!report.ok()) return ReportError(report.status());
+  PrintOverhangs(*report);
   PrintEdit("updated", args.id, *report, watch.Seconds());
   std::cout << "the new geometry is feature " << report->first_feature_id << "\n";
   return UpdateTilesAfterEdit(**store, args.update_tiles, kExitOk);
@@ -122,6 +151,9 @@ void RegisterPolygonCommands(CLI::App& app, int* exit_code) {
                 "Commit feature by feature; report the features that failed and why");
   add->add_flag("--update-tiles", args->update_tiles,
                 "Then bring the tile pyramids up to date (tinbase tiles update)");
+  add->add_flag("--strict", args->options.strict,
+                "Refuse polygons that overhang the surface's data area instead of clipping them");
+  add->add_flag("--json", args->json, "Print the report as JSON");
   add->callback([=] { *exit_code = RunAdd(*args, level->count() > 0); });
 
   auto remove_args = std::make_shared<EditArgs>();
@@ -150,6 +182,9 @@ void RegisterPolygonCommands(CLI::App& app, int* exit_code) {
       update->add_option("--level", update_args->level, "replace: the flat z in metres");
   update->add_flag("--update-tiles", update_args->update_tiles,
                    "Then bring the tile pyramids up to date (tinbase tiles update)");
+  update->add_flag(
+      "--strict", update_args->options.strict,
+      "Refuse a polygon that overhangs the surface's data area instead of clipping it");
   update->callback([=] { *exit_code = RunUpdate(*update_args, update_level->count() > 0); });
 }
 

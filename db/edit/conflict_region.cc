@@ -35,6 +35,7 @@ class RegionFinder {
   Result<ConflictRegion> Run() {
     TB_RETURN_IF_ERROR(SeedRemovals());
     TB_RETURN_IF_ERROR(SeedRemovedReplaceInsides());
+    for (int64_t t : edit_.seed) region_.Add(t);  // a resurvey's triangles over changed cells
     TB_RETURN_IF_ERROR(LoadSurfaceIfManyPoints());
     TB_RETURN_IF_ERROR(ReadBlocksAlongNewRings());
     TB_ASSIGN_OR_RETURN(std::vector<SnappedLine> lines, SnapPoints());

@@ -1,5 +1,6 @@
 #include "db/edit/elevation_rules.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <utility>
@@ -29,7 +30,11 @@ std::optional<double> ElevationRules::Level(const Point2& p) const {
 
 double ElevationRules::TargetZ(const TinVertex& v) const {
   if (auto level = Level({v.x, v.y})) return *level;
-  if (restore_ && restore_->Locate({v.x, v.y}) != PointInPolygon::kOutside) {
+  const auto in_box = [&](const Box& b) {
+    return v.x >= b.min_x && v.x <= b.max_x && v.y >= b.min_y && v.y <= b.max_y;
+  };
+  if ((restore_ && restore_->Locate({v.x, v.y}) != PointInPolygon::kOutside) ||
+      std::any_of(resample_.begin(), resample_.end(), in_box)) {
     const double z = DemZ(v.x, v.y);
     if (std::isfinite(z)) return z;
   }

@@ -22,11 +22,15 @@ class ElevationRules {
   // replace features, or null.
   ElevationRules(DemStore& dems, const DemInfo& dem, const std::vector<EditorFeature>& features,
                  std::shared_ptr<const PolygonLocator> restore);
+  // Existing vertices inside `boxes` take the DEM's z again where it has data (LocalEdit::
+  // resample: a resurvey).
+  void set_resample(std::vector<Box> boxes) { resample_ = std::move(boxes); }
 
   // The level of the last replace feature covering `p`, if any.
   std::optional<double> Level(const Point2& p) const;
   // z of an existing vertex after the edit: a replace level, the DEM again where a removed
-  // replace feature had flattened it (when the DEM has data there), else as stored.
+  // replace feature had flattened it or inside a resample box (when the DEM has data there),
+  // else as stored.
   double TargetZ(const TinVertex& v) const;
   // z of a point the edit creates (ring points, crossings): the replace level or the DEM (NaN
   // where the DEM has no data; a failed read also gives NaN and is kept for status()).
@@ -51,6 +55,7 @@ class ElevationRules {
   bool has_replace_polygons_ = false;
   std::shared_ptr<const PolygonLocator> restore_;
   mutable Status first_error_;
+  std::vector<Box> resample_;
 };
 
 }  // namespace tinbase

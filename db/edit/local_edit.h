@@ -48,6 +48,12 @@ struct LocalEdit {
   // load edit by edit with one MeshCache (`polygon add --each`) that can keep the whole surface
   // (at most half MeshCache::kMaxKeptTriangles); else 0, as for an edit on its own.
   size_t load_points = 0;
+  // Stored triangles that join R whatever the new polylines reach, and boxes whose existing
+  // vertices take the DEM's z again (unless a replace level covers them): a resurvey
+  // (db/edit/resurvey.h) re-triangulates where the DEM changed. Every vertex in `resample` must
+  // have its whole star among `seed`, so that R's outline keeps its z.
+  std::vector<int64_t> seed;
+  std::vector<Box> resample;
 };
 
 struct EditResult {

@@ -67,7 +67,8 @@ Result<EditResult> UpdateEngine::Apply(const LocalEdit& edit) {
     TB_ASSIGN_OR_RETURN(plan, PlanRepaint(ctx, edit, region.removed_features));
   }
   // 3. R re-triangulated and refined until its outline is locally Delaunay (R may grow).
-  const ElevationRules rules(dems_, dem_, edit.features, region.restore);
+  ElevationRules rules(dems_, dem_, edit.features, region.restore);
+  rules.set_resample(edit.resample);
   TB_ASSIGN_OR_RETURN(LocalPatch patch,
                       RetriangulateUntilSettled(ctx, rules, plan.paint_box, edit.remove, &region));
   TB_RETURN_IF_ERROR(rules.status());

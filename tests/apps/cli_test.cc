@@ -190,7 +190,7 @@ TEST_F(CliTest, BadPolygonsAreRejectedAndChangeNothing) {
   ExpectRejected(store_,
                  "polygon add " + s + " --surface terrain --mode fill " +
                      write("far.geojson", "[[[0,0],[10,0],[10,10],[0,10],[0,0]]]"),
-                 "ring 0");
+                 "lies wholly outside the data area of surface 'terrain'");
   ExpectRejected(store_,
                  "polygon add " + s + " --surface terrain --mode paint " +
                      write("ok.geojson",

@@ -130,6 +130,7 @@ class UpdateEngineTest : public ::testing::Test {
     o.mode = *parsed;
     o.tag_field = mode == "fill" || mode == "replace" ? "unit" : "";
     o.level = level;
+    o.strict = strict_;
     return AddPolygons(*store_, o);
   }
 
@@ -241,6 +242,7 @@ class UpdateEngineTest : public ::testing::Test {
 
   TempDir dir_;
   std::unique_ptr<Store> store_;
+  bool strict_ = false;  // Add: PolygonAddOptions::strict
 };
 
 TEST_F(UpdateEngineTest, AddIsLocalAndKeepsEveryInvariant) {
@@ -647,7 +649,8 @@ TEST_F(UpdateEngineTest, BadInputLeavesTheStoreUnchanged) {
   auto store = Store::Open(StoreTarget(dir_, "s.tinbase"));
   ASSERT_TRUE(store.ok());
   store_ = std::move(*store);
-  // Partly outside the DEM.
+  // Partly outside the DEM: refused with --strict (clipping: tests/db/edit/overhang_clip_test.cc).
+  strict_ = true;
   auto outside =
       Add(WritePolygons(dir_, "out.geojson", {{Ngon(505374, kCy, 10 * kCell, 12)}}), "fill");
   EXPECT_EQ(outside.status().code(), StatusCode::kInvalidArgument);
@@ -708,6 +711,7 @@ TEST_F(UpdateEngineTest, EachCommitsFeatureByFeature) {
   o.surface = "terrain";
   o.mode = FeatureMode::kFill;
   o.each = true;
+  o.strict = true;  // the second overhangs the surface
   o.file = WritePolygons(dir_, "two.geojson",
                          {{Ngon(kCx, kCy, 5 * kCell, 12)}, {Ngon(505374, kCy, 10 * kCell, 12)}});
   auto report = AddPolygons(*store_, o);

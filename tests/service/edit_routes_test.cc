@@ -220,8 +220,9 @@ TEST_F(EditRoutesTest, BadBodiesAreRefusedNamingThePlaceAndChangeNothing) {
              "feature: mode breakline needs a LineString or MultiLineString");
   RefuseBody(LonLatSquare(kLon, kLat, 0.004, {{"mode", "fill"}, {"tag", 7}}),
              "feature: properties.tag is number, not a string");
-  // Off the surface: the engine names the input vertex, as `polygon add` does.
-  RefuseBody(LonLatSquare(9.5, 43.85, 0.004, {{"mode", "fill"}}), "feature, ring 0, vertex 0: (");
+  // Wholly off the surface: refused, as `polygon add` refuses it (one partly off is clipped).
+  RefuseBody(LonLatSquare(9.5, 43.85, 0.004, {{"mode", "fill"}}),
+             "feature: lies wholly outside the data area of surface 't'");
   RefuseBody(LonLatSquare(kLon, kLat, 0.004, {{"mode", "fill"}}), "parameter 'crs'", "?crs=EPSG:0");
   RefuseBody(LonLatSquare(kLon, kLat, 0.004, {{"mode", "fill"}}), "parameter 'level'",
              "?crs=EPSG:4326&level=nan");
