@@ -203,6 +203,7 @@ struct SurfaceSession {
   // The lowest and highest z of the DEM's cells, read when a level is first checked.
   std::optional<std::pair<double, double>> relief;
   bool strict = false;  // PolygonAddOptions::strict: no clipping to the data area
+  BeforeCommit before_commit;  // the caller's, run inside each edit's transaction
 };
 
 Result<std::unique_ptr<SurfaceSession>> OpenSession(Store& store, const SurfaceInfo& surface) {
@@ -420,6 +421,7 @@ Result<PolygonAddReport> ApplyEditOnce(SurfaceSession& session, std::vector<NewF
   TB_ASSIGN_OR_RETURN(EditResult result, engine.Apply(edit));
   for (int64_t id : removed) TB_RETURN_IF_ERROR(DeleteFeature(store, id));
   TB_RETURN_IF_ERROR(RecordChange(store, report.tx, added, removed, result, edit.changed));
+  if (session.before_commit) TB_RETURN_IF_ERROR(session.before_commit(store, report.tx));
   TB_RETURN_IF_ERROR(tx->Commit());
   session.features = std::move(edit.features);
   session.features_tx = report.tx;
@@ -477,6 +479,7 @@ Result<PolygonAddReport> AddPolygons(Store& store, const PolygonAddOptions& opti
   TB_ASSIGN_OR_RETURN(SurfaceInfo surface, SurfaceStore(store).Find(options.surface));
   TB_ASSIGN_OR_RETURN(auto session, OpenSession(store, surface));
   session->strict = options.strict;
+  session->before_commit = options.before_commit;
   PolygonAddReport total;
   TB_ASSIGN_OR_RETURN(
       std::vector<EditorFeature> features,
@@ -532,9 +535,11 @@ Result<PolygonAddReport> AddPolygons(Store& store, const PolygonAddOptions& opti
   return total;
 }
 
-Result<PolygonAddReport> RemovePolygon(Store& store, int64_t id) {
+Result<PolygonAddReport> RemovePolygon(Store& store, int64_t id,
+                                       const BeforeCommit& before_commit) {
   TB_ASSIGN_OR_RETURN(SurfaceInfo surface, SurfaceOfFeature(store, id));
   TB_ASSIGN_OR_RETURN(auto session, OpenSession(store, surface));
+  session->before_commit = before_commit;
   return ApplyEdit(*session, {}, {id}, "polygon remove");
 }
 
@@ -547,6 +552,7 @@ Result<PolygonAddReport> UpdatePolygon(Store& store, int64_t id, const PolygonAd
   TB_RETURN_IF_ERROR(CheckModeOptions(o));
   TB_ASSIGN_OR_RETURN(auto session, OpenSession(store, surface));
   session->strict = o.strict;
+  session->before_commit = o.before_commit;
   TB_ASSIGN_OR_RETURN(std::vector<EditorFeature> read, ReadFeatures(o, *session->crs));
   if (read.empty()) return Status::InvalidArgument(o.file + ": no features to update with");
   EditorFeature merged = read.front();

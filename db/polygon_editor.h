@@ -38,6 +38,12 @@ struct MemoryFeature {
   std::vector<std::vector<Point2>> lines;  // breakline
 };
 
+// Called inside an edit's write transaction once all its rows and its `changes` row (number
+// `tx`) are written, just before the commit: what it writes commits with the edit, and an error
+// it returns rolls the edit back and is the edit's error. `tinbase serve` brings the tile
+// pyramids up to date there, so no tile is ever served that an edit has made stale.
+using BeforeCommit = std::function<Status(Store& store, int64_t tx)>;
+
 struct PolygonAddOptions {
   std::string surface;
   std::string file;
@@ -60,6 +66,8 @@ struct PolygonAddOptions {
   // Refuse polygons that overhang the surface's data area (its hull minus nodata), as before
   // clipping existed; otherwise they are cut to it (db/edit/overhang_clip.h).
   bool strict = false;
+  // Called before each edit's commit (with `each`, once per feature); empty: not called.
+  BeforeCommit before_commit;
 };
 
 struct PolygonAddReport {
@@ -100,7 +108,9 @@ Result<PolygonAddReport> AddPolygons(Store& store, const PolygonAddOptions& opti
 
 // Removes feature `id` locally: its constraints go, the region is re-triangulated from the DEM to
 // the tolerance, visibility and tags around it are recomputed. NotFound "no feature 12".
-Result<PolygonAddReport> RemovePolygon(Store& store, int64_t id);
+// `before_commit` as PolygonAddOptions'.
+Result<PolygonAddReport> RemovePolygon(Store& store, int64_t id,
+                                       const BeforeCommit& before_commit = {});
 
 // Replaces feature `id` by the features of options.file (merged into one feature): mode, tag and
 // level default to the old feature's when options leave them empty. One transaction. Errors as

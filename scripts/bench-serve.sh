@@ -135,11 +135,14 @@ e = next(s for s in surfaces if s["name"] == sys.argv[2])["extent"]
 print(e[0] + 0.01, e[1] + 0.01, e[3] - 0.01, e[4] - 0.01)
 PY
 )
-# Every tile of the pyramid (layer.json's available rectangles), shuffled with a fixed seed.
-python3 - "$port" "$surface" >"$out/tiles.txt" <<'PY'
-import json, random, sys, urllib.request
-port, surface = sys.argv[1], sys.argv[2]
-layer = json.load(urllib.request.urlopen(f"http://127.0.0.1:{port}/surfaces/{surface}/tiles/layer.json"))
+# Every stored tile of the pyramid (the store's layer.json: the served one also lists the filler
+# tiles of the levels above the coarsest stored one, every tile of levels 0-7 here), shuffled
+# with a fixed seed.
+"$tinbase" tiles info "$out/tiles.tinbase" --surface "$surface" --json >"$out/tiles_info.json"
+python3 - "$out/tiles_info.json" "$surface" >"$out/tiles.txt" <<'PY'
+import json, random, sys
+surface = sys.argv[2]
+layer = json.load(open(sys.argv[1]))["layer"]
 paths = [f"/surfaces/{surface}/tiles/{z}/{x}/{y}.terrain"
          for z, rects in enumerate(layer["available"]) for r in rects
          for x in range(r["startX"], r["endX"] + 1) for y in range(r["startY"], r["endY"] + 1)]

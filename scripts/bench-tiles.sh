@@ -7,6 +7,25 @@
 # at level 8, at the edit (the finest one the fastest of 5 in one process). Usage: scripts/bench-tiles.sh [OUTDIR] (default build-bench/tiles).
 # Prints one table row per case and a line of the update's parts. TINBASE_BENCH_BUILD names a
 # Release build directory to use instead of configuring build-bench.
+#
+# The peer, with CTB_TILE=/path/to/ctb-tile: cesium-terrain-builder's quantized-mesh fork,
+# alternated with tinbase on the same DEMs (PEER_ROUNDS rounds, default 2): ctb-tile -f Mesh -N
+# from the DEM against tinbase's `tiles build --extensions octvertexnormals` from its stored TIN,
+# and against the whole of tinbase's way from the DEM (dem import, tin build at 5 m, tiles
+# build); wall time, peak RSS, tiles, bytes, triangles, and the crack count of both pyramids
+# (neighbours at one level: shared-edge vertices that one side lacks, and shared ones whose heights
+# differ by more than the two tiles' quantisation half-steps). ONLY=peers skips the cases above.
+# ctb-tile is not packaged; build it under /tmp (nothing of it goes into this repository):
+#   git clone -b master-quantized-mesh https://github.com/ahuarte47/cesium-terrain-builder ctb
+#   # GDAL 3.6 (Debian 12) changed two virtuals of the GDAL-internal copy it compiles in:
+#   sed -i -e 's/RefUnderlyingRasterBand() override/RefUnderlyingRasterBand() const override/' \
+#     -e 's/^GDALRasterBand\* GDALOverviewBand::RefUnderlyingRasterBand()$/& const/' \
+#     -e 's/^    CPLErr FlushCache() override;/    CPLErr FlushCache(bool bAtClosing) override;/' \
+#     -e 's/^CPLErr GDALOverviewBand::FlushCache()$/CPLErr GDALOverviewBand::FlushCache(bool bAtClosing)/' \
+#     -e 's/poUnderlyingBand->FlushCache();/poUnderlyingBand->FlushCache(bAtClosing);/' \
+#     -e 's/::FlushCache();/::FlushCache(true);/' ctb/src/gdaloverviewdataset.cpp
+#   cmake -S ctb -B ctb/build -DCMAKE_BUILD_TYPE=Release && make -C ctb/build ctb-tile
+#   (libgdal-dev, cmake and zlib1g-dev from Debian); the binary is ctb/build/tools/ctb-tile.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out=${1:-build-bench/tiles}
@@ -82,10 +101,116 @@ print(f"{sys.argv[2]}: update read {u['read_seconds']:.3f} s, cut and merge {u['
 PY
 }
 
-rm -f "$out/parts.txt"
-echo "| case | triangles | max zoom | tiles | MiB | peak RSS MiB | peak RSS MiB, 16384-triangle windows | build s | ms/tile | update s | rebuild s | rebuild/update | rewritten of meeting | finest tile on demand ms | level-8 tile on demand ms |"
-echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
-run_case srtm-N43E007-5m tests/data/dem/N43E007.hgt 5 12 0.5 0.9
-"$build"/bench/tin_bench export --size 4097 --out "$out/gen4097" >/dev/null
-run_case generated-4097-5m "$out/gen4097/terrain.tif" 5 15 0.4 0.4
-cat "$out/parts.txt"
+# The quantized-mesh tiles under DIR (gzipped or not), read by the format's layout: "tiles bytes
+# triangles pairs unmatched heights_apart" (bytes unzipped; pairs: neighbours at one level).
+cat >"$out/qm_stats.py" <<'PY'
+import gzip, os, struct, sys
+from collections import defaultdict
+
+def decode(data):
+    min_h, max_h = struct.unpack_from("<ff", data, 24)
+    (n,) = struct.unpack_from("<I", data, 88)
+    def unzigzag(off):
+        vals, acc = [], 0
+        for (d,) in struct.iter_unpack("<H", data[off:off + 2 * n]):
+            acc += (d >> 1) ^ -(d & 1)
+            vals.append(acc)
+        return vals
+    u, v, h = unzigzag(92), unzigzag(92 + 2 * n), unzigzag(92 + 4 * n)
+    off = 92 + 6 * n
+    align = 4 if n > 65536 else 2
+    off += -off % align
+    return min_h, max_h, u, v, h, struct.unpack_from("<I", data, off)[0]
+
+tiles, raw, triangles, edges = 0, 0, 0, {}
+for dirpath, _, files in os.walk(sys.argv[1]):
+    for f in files:
+        if not f.endswith(".terrain"):
+            continue
+        data = open(os.path.join(dirpath, f), "rb").read()
+        if data[:2] == b"\x1f\x8b":
+            data = gzip.decompress(data)
+        z, x = (int(p) for p in dirpath.split(os.sep)[-2:])
+        min_h, max_h, u, v, h, t = decode(data)
+        tiles, raw, triangles = tiles + 1, raw + len(data), triangles + t
+        step = (max_h - min_h) / 32767
+        sides = defaultdict(dict)
+        for a, b, c in zip(u, v, h):
+            for side, on, along in (("w", a == 0, b), ("e", a == 32767, b), ("s", b == 0, a),
+                                    ("n", b == 32767, a)):
+                if on:
+                    sides[side][along] = min_h + step * c
+        edges[(z, x, int(f[:-8]))] = (sides, step)
+pairs = unmatched = apart = 0
+for (z, x, y), (sides, step) in edges.items():
+    for dx, dy, mine, theirs in ((1, 0, "e", "w"), (0, 1, "n", "s")):
+        other = edges.get((z, x + dx, y + dy))
+        if other is None:
+            continue
+        pairs += 1
+        a, b = sides[mine], other[0][theirs]
+        unmatched += len(a.keys() ^ b.keys())
+        apart += sum(abs(a[k] - b[k]) > (step + other[1]) / 2 + 1e-6 for k in a.keys() & b.keys())
+print(tiles, raw, triangles, pairs, unmatched, apart)
+PY
+
+# name, DEM, max zoom: rounds alternating tinbase (from the DEM: import, tin build, tiles build)
+# and ctb-tile (from the DEM), each timed by /usr/bin/time; one row per tool per round.
+peer_case() {
+  local round first
+  for round in $(seq 1 "${PEER_ROUNDS:-2}"); do
+    if [ $((round % 2)) = 1 ]; then first=tinbase; else first=ctb; fi
+    for tool in $first $([ "$first" = tinbase ] && echo ctb || echo tinbase); do
+      local dir="$out/peer-$1-$tool" t
+      rm -rf "$dir" && mkdir -p "$dir"
+      if [ "$tool" = ctb ]; then
+        mkdir "$dir/tiles"
+        /usr/bin/time -f "%e %M" -o "$dir/time" "$CTB_TILE" -q -f Mesh -N -s "$3" -e 0 \
+          -o "$dir/tiles" "$2" >/dev/null 2>"$dir/log" || { cat "$dir/log" >&2; exit 1; }
+        read -r t rss <"$dir/time"
+        read -r tiles raw tris pairs unmatched apart < <(python3 "$out/qm_stats.py" "$dir/tiles")
+        printf '| %s | %s | ctb-tile -f Mesh -N | %.1f | | %.0f | %s | %.2f | %.2f | %s | %s | %s | %s |\n' \
+          "$1" "$round" "$t" "$((rss / 1024))" "$tiles" \
+          "$(du -sb "$dir/tiles" | awk '{print $1 / 1048576}')" "$(echo "$raw / 1048576" | bc -l)" \
+          "$tris" "$pairs" "$unmatched" "$apart"
+      else
+        local store="$dir/s.tinbase" start from_dem
+        start=$(date +%s.%N)
+        "$tinbase" init "$store" >/dev/null
+        "$tinbase" dem import "$store" "$2" >/dev/null
+        "$tinbase" tin build "$store" --surface t --tolerance 5 >/dev/null
+        /usr/bin/time -f "%e %M" -o "$dir/time" "$tinbase" tiles build "$store" --surface t \
+          --max-zoom "$3" --extensions octvertexnormals >/dev/null
+        from_dem=$(echo "$(date +%s.%N) - $start" | bc -l)
+        read -r t rss <"$dir/time"
+        "$tinbase" tiles export "$store" --surface t -o "$dir/tiles" >/dev/null
+        read -r tiles raw tris pairs unmatched apart < <(python3 "$out/qm_stats.py" "$dir/tiles")
+        printf '| %s | %s | tinbase tiles build | %.1f | %.1f | %.0f | %s | %.2f | %.2f | %s | %s | %s | %s |\n' \
+          "$1" "$round" "$t" "$from_dem" "$((rss / 1024))" "$tiles" \
+          "$(du -sb "$dir/tiles" | awk '{print $1 / 1048576}')" "$(echo "$raw / 1048576" | bc -l)" \
+          "$tris" "$pairs" "$unmatched" "$apart"
+      fi
+    done
+  done
+}
+
+if [ "${ONLY:-}" != peers ]; then
+  rm -f "$out/parts.txt"
+  echo "| case | triangles | max zoom | tiles | MiB | peak RSS MiB | peak RSS MiB, 16384-triangle windows | build s | ms/tile | update s | rebuild s | rebuild/update | rewritten of meeting | finest tile on demand ms | level-8 tile on demand ms |"
+  echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+  run_case srtm-N43E007-5m tests/data/dem/N43E007.hgt 5 12 0.5 0.9
+  "$build"/bench/tin_bench export --size 4097 --out "$out/gen4097" >/dev/null
+  run_case generated-4097-5m "$out/gen4097/terrain.tif" 5 15 0.4 0.4
+  cat "$out/parts.txt"
+fi
+
+if [ -n "${CTB_TILE:-}" ]; then
+  [ -x "$CTB_TILE" ] || { echo "CTB_TILE=$CTB_TILE is not an executable" >&2; exit 1; }
+  [ -f "$out/gen4097/terrain.tif" ] ||
+    "$build"/bench/tin_bench export --size 4097 --out "$out/gen4097" >/dev/null
+  echo
+  echo "| case | round | tool | tiles s | from the DEM s | peak RSS MiB | tiles | MiB on disk | MiB unzipped | triangles | neighbour pairs | unmatched edge vertices | edge heights apart |"
+  echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+  peer_case srtm-N43E007 tests/data/dem/N43E007.hgt 12
+  peer_case generated-4097 "$out/gen4097/terrain.tif" 15
+fi

@@ -1,7 +1,8 @@
 // The edit routes: features posted, replaced and removed through the same transactional engine
-// as `tinbase polygon add|update|remove` (db/polygon_editor.h), then the tile pyramids brought
-// up to date as `--update-tiles` does, before the answer. The body is parsed and checked before
-// the writer is taken, so a bad request never holds up other writes.
+// as `tinbase polygon add|update|remove` (db/polygon_editor.h), with the tile pyramids brought up
+// to date inside the edit's own transaction: the edit and its tiles commit together, or neither
+// does. The body is parsed and checked before the writer is taken, so a bad request never holds
+// up other writes.
 #include <algorithm>
 #include <cctype>
 #include <limits>
@@ -102,24 +103,25 @@ Result<EditPlan> PlanEdit(ServiceContext& context, const httplib::Request& req, 
   return plan;
 }
 
-// The tiles rewritten or deleted over every pyramid; the edit has committed, so a failure here
-// is reported in the answer ("tiles_error") rather than as the request's failure.
-void UpdateTiles(Store& store, nlohmann::json& answer) {
-  auto updated = UpdateAllTilePyramids(store);
-  if (!updated.ok()) {
-    answer["tiles_updated"] = nullptr;
-    answer["tiles_error"] = updated.status().ToString();
-    return;
-  }
-  int64_t tiles = 0;
-  for (const auto& [surface, report] : *updated)
-    tiles += report.tiles_rewritten + report.tiles_deleted;
-  answer["tiles_updated"] = tiles;
+// Brings every tile pyramid up to date inside the edit's transaction (PolygonAddOptions::
+// before_commit), counting the tiles rewritten or deleted into `*tiles`: the edit and its tiles
+// commit together, so a reader's snapshot never holds an edit with tiles that predate it. A
+// failed update rolls the edit back.
+BeforeCommit UpdateTilesWithEdit(int64_t* tiles) {
+  return [tiles](Store& store, int64_t /*tx*/) -> Status {
+    auto updated = UpdateAllTilePyramids(store);
+    if (!updated.ok()) return updated.status().WithContext("updating the tiles of the edit");
+    *tiles = 0;
+    for (const auto& [surface, report] : *updated)
+      *tiles += report.tiles_rewritten + report.tiles_deleted;
+    return Status::Ok();
+  };
 }
 
 // {"tx", "features", "removed_features", "bbox", "bbox_lonlat", "change", "tiles_updated"} of a
 // committed edit.
-Result<nlohmann::json> Answer(Store& store, const PolygonAddReport& report, int64_t removed) {
+Result<nlohmann::json> Answer(Store& store, const PolygonAddReport& report, int64_t removed,
+                              int64_t tiles) {
   TB_ASSIGN_OR_RETURN(ChangeJson describe, ChangeJson::For(store));
   TB_ASSIGN_OR_RETURN(std::vector<Change> changes, ChangesSince(store, report.tx - 1));
   if (changes.empty() || changes.front().tx != report.tx)
@@ -132,7 +134,7 @@ Result<nlohmann::json> Answer(Store& store, const PolygonAddReport& report, int6
   answer["removed"] = report.removed;
   answer["added"] = report.added;
   answer["clipped"] = OverhangCutsJson(report.clipped);  // polygons cut to the data area
-  UpdateTiles(store, answer);
+  answer["tiles_updated"] = tiles;
   return answer;
 }
 
@@ -144,18 +146,21 @@ void Edit(ServiceContext& context, const httplib::Request& req, httplib::Respons
   if (!plan.ok()) return ReplyStatus(res, plan.status());
   Result<nlohmann::json> answer = nlohmann::json();
   int64_t tx = 0;
+  int64_t tiles = 0;
+  plan->options.before_commit = UpdateTilesWithEdit(&tiles);
   {
     auto writer = context.stores().Writer();
     if (!writer.ok()) return ReplyStatus(res, writer.status());
     Result<PolygonAddReport> report =
-        kind == EditKind::kAdd       ? AddPolygons(writer->store(), plan->options)
-        : kind == EditKind::kReplace ? UpdatePolygon(writer->store(), plan->feature, plan->options)
-                                     : RemovePolygon(writer->store(), plan->feature);
+        kind == EditKind::kAdd ? AddPolygons(writer->store(), plan->options)
+        : kind == EditKind::kReplace
+            ? UpdatePolygon(writer->store(), plan->feature, plan->options)
+            : RemovePolygon(writer->store(), plan->feature, plan->options.before_commit);
     if (!report.ok()) return ReplyStatus(res, report.status());
     tx = report->tx;
-    answer = Answer(writer->store(), *report, kind == EditKind::kAdd ? 0 : plan->feature);
+    answer = Answer(writer->store(), *report, kind == EditKind::kAdd ? 0 : plan->feature, tiles);
   }
-  // After the tiles: a client the feed wakes then fetches tiles that already show the edit.
+  // The tiles committed with the edit: a client the feed wakes fetches tiles that show it.
   context.changes().Notify(tx);
   if (!answer.ok()) return ReplyStatus(res, answer.status());
   ReplyJson(res, *answer, kind == EditKind::kAdd ? 201 : 200);

@@ -1,5 +1,5 @@
 // ServiceContext: what every route of one running service shares: its options, its connections
-// to the store, and the notifier of committed edits.
+// to the store, the notifier of committed edits, and the surfaces' summaries.
 // Thread-safety: every member may be called from any thread.
 #pragma once
 
@@ -11,6 +11,7 @@
 #include "service/change_notifier.h"
 #include "service/service_options.h"
 #include "service/store_pool.h"
+#include "service/surface_summary_cache.h"
 
 namespace tinbase::service {
 
@@ -21,6 +22,7 @@ class ServiceContext {
   const ServiceOptions& options() const { return options_; }
   StorePool& stores() { return *stores_; }
   ChangeNotifier& changes() { return changes_; }
+  SurfaceSummaryCache& summaries() { return summaries_; }
 
   // Whether `req` may write: false after answering 403 when the service is read-only, or 401
   // when a token is required and the request's "Authorization: Bearer" does not carry it.
@@ -31,6 +33,7 @@ class ServiceContext {
   ServiceOptions options_;
   std::unique_ptr<StorePool> stores_;
   ChangeNotifier changes_;
+  SurfaceSummaryCache summaries_;
 };
 
 }  // namespace tinbase::service

@@ -15,22 +15,6 @@ namespace tinbase::service {
 
 namespace {
 
-// The surface's extent: [min x, min y, min z, max x, max y, max z] of its vertices.
-Result<nlohmann::json> SurfaceExtent(Store& store, const SurfaceInfo& s) {
-  TB_ASSIGN_OR_RETURN(Statement * q,
-                      store.db().Cached("SELECT min(x), min(y), min(z), max(x), max(y), max(z) "
-                                        "FROM vertices WHERE surface = ?"));
-  q->Bind(1, s.id);
-  TB_ASSIGN_OR_RETURN(bool row, q->Step());
-  nlohmann::json extent = nullptr;
-  if (row && !q->ColumnIsNull(0)) {
-    extent = nlohmann::json::array();
-    for (int i = 0; i < 6; ++i) extent.push_back(q->ColumnDouble(i));
-  }
-  q->Reset();
-  return extent;
-}
-
 // The extent's plan box in lon/lat [w, s, e, n]; null without a CRS or an extent.
 Result<nlohmann::json> ExtentLonLat(const std::optional<Crs>& crs, const nlohmann::json& extent) {
   if (!extent.is_array()) return nlohmann::json(nullptr);
@@ -50,12 +34,14 @@ Result<nlohmann::json> TilePyramids(Store& store, const SurfaceInfo& s) {
 
 // A surface's description: the same fields as `tinbase info --json`, plus the store's CRS, the
 // extent in lon/lat and the tile pyramids.
-Result<nlohmann::json> DescribeSurface(Store& store, const SurfaceInfo& s) {
-  TB_ASSIGN_OR_RETURN(SurfaceCounts c, SurfaceStore(store).Count(s));
+// The counts and extent come from the context's cache while the change log stands still.
+Result<nlohmann::json> DescribeSurface(ServiceContext& context, Store& store,
+                                       const SurfaceInfo& s) {
+  TB_ASSIGN_OR_RETURN(SurfaceSummary summary, context.summaries().Get(store, s));
   TB_ASSIGN_OR_RETURN(std::optional<Crs> crs, store.GetCrs());
-  nlohmann::json j = SurfaceSummaryJson(s, c);
+  nlohmann::json j = SurfaceSummaryJson(s, summary.counts);
   j["crs"] = crs ? nlohmann::json(crs->Label()) : nlohmann::json(nullptr);
-  TB_ASSIGN_OR_RETURN(j["extent"], SurfaceExtent(store, s));
+  j["extent"] = summary.extent;
   TB_ASSIGN_OR_RETURN(j["extent_lonlat"], ExtentLonLat(crs, j["extent"]));
   TB_ASSIGN_OR_RETURN(j["tiles"], TilePyramids(store, s));
   return j;
@@ -68,7 +54,7 @@ void ListSurfaces(ServiceContext& context, httplib::Response& res) {
   if (!list.ok()) return ReplyStatus(res, list.status());
   nlohmann::json out = nlohmann::json::array();
   for (const SurfaceInfo& s : *list) {
-    auto j = DescribeSurface(lease->store(), s);
+    auto j = DescribeSurface(context, lease->store(), s);
     if (!j.ok()) return ReplyStatus(res, j.status());
     out.push_back(std::move(*j));
   }
@@ -80,7 +66,7 @@ void GetSurface(ServiceContext& context, const httplib::Request& req, httplib::R
   if (!lease.ok()) return ReplyStatus(res, lease.status());
   auto surface = SurfaceFromPath(lease->store(), req);
   if (!surface.ok()) return ReplyStatus(res, surface.status());
-  auto j = DescribeSurface(lease->store(), *surface);
+  auto j = DescribeSurface(context, lease->store(), *surface);
   if (!j.ok()) return ReplyStatus(res, j.status());
   ReplyJson(res, *j);
 }

@@ -18,6 +18,7 @@
 #include "db/tiles/pyramid_levels.h"
 #include "db/tiles/tile_pyramid.h"
 #include "db/tiles/tile_window.h"
+#include "db/tiles/tile_write_scope.h"
 
 namespace tinbase {
 
@@ -139,7 +140,7 @@ Result<TileBuildReport> BuildTilePyramid(Store& store, const SurfaceInfo& surfac
     return Status::InvalidArgument(
         "the store has no CRS: tiles need one that transforms to "
         "EPSG:4326 (set it with tinbase init --crs)");
-  TB_ASSIGN_OR_RETURN(auto tx, store.BeginWrite());
+  TB_ASSIGN_OR_RETURN(TileWriteScope tx, TileWriteScope::Begin(store));
   TB_ASSIGN_OR_RETURN(const int64_t triangles, MeshTables(store.db(), surface).CountTriangles());
   if (triangles == 0)
     return Status::NotFound("surface '" + surface.name + "' has no triangles to tile");
@@ -198,7 +199,7 @@ Result<TileBuildReport> BuildTilePyramid(Store& store, const SurfaceInfo& surfac
     keys.merge(KeysOf(made));
     TB_RETURN_IF_ERROR(writer.Write(made, keys));
   }
-  TB_RETURN_IF_ERROR(tx->Commit());
+  TB_RETURN_IF_ERROR(tx.Commit());
   if (options.progress) options.progress(1.0);
   return report;
 }

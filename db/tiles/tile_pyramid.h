@@ -64,7 +64,8 @@ struct TileBuildReport {
 // Builds the pyramid of `surface` from level 0 to the max zoom, replacing any pyramid it had.
 // InvalidArgument for: a store without CRS or one with no transformation to EPSG:4326, a max
 // zoom outside 0..24, a water mask without water tag or a water tag with no triangles; NotFound
-// for an empty surface. REQUIRES: not inside a transaction (it opens its own).
+// for an empty surface. Writes in its own transaction, or inside the caller's write transaction
+// when one is open (db/tiles/tile_write_scope.h: the caller then rolls back on an error).
 Result<TileBuildReport> BuildTilePyramid(Store& store, const SurfaceInfo& surface,
                                          const TileBuildOptions& options);
 
@@ -88,7 +89,8 @@ struct TileUpdateReport {
 // deleted when it came out empty); no other tile is touched, and the result equals a fresh build
 // with the same options byte for byte (docs/tiles.md, "Updates"). When an edit moved the
 // surface's height range, every tile's quantisation changes: then the whole pyramid is rebuilt.
-// InvalidArgument "surface 's' has no tiles to update" when none was built.
+// InvalidArgument "surface 's' has no tiles to update" when none was built. Transactions as
+// BuildTilePyramid: inside an edit's write transaction, the tiles commit with the edit.
 Result<TileUpdateReport> UpdateTilePyramid(Store& store, const SurfaceInfo& surface);
 
 // UpdateTilePyramid for every surface that has a pyramid, in surface order: what an edit run with

@@ -17,6 +17,7 @@
 #include "db/tiles/pyramid_levels.h"
 #include "db/tiles/tile_pyramid.h"
 #include "db/tiles/tile_window.h"
+#include "db/tiles/tile_write_scope.h"
 
 namespace tinbase {
 
@@ -177,7 +178,7 @@ Status WriteUpdate(Store& store, const SurfaceInfo& surface, const TilePyramidIn
   for (const LevelTiles& level : plan.levels)
     for (const auto& [key, mesh] : level.meshes) keys.insert(key);
 
-  TB_ASSIGN_OR_RETURN(auto tx, store.BeginWrite());
+  TB_ASSIGN_OR_RETURN(TileWriteScope tx, TileWriteScope::Begin(store));
   for (const TileKey& key : plan.stale) {
     bool remade = false;
     for (const LevelTiles& level : plan.levels) remade = remade || level.meshes.count(key) > 0;
@@ -199,7 +200,7 @@ Status WriteUpdate(Store& store, const SurfaceInfo& surface, const TilePyramidIn
   const TilePyramidInfo& now = plan.in.pyramid;
   if (now.min_vertex != old.min_vertex || now.max_vertex != old.max_vertex)
     TB_RETURN_IF_ERROR(tiles.SetHeightVertices(surface.id, *now.min_vertex, *now.max_vertex));
-  TB_RETURN_IF_ERROR(tx->Commit());
+  TB_RETURN_IF_ERROR(tx.Commit());
   report->tiles_meeting = static_cast<int64_t>(meeting.size());
   return Status::Ok();
 }

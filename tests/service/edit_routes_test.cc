@@ -182,6 +182,44 @@ TEST_F(EditRoutesTest, PutReplacesAndDeleteRemovesUpdatingTheTiles) {
                 "no surface named 'nope'");
 }
 
+// The tile update runs inside the edit's transaction: when it fails the edit is rolled back with
+// it (no tile is left stale beside a committed edit), and when it succeeds both land as one
+// transaction, the pyramid showing the edit's change.
+TEST_F(EditRoutesTest, AnEditAndItsTilesCommitTogetherOrNotAtAll) {
+  RunWrite(store_, "tiles build " + Quote(store_) + " --surface t --max-zoom 10");
+  const auto set_extensions = [&](const std::string& names) {
+    auto store = Store::Open(store_);
+    ASSERT_TRUE(store.ok()) << store.status().ToString();
+    ASSERT_TRUE((*store)->db().Exec("UPDATE tile_pyramids SET extensions = '" + names + "'").ok());
+  };
+  // A pyramid row the update cannot read makes every tile update fail.
+  set_extensions("octvertexnormals,bogus");
+  Serve();
+  before_ = TableChecksums(store_);
+  const nlohmann::json square = LonLatSquare(kLon, kLat, 0.004, {{"mode", "fill"}});
+  ExpectRefused(PostGeoJson(*service_->Client(), kPost, square), 400,
+                "updating the tiles of the edit: unknown tile extension 'bogus'");
+  EXPECT_EQ(Features(), 0);
+  ExpectStoreChecksClean();
+
+  set_extensions("octvertexnormals");
+  const nlohmann::json added = JsonAnswer(PostGeoJson(*service_->Client(), kPost, square), 201);
+  EXPECT_GT(added["tiles_updated"].get<int64_t>(), 0);
+  const nlohmann::json info = Json(RunCli("tiles info " + Quote(store_) + " --surface t --json"));
+  EXPECT_EQ(info["layer"]["tinbase"]["tx"], added["tx"]) << info.dump();
+  const nlohmann::json changes = Json(RunCli("changes --json " + Quote(store_)));
+  EXPECT_EQ(changes.back()["tx"], added["tx"]) << "the tiles made no transaction of their own";
+  const int64_t id = added["features"][0].get<int64_t>();
+
+  // A failed remove leaves the feature, its triangles and the tiles as they were.
+  set_extensions("bogus");
+  before_ = TableChecksums(store_);
+  ExpectRefused(service_->Client()->Delete("/surfaces/t/features/" + std::to_string(id)), 400,
+                "updating the tiles of the edit");
+  EXPECT_EQ(Features(), 1);
+  ExpectStoreChecksClean();
+}
+
 TEST_F(EditRoutesTest, BadBodiesAreRefusedNamingThePlaceAndChangeNothing) {
   Serve();
   before_ = TableChecksums(store_);

@@ -77,6 +77,26 @@ TEST_F(SurfaceRoutesTest, ListsTheSurfacesWithTheCountsInfoPrints) {
   EXPECT_EQ(s["tiles"], nlohmann::json::array());  // no pyramid built
 }
 
+// The counts and extent are kept between calls while the change log stands still: an edit made
+// by another process moves the log, and the next answer shows it.
+TEST_F(SurfaceRoutesTest, TheListFollowsAnEditMadeOutsideTheService) {
+  const nlohmann::json first = Get("/surfaces")["surfaces"][0];
+  EXPECT_EQ(Get("/surfaces")["surfaces"][0], first) << "the kept answer is the read one";
+  auto r = service_->Client()->Get("/surfaces/t/features");
+  ASSERT_TRUE(r);
+  const nlohmann::json features = nlohmann::json::parse(r->body);
+  ASSERT_EQ(features["features"].size(), 1u) << r->body;
+  const int64_t id = features["features"][0]["id"].get<int64_t>();
+  RunWrite(store_, "polygon remove " + Quote(store_) + " " + std::to_string(id));
+  const nlohmann::json info = Json(RunCli("info --json " + Quote(store_)))["surfaces"][0];
+  const nlohmann::json after = Get("/surfaces")["surfaces"][0];
+  EXPECT_EQ(after["features"], 0);
+  EXPECT_EQ(after["triangles"], info["triangles"]);
+  EXPECT_EQ(after["vertices"], info["vertices"]);
+  EXPECT_NE(after["triangles"], first["triangles"]) << "the removal re-triangulated the region";
+  EXPECT_EQ(Get("/surfaces/t")["features"], 0);
+}
+
 TEST_F(SurfaceRoutesTest, OneSurfaceByName) {
   const nlohmann::json s = Get("/surfaces/t");
   EXPECT_EQ(s["name"], "t");
