@@ -9,10 +9,16 @@
 //   dense_bench score --dir DIR (--stl F | --mesh F | --store F --surface S) [--match]
 //       One JSON line: triangles, vertices and the true max and RMS error of the mesh; with
 //       --match, also the triangles of tinbase's greedy held to that true max error.
+//   dense_bench build --dir DIR --error E [--runs N]
+//       The greedy builder alone, in memory: best wall time of N runs, triangles, and a hash of
+//       the TIN (vertices and triangles in order), so a change to the builder shows both its
+//       speed and whether the TIN stayed the same.
 #include <gdal_priv.h>
 #include <ogr_spatialref.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -76,10 +82,12 @@ int Export(int64_t size, const std::string& out) {
       .write(reinterpret_cast<const char*>(grid.cells.data()),
              static_cast<std::streamsize>(grid.cells.size() * sizeof(float)));
   // hmm's z is level / 65535 * zscale: zscale = 65535 * step gives the cells' metres.
-  std::ofstream(out + "/terrain.json")
-      << nlohmann::json{{"width", size}, {"height", size}, {"zscale", 65535 * step},
-                        {"step", step}, {"cell", 30}}
-             .dump();
+  std::ofstream(out + "/terrain.json") << nlohmann::json{
+      {"width", size},
+      {"height", size},
+      {"zscale", 65535 * step},
+      {"step", step},
+      {"cell", 30}}.dump();
   if (!WritePng16(grid, step, out + "/terrain.png")) {
     std::cerr << "could not write " << out << "/terrain.png\n";
     return 1;
@@ -194,6 +202,52 @@ int Score(const std::string& dir, const std::string& stl, const std::string& mes
   return 0;
 }
 
+// FNV-1a over the bytes of every vertex's coordinates and every triangle's corners.
+uint64_t TinHash(const Tin& tin) {
+  uint64_t h = 1469598103934665603ULL;
+  const auto add = [&h](const void* data, size_t size) {
+    const auto* bytes = static_cast<const unsigned char*>(data);
+    for (size_t i = 0; i < size; ++i) h = (h ^ bytes[i]) * 1099511628211ULL;
+  };
+  for (const TinVertex& v : tin.vertices) {
+    add(&v.x, sizeof v.x);
+    add(&v.y, sizeof v.y);
+    add(&v.z, sizeof v.z);
+  }
+  for (const TinTriangle& t : tin.triangles) add(t.v.data(), sizeof(uint32_t) * 3);
+  return h;
+}
+
+int Build(const std::string& dir, double error, int runs) {
+  const Grid grid = LoadTerrain(dir);
+  double best = 1e300;
+  Tin tin;
+  GreedyReport report;
+  for (int i = 0; i < runs; ++i) {
+    const auto start = std::chrono::steady_clock::now();
+    auto built = BuildGreedyTin(grid, {.tolerance = error}, &report);
+    const double s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (!built.ok()) {
+      std::cerr << built.status().ToString() << "\n";
+      return 1;
+    }
+    best = std::min(best, s);
+    tin = std::move(built).value();
+  }
+  char hash[17];
+  std::snprintf(hash, sizeof hash, "%016llx", static_cast<unsigned long long>(TinHash(tin)));
+  std::cout << nlohmann::json{{"error", error},
+                              {"seconds", best},
+                              {"triangles", tin.triangles.size()},
+                              {"max_error", report.max_error},
+                              {"rms_error", report.rms_error},
+                              {"hash", hash}}
+                   .dump()
+            << "\n";
+  return 0;
+}
+
 }  // namespace
 }  // namespace tinbase
 
@@ -217,6 +271,13 @@ int main(int argc, char** argv) {
   score->add_option("--surface", surface);
   score->add_flag("--match", match, "Also tinbase's triangles at the mesh's true max error");
   score->callback([&] { rc = tinbase::Score(dir, stl, mesh, store, surface, match); });
+  double error = 1;
+  int runs = 1;
+  CLI::App* build = app.add_subcommand("build", "The greedy builder alone, timed, with a hash");
+  build->add_option("--dir", dir)->required();
+  build->add_option("--error", error);
+  build->add_option("--runs", runs);
+  build->callback([&] { rc = tinbase::Build(dir, error, runs); });
   CLI11_PARSE(app, argc, argv);
   return rc;
 }

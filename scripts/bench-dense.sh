@@ -17,21 +17,23 @@ set -euo pipefail
 # The table of a results.csv: one row per size and error, each tool's best time, tinbase's ratios
 # to hmm.
 table() {
-  echo "| grid | max error | tinbase s (triangles, true max) | hmm s (triangles, true max) | delatin s | tinbase / hmm time | tinbase / hmm peak RSS | tinbase / hmm triangles at hmm's true error |"
-  echo "|---|---|---|---|---|---|---|---|"
+  echo "| grid | max error | tinbase s (triangles, true max) | hmm s (triangles, true max) | delatin s | tinbase / hmm wall | tinbase / hmm CPU | tinbase / hmm peak RSS | tinbase / hmm triangles at hmm's true error |"
+  echo "|---|---|---|---|---|---|---|---|---|"
   awk -F, 'NR > 1 {
     key = $1 "," $2
     if (!(key in seen)) { seen[key] = 1; keys[++n] = key }
     if (!((key, $4) in best) || $5 < best[key, $4]) best[key, $4] = $5
+    if (!((key, $4) in cpu) || $10 < cpu[key, $4]) cpu[key, $4] = $10
     rss[key, $4] = $6; tri[key, $4] = $7; err[key, $4] = $8
     if ($4 == "hmm") same[key] = $9
   } END {
     for (i = 1; i <= n; i++) {
       k = keys[i]; split(k, p, ",")
-      printf "| %s^2 | %s m | %.2f (%d, %.3f) | %.2f (%d, %.3f) | %.2f | %.2fx | %.2fx | %.3fx |\n",
+      printf "| %s^2 | %s m | %.2f (%d, %.3f) | %.2f (%d, %.3f) | %.2f | %.2fx | %.2fx | %.2fx | %.3fx |\n",
         p[1], p[2], best[k, "tinbase"], tri[k, "tinbase"], err[k, "tinbase"],
         best[k, "hmm"], tri[k, "hmm"], err[k, "hmm"], best[k, "delatin"],
-        best[k, "tinbase"] / best[k, "hmm"], rss[k, "tinbase"] / rss[k, "hmm"],
+        best[k, "tinbase"] / best[k, "hmm"], cpu[k, "tinbase"] / cpu[k, "hmm"],
+      rss[k, "tinbase"] / rss[k, "hmm"],
         same[k] / tri[k, "hmm"]
     }
   }' "$1"
@@ -55,15 +57,16 @@ fi
 tinbase=$build/apps/tinbase
 bench=$build/bench/dense_bench
 
-# Runs a command under /usr/bin/time; prints "wall_seconds peak_rss_kib".
+# Runs a command under /usr/bin/time; prints "wall_seconds peak_rss_kib cpu_seconds" (user +
+# system: on a machine shared with other work, the fairer of the two times).
 timed() {
-  /usr/bin/time -f '%e %M' -o "$out/time.txt" "$@" >"$out/last.log" 2>&1 ||
+  /usr/bin/time -f '%e %M %U %S' -o "$out/time.txt" "$@" >"$out/last.log" 2>&1 ||
     { cat "$out/last.log"; exit 1; }
-  cat "$out/time.txt"
+  awk '{ printf "%s %s %.2f\n", $1, $2, $3 + $4 }' "$out/time.txt"
 }
 
 csv=$out/results.csv
-echo "size,error,repeat,tool,seconds,peak_rss_mib,triangles,true_max_error,tinbase_at_same_error" >"$csv"
+echo "size,error,repeat,tool,seconds,peak_rss_mib,triangles,true_max_error,tinbase_at_same_error,cpu_seconds" >"$csv"
 for n in $sizes; do
   dir=$out/rough-$n
   "$bench" export --size "$n" --out "$dir"
@@ -79,21 +82,21 @@ for n in $sizes; do
         case $tool in
           hmm)
             he=$(awk -v e="$e" -v z="$zscale" 'BEGIN { printf "%.9g", e / z }')
-            read -r s k < <(timed "$hmm" "$dir/terrain.png" "$dir/hmm.stl" -z "$zscale" -e "$he" -q)
+            read -r s k cpu < <(timed "$hmm" "$dir/terrain.png" "$dir/hmm.stl" -z "$zscale" -e "$he" -q)
             score=$("$bench" score --dir "$dir" --stl "$dir/hmm.stl" --match) ;;
           tinbase)
             rm -f "$dir/run.tinbase"*
             cp "$dir/base.tinbase" "$dir/run.tinbase"
-            read -r s k < <(timed "$tinbase" --quiet tin build "$dir/run.tinbase" --surface s --tolerance "$e")
+            read -r s k cpu < <(timed "$tinbase" --quiet tin build "$dir/run.tinbase" --surface s --tolerance "$e")
             score=$("$bench" score --dir "$dir" --store "$dir/run.tinbase" --surface s) ;;
           delatin)
-            read -r s k < <(timed node bench/peers/run_delatin.mjs "$dir/terrain.f32" "$n" "$n" "$e" "$dir/delatin.mesh")
+            read -r s k cpu < <(timed node bench/peers/run_delatin.mjs "$dir/terrain.f32" "$n" "$n" "$e" "$dir/delatin.mesh")
             score=$("$bench" score --dir "$dir" --mesh "$dir/delatin.mesh" --match) ;;
         esac
         tri=$(sed 's/.*"triangles":\([0-9]*\).*/\1/' <<<"$score")
         err=$(sed 's/.*"max_error":\([0-9.e+-]*\).*/\1/' <<<"$score")
         same=$(grep -o '"tinbase_at_same_error":[0-9]*' <<<"$score" | cut -d: -f2 || true)
-        echo "$n,$e,$rep,$tool,$s,$((k / 1024)),$tri,$err,$same" | tee -a "$csv"
+        echo "$n,$e,$rep,$tool,$s,$((k / 1024)),$tri,$err,$same,$cpu" | tee -a "$csv"
       done
     done
   done
