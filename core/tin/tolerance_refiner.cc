@@ -7,13 +7,15 @@
 
 #include <algorithm>
 #include <array>
+#include <cassert>
 #include <cmath>
+#include <cstdint>
+#include <queue>
 #include <set>
 #include <utility>
 
 #include "core/geometry/predicates.h"
 #include "core/tin/cell_cover.h"
-#include "core/tin/slot_heap.h"
 #include "core/tin/worst_cell.h"
 
 namespace tinbase {
@@ -24,6 +26,7 @@ class Refiner {
  public:
   Refiner(Cdt& cdt, CellSource& dem, const RefineOptions& options)
       : cdt_(cdt), dem_(dem), geometry_(dem.geometry()), options_(options) {
+    assert(geometry_.width <= INT32_MAX && geometry_.height <= INT32_MAX);
     if (options.tile > 0) {
       tiles_across_ = (geometry_.width + options.tile - 1) / options.tile;
       const int64_t tiles_down = (geometry_.height + options.tile - 1) / options.tile;
@@ -48,7 +51,7 @@ class Refiner {
       constexpr double kPassFactor = 1.5;
       double level = 0;
       for (const auto& queue : queues_)
-        if (!queue.empty()) level = std::max(level, queue.top_key());
+        if (!queue.empty()) level = std::max(level, queue.top().error);
       for (bool more = level > 0; more && reached;) {
         level = std::max(options_.tolerance, level / kPassFactor);
         for (auto& queue : queues_) {
@@ -67,19 +70,22 @@ class Refiner {
   }
 
  private:
+  // 32 bytes: a dense TIN queues millions, and sifting them is mostly cache misses. Cells are
+  // int32 (ValidateGeometry caps a grid's sides at INT32_MAX).
   struct Candidate {
     double error;
     Cdt::FaceRef face;
     uint64_t stamp;
-    int64_t col, row;
+    int32_t col, row;
+    bool operator<(const Candidate& o) const { return error < o.error; }
   };
-  using Queue = SlotHeap<Candidate>;
+  using Queue = std::priority_queue<Candidate>;
   using Corners = std::array<Cdt::Corner, 3>;
 
   // Inserts the worst sample of `queue` while it is worse than `level` (0: until the queue is
   // empty). False when max_points stopped it first.
   bool Drain(Queue& queue, double level) {
-    while (!queue.empty() && queue.top_key() > level) {
+    while (!queue.empty() && queue.top().error > level) {
       const Candidate worst = queue.top();
       queue.pop();
       if (cdt_.FaceStamp(worst.face) != worst.stamp) continue;  // face changed since its scan
@@ -197,7 +203,8 @@ class Refiner {
     const WorstCell& worst = job.worst;
     if (worst.col >= 0) {
       QueueOf(worst.col, worst.row)
-          .push(worst.error, Candidate{worst.error, job.face, job.stamp, worst.col, worst.row});
+          .push(Candidate{worst.error, job.face, job.stamp, static_cast<int32_t>(worst.col),
+                          static_cast<int32_t>(worst.row)});
     }
   }
 
