@@ -87,6 +87,7 @@ for n in $sizes; do
           tinbase)
             rm -f "$dir/run.tinbase"*
             cp "$dir/base.tinbase" "$dir/run.tinbase"
+            if [ -e "$dir/base.tinbase-wal" ]; then cp "$dir/base.tinbase-wal" "$dir/run.tinbase-wal"; fi
             read -r s k cpu < <(timed "$tinbase" --quiet tin build "$dir/run.tinbase" --surface s --tolerance "$e")
             score=$("$bench" score --dir "$dir" --store "$dir/run.tinbase" --surface s) ;;
           delatin)
