@@ -1,11 +1,13 @@
-// The generated terrain of tinbase's benchmarks: deterministic, the same cells for every run and
-// size up to 4097 (a larger grid extends a smaller one). Header-only; pure.
+// The generated terrains of tinbase's benchmarks: deterministic, the same cells for every run and
+// size up to 4097 (a larger grid extends a smaller one, save for the rough terrain's rescaling).
+// Header-only; pure.
 #pragma once
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "core/raster/grid.h"
@@ -58,6 +60,36 @@ inline Grid GeneratedTerrain(int64_t size) {
       grid.cells[static_cast<size_t>(r * size + c)] +=
           static_cast<float>(700 - 0.1 * std::abs(static_cast<double>(c - r)));
   return grid;
+}
+
+// Issue 30's rough terrain: fractional Brownian motion (octaves of value noise from 2048 cells
+// down to 2, amplitude proportional to the period, so a Hurst exponent of 1), rescaled to 0 to
+// 2000 m, plus white sensor noise of 0.3 m standard deviation, then quantised to the 65536 levels
+// of a 16-bit PNG over its range, so hmm (which reads 16-bit PNGs) and every other tool see the
+// same cells. 30 m cells. Returns the grid and the size of one level in metres.
+inline std::pair<Grid, double> RoughTerrain(int64_t size) {
+  Grid grid;
+  grid.geometry = GridGeometry{500000, 5200000, 30, -30, size, size};
+  std::vector<double> z(static_cast<size_t>(size * size), 0);
+  uint32_t seed = 101;
+  for (int64_t period = 2048; period >= 2; period /= 2, ++seed) {
+    const ValueNoise noise(std::max<int64_t>(size, 4097), period, seed);
+    const auto amplitude = static_cast<double>(period);
+    for (int64_t r = 0; r < size; ++r)
+      for (int64_t c = 0; c < size; ++c)
+        z[static_cast<size_t>(r * size + c)] += amplitude * noise.At(c, r);
+  }
+  const auto [lo, hi] = std::minmax_element(z.begin(), z.end());
+  const double low = *lo, scale = 2000 / (*hi - *lo);
+  std::mt19937_64 rng(30);
+  std::normal_distribution<double> sensor(0, 0.3);
+  for (double& v : z) v = (v - low) * scale + sensor(rng);
+  const auto [lo2, hi2] = std::minmax_element(z.begin(), z.end());
+  const double base = *lo2, step = (*hi2 - *lo2) / 65535;
+  grid.cells.resize(z.size());
+  for (size_t i = 0; i < z.size(); ++i)
+    grid.cells[i] = static_cast<float>(std::round((z[i] - base) / step) * step);
+  return {std::move(grid), step};
 }
 
 }  // namespace tinbase

@@ -728,11 +728,20 @@ void Cdt::IndexCrossings(const ElevationFn& elevation) {
   }
 }
 
-Tin Cdt::ToTin(const ElevationFn& elevation) {
+Tin Cdt::ToTin(const ElevationFn& elevation) { return MakeTin(elevation, false); }
+
+Tin Cdt::ReleaseTin(const ElevationFn& elevation) { return MakeTin(elevation, true); }
+
+Tin Cdt::MakeTin(const ElevationFn& elevation, bool take_vertices) {
   Triangulation& cdt = impl_->cdt;
   IndexCrossings(elevation);
   Tin tin;
-  tin.vertices = vertices_;
+  if (take_vertices) {
+    tin.vertices = std::move(vertices_);
+    vertices_.clear();
+  } else {
+    tin.vertices = vertices_;
+  }
   if (cdt.dimension() < 2) {
     // No triangles; the edges CGAL keeps in one dimension may still be constrained.
     for (const auto& [f, i] : cdt.finite_edges())

@@ -151,8 +151,14 @@ class Cdt {
   // is converted in parallel (TBB), to the same Tin on any number of threads.
   // REQUIRES: `elevation` callable when constraints crossed.
   Tin ToTin(const ElevationFn& elevation = nullptr);
+  // ToTin for a triangulation that is discarded next: the vertex list is moved into the Tin
+  // instead of copied, as that copy is part of a large build's peak memory. Afterwards
+  // vertices() is empty and the Cdt may only be destroyed or assigned.
+  Tin ReleaseTin(const ElevationFn& elevation = nullptr);
 
  private:
+  Tin MakeTin(const ElevationFn& elevation, bool take_vertices);
+
   struct Impl;
   std::unique_ptr<Impl> impl_;
   std::vector<TinVertex> vertices_;

@@ -132,7 +132,7 @@ Result<Tin> BuildFromCorners(CellSource& dem, const GreedyOptions& options) {
   // Insertions are made in order; the largest scans are shared between threads.
   refine.parallel_scans = true;
   if (options.max_points != 4) RefineToTolerance(cdt, dem, refine);
-  return cdt.ToTin();
+  return cdt.ReleaseTin();
 }
 
 // Renumbers the vertices so that `first` (vertices of the TIN, by position) come first in that
@@ -169,7 +169,7 @@ Result<std::optional<Tin>> BuildInHalves(const Grid& dem, const GreedyOptions& o
       dem, options.tolerance,
       [&](int64_t col, int64_t row) { return HullElevation(source, col, row); }, min_seam_vertices);
   if (!cdt) return std::optional<Tin>();
-  Tin tin = cdt->ToTin();
+  Tin tin = cdt->ReleaseTin();
   // Nothing reads the triangulation any more: it is freed while PutFirst runs, which takes
   // about as long.
   tbb::parallel_invoke([&] { cdt.reset(); }, [&] { PutFirst(corners, tin); });
