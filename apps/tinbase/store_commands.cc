@@ -100,7 +100,7 @@ int RunCheck(const CheckArgs& args) {
     std::cout << CheckJson(*problems).dump(2) << "\n";
   } else if (problems->empty()) {
     std::cout << "ok: " << args.store << " keeps every checked invariant"
-              << (args.full ? " (full: 1-8)" : " (1-5, 8)") << "\n";
+              << (args.full ? " (full: 1-9)" : " (1-5, 8)") << "\n";
   } else {
     std::cerr << "tinbase: " << problems->front().message << " [" << problems->front().code << "]";
     if (problems->size() > 1) std::cerr << " (and " << problems->size() - 1 << " more)";

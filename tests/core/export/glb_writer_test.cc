@@ -242,7 +242,7 @@ TEST_F(GlbWriterTest, FeatureIdsAndThePropertyTableSayWhichFeatureEachTriangleIs
   EXPECT_EQ(table.strings.at("age_ma"), (std::vector<std::string>{"2460.5", "2597", "", ""}));
   const json& modes =
       glb.gltf["extensions"]["EXT_structural_metadata"]["schema"]["enums"]["featureMode"]["values"];
-  EXPECT_EQ(modes.size(), 5u);
+  EXPECT_EQ(modes.size(), kFeatureModes.size());
 
   // Per primitive, each triangle's three corners carry one id, and the ids match the features
   // the triangles were assigned to (counted per feature over the whole mesh).
