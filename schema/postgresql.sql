@@ -97,7 +97,8 @@ CREATE TABLE features(
   surface    bigint NOT NULL REFERENCES surfaces(id) ON DELETE CASCADE
              DEFERRABLE INITIALLY DEFERRED,
   name       text,
-  mode       text NOT NULL CHECK (mode IN ('clip', 'erase', 'fill', 'replace', 'breakline')),
+  mode       text NOT NULL CHECK (mode IN ('clip', 'erase', 'fill', 'replace', 'breakline',
+                                           'softline', 'points')),
   level      double precision,
   tag        bigint REFERENCES tags(id) DEFERRABLE INITIALLY DEFERRED,
   attributes text NOT NULL DEFAULT '{}',
@@ -106,7 +107,8 @@ CREATE TABLE features(
   min_y      double precision NOT NULL,
   max_x      double precision NOT NULL,
   max_y      double precision NOT NULL,
-  tx         bigint NOT NULL
+  tx         bigint NOT NULL,
+  z_from     text NOT NULL DEFAULT 'dem' CHECK (z_from IN ('dem', 'feature'))
 );
 CREATE INDEX features_surface ON features(surface);
 
@@ -115,6 +117,7 @@ CREATE TABLE constraints(
   va      bigint NOT NULL,
   vb      bigint NOT NULL,
   feature bigint REFERENCES features(id) ON DELETE CASCADE DEFERRABLE INITIALLY DEFERRED,
+  kind    text NOT NULL DEFAULT 'hard' CHECK (kind IN ('hard', 'soft')),
   CHECK (va < vb)
 );
 CREATE INDEX constraints_surface ON constraints(surface, va, vb);
@@ -215,7 +218,7 @@ FROM triangles t
 CREATE VIEW tinbase_constraints AS
 SELECT s.name AS surface, k.va, k.vb, k.feature,
   ST_SetSRID(ST_MakeLine(ST_MakePoint(a.x, a.y, a.z), ST_MakePoint(b.x, b.y, b.z)),
-             tinbase_srid()) AS geom
+             tinbase_srid()) AS geom, k.kind
 FROM constraints k
   JOIN surfaces s ON s.id = k.surface
   JOIN vertices a ON a.id = k.va
@@ -225,13 +228,13 @@ CREATE VIEW tinbase_features AS
 SELECT f.id AS fid, s.name AS surface, f.name, f.mode, f.level, g.value AS tag, f.attributes,
   ST_GeomFromWKB(f.geometry, tinbase_srid()) AS geom
 FROM features f JOIN surfaces s ON s.id = f.surface LEFT JOIN tags g ON g.id = f.tag
-WHERE f.mode <> 'breakline';
+WHERE f.mode IN ('clip', 'erase', 'fill', 'replace');
 
 CREATE VIEW tinbase_breaklines AS
 SELECT f.id AS fid, s.name AS surface, f.name, f.level, g.value AS tag, f.attributes,
-  ST_GeomFromWKB(f.geometry, tinbase_srid()) AS geom
+  ST_GeomFromWKB(f.geometry, tinbase_srid()) AS geom, f.mode
 FROM features f JOIN surfaces s ON s.id = f.surface LEFT JOIN tags g ON g.id = f.tag
-WHERE f.mode = 'breakline';
+WHERE f.mode IN ('breakline', 'softline');
 
 CREATE TABLE tile_pyramids(
   surface    bigint PRIMARY KEY REFERENCES surfaces(id) ON DELETE CASCADE

@@ -85,11 +85,13 @@ CREATE TABLE "triangles"(
 );
 CREATE INDEX triangles_surface_block ON triangles(surface, block);
 
+-- Rebuilt by 0014 (mode's CHECK takes 'softline' and 'points'; z_from), with constraints (kind).
 CREATE TABLE features(
   id         INTEGER PRIMARY KEY,
   surface    INTEGER NOT NULL REFERENCES surfaces(id) ON DELETE CASCADE,
   name       TEXT,
-  mode       TEXT NOT NULL CHECK (mode IN ('clip', 'erase', 'fill', 'replace', 'breakline')),
+  mode       TEXT NOT NULL CHECK (mode IN ('clip', 'erase', 'fill', 'replace', 'breakline',
+                                           'softline', 'points')),
   level      REAL,
   tag        INTEGER REFERENCES tags(id),
   attributes TEXT NOT NULL DEFAULT '{}',
@@ -98,7 +100,8 @@ CREATE TABLE features(
   min_y      REAL NOT NULL,
   max_x      REAL NOT NULL,
   max_y      REAL NOT NULL,
-  tx         INTEGER NOT NULL
+  tx         INTEGER NOT NULL,
+  z_from     TEXT NOT NULL DEFAULT 'dem' CHECK (z_from IN ('dem', 'feature'))
 );
 CREATE INDEX features_surface ON features(surface);
 
@@ -107,6 +110,7 @@ CREATE TABLE constraints(
   va      INTEGER NOT NULL,
   vb      INTEGER NOT NULL,
   feature INTEGER REFERENCES features(id) ON DELETE CASCADE,
+  kind    TEXT NOT NULL DEFAULT 'hard' CHECK (kind IN ('hard', 'soft')),
   CHECK (va < vb)
 );
 CREATE INDEX constraints_surface ON constraints(surface, va, vb);
@@ -246,17 +250,18 @@ SELECT t.id, (SELECT name FROM surfaces WHERE id = t.surface), t.v0, t.v1, t.v2,
 FROM triangles t;
 
 CREATE TABLE tinbase_gpkg_constraints_columns(fid INTEGER, surface TEXT, va INTEGER, vb INTEGER,
-  feature INTEGER, geom LINESTRING);
+  feature INTEGER, geom LINESTRING, kind TEXT);
 CREATE VIEW tinbase_constraints AS
 SELECT * FROM tinbase_gpkg_constraints_columns
 UNION ALL
 SELECT k.rowid, (SELECT name FROM surfaces WHERE id = k.surface), k.va, k.vb, k.feature,
   CAST((SELECT header FROM tinbase_gpkg_srs) || X'01EA03000002000000' ||
        (SELECT xyz FROM tinbase_gpkg_vertex_xyz WHERE id = k.va) ||
-       (SELECT xyz FROM tinbase_gpkg_vertex_xyz WHERE id = k.vb) AS BLOB)
+       (SELECT xyz FROM tinbase_gpkg_vertex_xyz WHERE id = k.vb) AS BLOB), k.kind
 FROM constraints k;
 
--- Features keep their WKB: a polygon feature is a MultiPolygon, a breakline a MultiLineString.
+-- Features keep their WKB: a polygon feature is a MultiPolygon, a breakline or softline a
+-- MultiLineString. 0014 appended each line's mode and each constraint's kind to the layers.
 CREATE TABLE tinbase_gpkg_features_columns(fid INTEGER, surface TEXT, name TEXT, mode TEXT,
   level REAL, tag TEXT, attributes TEXT, geom MULTIPOLYGON);
 CREATE VIEW tinbase_features AS
@@ -265,17 +270,17 @@ UNION ALL
 SELECT f.id, (SELECT name FROM surfaces WHERE id = f.surface), f.name, f.mode, f.level,
   (SELECT value FROM tags WHERE id = f.tag), f.attributes,
   CAST((SELECT header FROM tinbase_gpkg_srs) || f.geometry AS BLOB)
-FROM features f WHERE f.mode <> 'breakline';
+FROM features f WHERE f.mode IN ('clip', 'erase', 'fill', 'replace');
 
 CREATE TABLE tinbase_gpkg_breaklines_columns(fid INTEGER, surface TEXT, name TEXT, level REAL,
-  tag TEXT, attributes TEXT, geom MULTILINESTRING);
+  tag TEXT, attributes TEXT, geom MULTILINESTRING, mode TEXT);
 CREATE VIEW tinbase_breaklines AS
 SELECT * FROM tinbase_gpkg_breaklines_columns
 UNION ALL
 SELECT f.id, (SELECT name FROM surfaces WHERE id = f.surface), f.name, f.level,
   (SELECT value FROM tags WHERE id = f.tag), f.attributes,
-  CAST((SELECT header FROM tinbase_gpkg_srs) || f.geometry AS BLOB)
-FROM features f WHERE f.mode = 'breakline';
+  CAST((SELECT header FROM tinbase_gpkg_srs) || f.geometry AS BLOB), f.mode
+FROM features f WHERE f.mode IN ('breakline', 'softline');
 
 -- GDAL tells 64-bit FIDs from a layer's sqlite_sequence row and, finding none, computes
 -- MAX(fid) over the layer: every geometry built once, on every opening. The layers' rows say
@@ -292,8 +297,8 @@ CREATE VIEW gpkg_contents(table_name, data_type, identifier, description, last_c
 WITH mesh(min_x, min_y, max_x, max_y) AS (
   SELECT min(x), min(y), max(x), max(y) FROM vertices),
 boxes(breakline, min_x, min_y, max_x, max_y) AS (
-  SELECT mode = 'breakline', min(min_x), min(min_y), max(max_x), max(max_y) FROM features
-  GROUP BY mode = 'breakline'),
+  SELECT mode IN ('breakline', 'softline'), min(min_x), min(min_y), max(max_x), max(max_y)
+  FROM features WHERE mode <> 'points' GROUP BY mode IN ('breakline', 'softline')),
 layers(table_name, data_type, description, breakline) AS (
   SELECT 'tinbase_triangles', 'features', 'the triangles of every surface', NULL
   UNION ALL SELECT 'tinbase_vertices', 'features', 'the vertices of every surface', NULL

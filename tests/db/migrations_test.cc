@@ -123,6 +123,77 @@ TEST(Store, Migration0009KeepsTheTriangleRows) {
       << "an unknown tag is for tinbase check to report";
 }
 
+// 0014 rebuilds features (and with it constraints, which refers to it) for the new modes: every
+// feature, every constraint with its rowid (the GeoPackage fid) stays, the cascade from a feature
+// to its constraints still holds, and the layers read the rebuilt tables.
+TEST(Store, Migration0014KeepsFeaturesAndTheirConstraints) {
+  TempDir dir;
+  const std::string path = dir.Path("v13.tinbase");
+  const std::string feature_rows =
+      "SELECT group_concat(id || ':' || surface || ':' || coalesce(name, '-') || ':' || mode || "
+      "':' || coalesce(level, '-') || ':' || coalesce(tag, '-') || ':' || attributes || ':' || "
+      "hex(geometry) || ':' || min_x || ':' || min_y || ':' || max_x || ':' || max_y || ':' || tx, "
+      "' ') FROM (SELECT * FROM features ORDER BY id)";
+  const std::string constraint_rows =
+      "SELECT group_concat(rowid || ':' || surface || ':' || va || ':' || vb || ':' || "
+      "coalesce(feature, '-'), ' ') FROM (SELECT rowid, * FROM constraints ORDER BY rowid)";
+  std::string features_before;
+  std::string constraints_before;
+  {
+    auto db = Connection::Open(path, Connection::Mode::kCreate);
+    ASSERT_TRUE(db.ok());
+    Connection& d = **db;
+    ASSERT_TRUE(d.Exec("PRAGMA foreign_keys = ON").ok());
+    ASSERT_TRUE(d.Exec("PRAGMA application_id = " + std::to_string(kTinbaseApplicationId)).ok());
+    ASSERT_TRUE(MigrateStore(d, 13).ok());
+    ASSERT_TRUE(d.Exec("INSERT INTO surfaces(id, name, kind, method, block_origin_x, "
+                       "block_origin_y, block_size) VALUES (3, 's', 'free', 'test', 0, 0, 1);"
+                       "INSERT INTO tags(id, value) VALUES (7, 'granite');"
+                       "INSERT INTO features VALUES (5, 3, 'fault', 'breakline', NULL, NULL, "
+                       "'{\"a\":1}', X'0105', 0, 0, 4, 4, 1),"
+                       "(9, 3, NULL, 'fill', 2.5, 7, '{}', X'0106', 1, 1, 2, 2, 2);"
+                       "INSERT INTO constraints(rowid, surface, va, vb, feature) VALUES "
+                       "(4, 3, 1, 2, 5), (8, 3, 2, 6, 5), (12, 3, 3, 4, NULL)")
+                    .ok());
+    features_before = Text(d, feature_rows);
+    constraints_before = Text(d, constraint_rows);
+    ASSERT_EQ(constraints_before, "4:3:1:2:5 8:3:2:6:5 12:3:3:4:-");
+  }
+  auto store = Store::Open(path);
+  ASSERT_TRUE(store.ok()) << store.status().ToString();
+  Connection& d = (*store)->db();
+  EXPECT_EQ(*d.QueryInt("PRAGMA user_version"), LatestSchemaVersion());
+  EXPECT_EQ(Text(d, feature_rows), features_before);
+  EXPECT_EQ(Text(d, constraint_rows), constraints_before);
+  EXPECT_EQ(Text(d, "SELECT group_concat(z_from) FROM features"), "dem,dem");
+  EXPECT_EQ(Text(d, "SELECT group_concat(kind) FROM constraints"), "hard,hard,hard");
+  EXPECT_EQ(*d.QueryInt("SELECT count(*) FROM pragma_foreign_key_check"), 0);
+  EXPECT_EQ(Text(d, "SELECT group_concat(fid || ':' || kind) FROM tinbase_constraints"),
+            "4:hard,8:hard,12:hard");
+  EXPECT_EQ(Text(d, "SELECT group_concat(fid || ':' || mode) FROM tinbase_breaklines"),
+            "5:breakline");
+  EXPECT_EQ(Text(d, "SELECT group_concat(fid) FROM tinbase_features"), "9");
+
+  EXPECT_TRUE(d.Exec("INSERT INTO features(id, surface, mode, geometry, min_x, min_y, max_x, "
+                     "max_y, tx, z_from) VALUES (10, 3, 'softline', X'', 0, 0, 1, 1, 3, "
+                     "'feature'), (11, 3, 'points', X'', 0, 0, 1, 1, 3, 'dem')")
+                  .ok());
+  EXPECT_TRUE(d.Exec("INSERT INTO constraints(surface, va, vb, feature, kind) "
+                     "VALUES (3, 7, 8, 10, 'soft')")
+                  .ok());
+  EXPECT_FALSE(d.Exec("UPDATE features SET mode = 'wiggle' WHERE id = 10").ok());
+  EXPECT_FALSE(d.Exec("UPDATE features SET z_from = 'lidar' WHERE id = 10").ok());
+  EXPECT_FALSE(d.Exec("UPDATE constraints SET kind = 'firm' WHERE feature = 10").ok());
+  EXPECT_EQ(Text(d, "SELECT group_concat(fid || ':' || mode) FROM tinbase_breaklines"),
+            "5:breakline,10:softline");
+  EXPECT_EQ(Text(d, "SELECT group_concat(fid) FROM tinbase_features"), "9")
+      << "a points feature is in no feature layer";
+
+  ASSERT_TRUE(d.Exec("DELETE FROM features WHERE id = 5").ok());
+  EXPECT_EQ(Text(d, constraint_rows), "12:3:3:4:- 13:3:7:8:10")
+      << "deleting a feature still deletes its constraints";
+}
+
 TEST(Store, NewerStoreIsRefusedWithAClearMessage) {
   TempDir dir;
   const std::string path = dir.Path("new.tinbase");
