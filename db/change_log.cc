@@ -64,8 +64,8 @@ Change ChangeOfRow(const Statement& stmt) {
 }  // namespace
 
 Result<std::vector<Change>> ChangesSince(Store& store, int64_t since) {
-  TB_ASSIGN_OR_RETURN(Statement * stmt, store.db().Cached(std::string(kChangeColumns) +
-                                                          "WHERE tx > ? ORDER BY tx"));
+  TB_ASSIGN_OR_RETURN(Statement * stmt,
+                      store.db().Cached(std::string(kChangeColumns) + "WHERE tx > ? ORDER BY tx"));
   stmt->Bind(1, since);
   std::vector<Change> out;
   while (true) {

@@ -285,6 +285,7 @@ CREATE TABLE feature_versions(
   min_y      double precision NOT NULL,
   max_x      double precision NOT NULL,
   max_y      double precision NOT NULL,
+  z_from     text NOT NULL DEFAULT 'dem',
   PRIMARY KEY (feature, tx)
 );
 CREATE INDEX feature_versions_tx ON feature_versions(tx);

@@ -375,6 +375,7 @@ CREATE TABLE feature_versions(
   min_y      REAL NOT NULL,
   max_x      REAL NOT NULL,
   max_y      REAL NOT NULL,
+  z_from     TEXT NOT NULL DEFAULT 'dem',
   PRIMARY KEY (feature, tx)
 ) WITHOUT ROWID;
 CREATE INDEX feature_versions_tx ON feature_versions(tx);

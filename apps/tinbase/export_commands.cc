@@ -38,7 +38,8 @@ struct ExportArgs {
   double voxel = 0;             // vdb
   std::optional<double> floor;  // vdb
   std::string dem;              // gpkg: the DEM of the raster layer ("none": no raster)
-  std::optional<int64_t> as_of;  // the surface as it was after this transaction
+  // --as-of: the surface as it was after this transaction.
+  std::optional<int64_t> as_of;
 };
 
 // The formats that read more of the store than the selected mesh (features, constraints, a
@@ -164,8 +165,8 @@ int RunExport(const ExportArgs& args) {
   // Before any reading, so a bad path costs nothing; ExportTin checks again when it writes.
   if (auto out = OutputFile::Create(args.output); !out.ok()) return ReportError(out.status());
   // --as-of goes back inside a write transaction that is dropped, never committed.
-  auto store = Store::Open(args.store,
-                           args.as_of ? Store::Access::kReadWrite : Store::Access::kReadOnly);
+  auto store =
+      Store::Open(args.store, args.as_of ? Store::Access::kReadWrite : Store::Access::kReadOnly);
   if (!store.ok()) return ReportError(store.status());
   auto crs = (*store)->GetCrs();
   if (!crs.ok()) return ReportError(crs.status());

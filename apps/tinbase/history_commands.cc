@@ -42,8 +42,8 @@ int RunRevert(const RevertArgs& args) {
     return kExitOk;
   }
   std::cout << "reverted transaction(s) " << JoinIds(report->reverted) << " in transaction(s) "
-            << JoinIds(report->transactions) << ": features removed " +
-                   JoinIds(report->removed_features) + ", restored " +
+            << JoinIds(report->transactions)
+            << ": features removed " + JoinIds(report->removed_features) + ", restored " +
                    JoinIds(report->restored_features) + "; "
             << report->removed << " triangles replaced by " << report->added << " in "
             << Num(watch.Seconds(), 3) << " s\n";
@@ -67,8 +67,8 @@ int RunHistory(const HistoryArgs& args) {
   auto versions = VersionsOfFeature(**store, args.feature);
   if (!versions.ok()) return ReportError(versions.status());
   if (versions->empty())
-    return ReportError(
-        Status::NotFound(std::string("feature ") + std::to_string(args.feature) + " has no history"));
+    return ReportError(Status::NotFound(std::string("feature ") + std::to_string(args.feature) +
+                                        " has no history"));
   nlohmann::json j = nlohmann::json::array();
   for (size_t k = 0; k < versions->size(); ++k) {
     const FeatureVersion& v = (*versions)[k];
@@ -81,8 +81,7 @@ int RunHistory(const HistoryArgs& args) {
       std::cout << "tx " << v.tx << " " << v.time << " " << v.action << ": " << state << ", mode "
                 << v.mode << (v.tag ? ", tag " + *v.tag : "")
                 << (v.level ? ", level " + Num(*v.level) : "")
-                << (touched->empty() ? "" : " (with feature(s) " + JoinIds(*touched) + ")")
-                << "\n";
+                << (touched->empty() ? "" : " (with feature(s) " + JoinIds(*touched) + ")") << "\n";
       continue;
     }
     j.push_back({{"tx", v.tx},

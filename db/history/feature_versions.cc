@@ -11,7 +11,7 @@ namespace {
 
 constexpr const char* kVersionColumns =
     "v.feature, v.tx, v.surface, v.present, v.mode, t.value, v.level, v.attributes, v.geometry, "
-    "c.action, c.time, v.name FROM feature_versions v LEFT JOIN tags t ON t.id = v.tag "
+    "c.action, c.time, v.name, v.z_from FROM feature_versions v LEFT JOIN tags t ON t.id = v.tag "
     "LEFT JOIN changes c ON c.tx = v.tx ";
 
 FeatureVersion VersionOfRow(const Statement& stmt) {
@@ -30,6 +30,7 @@ FeatureVersion VersionOfRow(const Statement& stmt) {
   if (!stmt.ColumnIsNull(9)) v.action = stmt.ColumnText(9);
   if (!stmt.ColumnIsNull(10)) v.time = stmt.ColumnText(10);
   if (!stmt.ColumnIsNull(11)) v.name = stmt.ColumnText(11);
+  v.z_from = stmt.ColumnText(12);
   return v;
 }
 
@@ -66,8 +67,9 @@ Result<std::vector<int64_t>> ReadIds(Statement& stmt) {
 }
 
 Result<bool> HasVersions(Store& store, int64_t feature) {
-  TB_ASSIGN_OR_RETURN(Statement * stmt,
-                      store.db().Cached("SELECT 1 FROM feature_versions WHERE feature = ? LIMIT 1"));
+  TB_ASSIGN_OR_RETURN(
+      Statement * stmt,
+      store.db().Cached("SELECT 1 FROM feature_versions WHERE feature = ? LIMIT 1"));
   stmt->Bind(1, feature);
   TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
   stmt->Reset();
@@ -89,9 +91,9 @@ Status CopyRow(Store& store, int64_t tx, int64_t feature, bool present) {
   TB_ASSIGN_OR_RETURN(
       Statement * stmt,
       store.db().Cached("INSERT INTO feature_versions(feature, tx, surface, present, name, mode, "
-                        "level, tag, attributes, geometry, min_x, min_y, max_x, max_y) "
+                        "level, tag, attributes, geometry, min_x, min_y, max_x, max_y, z_from) "
                         "SELECT id, ?, surface, ?, name, mode, level, tag, attributes, geometry, "
-                        "min_x, min_y, max_x, max_y FROM features WHERE id = ?"));
+                        "min_x, min_y, max_x, max_y, z_from FROM features WHERE id = ?"));
   stmt->Bind(1, tx).Bind(2, int64_t{present ? 1 : 0}).Bind(3, feature);
   return stmt->Run();
 }
@@ -122,9 +124,8 @@ Status RecordFeatureVersions(Store& store, int64_t tx, const std::vector<int64_t
 }
 
 Result<std::vector<FeatureVersion>> VersionsOfFeature(Store& store, int64_t feature) {
-  TB_ASSIGN_OR_RETURN(Statement * stmt,
-                      store.db().Cached(std::string("SELECT ") + kVersionColumns +
-                                        "WHERE v.feature = ? ORDER BY v.tx"));
+  TB_ASSIGN_OR_RETURN(Statement * stmt, store.db().Cached(std::string("SELECT ") + kVersionColumns +
+                                                          "WHERE v.feature = ? ORDER BY v.tx"));
   stmt->Bind(1, feature);
   return ReadVersions(*stmt);
 }
@@ -157,10 +158,9 @@ Result<std::vector<int64_t>> FeaturesTouchedBy(Store& store, int64_t tx) {
 }
 
 Result<std::optional<FeatureVersion>> VersionAt(Store& store, int64_t feature, int64_t tx) {
-  TB_ASSIGN_OR_RETURN(Statement * stmt,
-                      store.db().Cached(std::string("SELECT ") + kVersionColumns +
-                                        "WHERE v.feature = ? AND v.tx <= ? "
-                                        "ORDER BY v.tx DESC LIMIT 1"));
+  TB_ASSIGN_OR_RETURN(Statement * stmt, store.db().Cached(std::string("SELECT ") + kVersionColumns +
+                                                          "WHERE v.feature = ? AND v.tx <= ? "
+                                                          "ORDER BY v.tx DESC LIMIT 1"));
   stmt->Bind(1, feature).Bind(2, tx);
   TB_ASSIGN_OR_RETURN(std::vector<FeatureVersion> one, ReadVersions(*stmt));
   if (one.empty()) return std::optional<FeatureVersion>();
@@ -187,9 +187,12 @@ Result<EditorFeature> EditorFeatureOf(const FeatureVersion& version) {
   EditorFeature f;
   f.id = version.feature;
   // WriteFeature stores the tag, else the label, as the name: the label brings the name back.
-  f.label = version.name.empty() ? std::string("feature ") + std::to_string(version.feature) : version.name;
+  f.label = version.name.empty() ? std::string("feature ") + std::to_string(version.feature)
+                                 : version.name;
   auto mode = ParseFeatureMode(version.mode);
-  if (!mode.ok()) return Status::InvalidArgument(std::string("feature ") + std::to_string(version.feature) + ": " + mode.status().message());
+  if (!mode.ok())
+    return Status::InvalidArgument(std::string("feature ") + std::to_string(version.feature) +
+                                   ": " + mode.status().message());
   f.mode = *mode;
   f.tag = version.tag;
   f.level = version.level;

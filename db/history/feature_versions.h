@@ -29,8 +29,9 @@ struct FeatureVersion {
   std::optional<double> level;
   std::string attributes;  // JSON text, as stored
   std::vector<uint8_t> geometry;
-  std::string action;  // of tx's `changes` row
-  std::string time;    // of tx's `changes` row
+  std::string z_from = "dem";  // 'dem' or 'feature' (a 3D line's own z), as stored
+  std::string action;          // of tx's `changes` row
+  std::string time;            // of tx's `changes` row
 };
 
 // Moves the feature row `f` just written by WriteFeature to the id it must have: `wanted` when it
@@ -66,8 +67,9 @@ Result<std::vector<int64_t>> LaterVersions(Store& store, int64_t feature, int64_
 Result<std::vector<int64_t>> FeaturesChangedAfter(Store& store, int64_t surface, int64_t tx);
 
 // The editor's feature of a polygon or line version (its geometry decoded by mode), labelled with
-// its stored name (which the editor writes back as it was). InvalidArgument for a mode the editor does not draw (the
-// mass points' own revert decodes those); Corruption when its geometry does not parse.
+// its stored name (which the editor writes back as it was). InvalidArgument for a mode the editor
+// does not draw (the mass points' own revert decodes those); Corruption when its geometry does not
+// parse.
 Result<EditorFeature> EditorFeatureOf(const FeatureVersion& version);
 
 }  // namespace tinbase

@@ -58,8 +58,9 @@ Status CloseOverLaterEdits(Store& store, const Change& change, std::set<int64_t>
 // transaction `first` (its state after first - 1).
 Status PlanFeature(Store& store, int64_t feature, int64_t first, RevertPlan* plan) {
   TB_ASSIGN_OR_RETURN(std::vector<FeatureVersion> versions, VersionsOfFeature(store, feature));
-  if (versions.empty()) return Status::Corruption(std::string("feature ") + std::to_string(feature) +
-                                                  " is touched by a transaction but has no version");
+  if (versions.empty())
+    return Status::Corruption(std::string("feature ") + std::to_string(feature) +
+                              " is touched by a transaction but has no version");
   const FeatureVersion& now = versions.back();
   const FeatureVersion* back = nullptr;
   for (const FeatureVersion& v : versions)
@@ -121,16 +122,16 @@ Result<RevertPlan> PlanAsOf(Store& store, const SurfaceInfo& surface, int64_t tx
                                    std::to_string(last) + ")");
   TB_ASSIGN_OR_RETURN(std::optional<Change> built, FirstChangeOfSurface(store, surface.id));
   if (tx < 1 || (built && tx < built->tx))
-    return Status::InvalidArgument(std::string("--as-of ") + std::to_string(tx) + ": surface '" + surface.name +
-                                   "' did not exist yet" +
-                                   (built ? " (it was built in transaction " +
-                                                std::to_string(built->tx) + ")"
-                                          : std::string()));
+    return Status::InvalidArgument(
+        std::string("--as-of ") + std::to_string(tx) + ": surface '" + surface.name +
+        "' did not exist yet" +
+        (built ? " (it was built in transaction " + std::to_string(built->tx) + ")"
+               : std::string()));
   TB_ASSIGN_OR_RETURN(std::optional<Change> other,
                       FirstChangeWithoutFeatures(store, surface.id, tx));
   if (other)
-    return Status::InvalidArgument(std::string("--as-of ") + std::to_string(tx) + ": " + Described(*other) +
-                                   " changed surface '" + surface.name +
+    return Status::InvalidArgument(std::string("--as-of ") + std::to_string(tx) + ": " +
+                                   Described(*other) + " changed surface '" + surface.name +
                                    "' after it other than by a feature edit, so its feature "
                                    "versions cannot take it back");
   RevertPlan plan;

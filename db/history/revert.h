@@ -25,7 +25,7 @@ struct RevertPlan {
   std::vector<int64_t> transactions;  // undone, oldest first (empty for an as-of plan)
   // Features that go: present now, absent at the point the plan goes back to. A feature changed
   // in place (present at both, under one id) is in both lists.
-  std::vector<FeatureVersion> remove;  // their current versions
+  std::vector<FeatureVersion> remove;   // their current versions
   std::vector<FeatureVersion> restore;  // the versions that come back
 };
 

@@ -15,10 +15,12 @@ CREATE TABLE feature_versions(
   min_y      double precision NOT NULL,
   max_x      double precision NOT NULL,
   max_y      double precision NOT NULL,
+  z_from     text NOT NULL DEFAULT 'dem',
   PRIMARY KEY (feature, tx)
 );
 CREATE INDEX feature_versions_tx ON feature_versions(tx);
 INSERT INTO feature_versions(feature, tx, surface, present, name, mode, level, tag, attributes,
-                             geometry, min_x, min_y, max_x, max_y)
-SELECT id, tx, surface, 1, name, mode, level, tag, attributes, geometry, min_x, min_y, max_x, max_y
+                             geometry, min_x, min_y, max_x, max_y, z_from)
+SELECT id, tx, surface, 1, name, mode, level, tag, attributes, geometry, min_x, min_y, max_x, max_y,
+       z_from
 FROM features;

@@ -18,10 +18,12 @@ CREATE TABLE feature_versions(
   min_y      REAL NOT NULL,
   max_x      REAL NOT NULL,
   max_y      REAL NOT NULL,
+  z_from     TEXT NOT NULL DEFAULT 'dem',
   PRIMARY KEY (feature, tx)
 ) WITHOUT ROWID;
 CREATE INDEX feature_versions_tx ON feature_versions(tx);
 INSERT INTO feature_versions(feature, tx, surface, present, name, mode, level, tag, attributes,
-                             geometry, min_x, min_y, max_x, max_y)
-SELECT id, tx, surface, 1, name, mode, level, tag, attributes, geometry, min_x, min_y, max_x, max_y
+                             geometry, min_x, min_y, max_x, max_y, z_from)
+SELECT id, tx, surface, 1, name, mode, level, tag, attributes, geometry, min_x, min_y, max_x, max_y,
+       z_from
 FROM features;

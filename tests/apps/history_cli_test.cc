@@ -1,7 +1,7 @@
 // `revert`, `history`, `changes --json` (the features of each transaction) and `export --as-of`
-// end to end on the Hamersley data: the past is exported as it was (the GeoJSON read back by
-// OGR's ogrinfo, a reader we did not write), and each bad input of issue 28 is one clear line
-// with the store unchanged.
+// end to end on the Hamersley data: the past is exported with the features it had (the GeoJSON
+// read back by OGR's ogrinfo, a reader we did not write), and each bad input of issue 28 is one
+// clear line with the store unchanged.
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -45,18 +45,18 @@ class HistoryCliTest : public ::testing::Test {
     std::ofstream(path) << R"({"type":"FeatureCollection","crs":{"type":"name","properties":)"
                         << R"({"name":"EPSG:28350"}},"features":[{"type":"Feature",)"
                         << R"("properties":{},"geometry":{"type":"Polygon","coordinates":[[)"
-                        << "[" << x - h << "," << y - h << "],[" << x + h << "," << y - h
-                        << "],[" << x + h << "," << y + h << "],[" << x - h << "," << y + h
-                        << "],[" << x - h << "," << y - h << "]]]}}]}";
+                        << "[" << x - h << "," << y - h << "],[" << x + h << "," << y - h << "],["
+                        << x + h << "," << y + h << "],[" << x - h << "," << y + h << "],[" << x - h
+                        << "," << y - h << "]]]}}]}";
     return path;
   }
 
-  // The transaction and first feature of the last edit, from `changes --json`.
+  // The transaction of the last edit and the newest feature it touched, from `changes --json`.
   std::pair<int64_t, int64_t> LastEdit() {
     const nlohmann::json changes = Json(RunCli("changes --json " + Quote(store_)));
     const nlohmann::json& last = changes.back();
     return {last["tx"].get<int64_t>(),
-            last["features"].empty() ? 0 : last["features"][0].get<int64_t>()};
+            last["features"].empty() ? 0 : last["features"].back().get<int64_t>()};
   }
 
   TempDir dir_;
@@ -69,35 +69,48 @@ TEST_F(HistoryCliTest, RevertHistoryChangesAndExportAsOf) {
                        " --surface terrain --mode fill --tag a");
   const auto [tx_a, fa] = LastEdit();
   ASSERT_GT(fa, 0);
-  const nlohmann::json then = Json(RunCli("export " + Quote(store_) + " --surface terrain -o " +
-                                          Quote(dir_.Path("then.geojson")) + " --json"));
+  const auto count = [&](const std::string& extra) {
+    return Json(RunCli("export " + Quote(store_) + " --surface terrain -o " +
+                       Quote(dir_.Path("count.obj")) + " --json" + extra))["triangles"]
+        .get<int64_t>();
+  };
+  const int64_t hidden_at_a = count("") - count(" --visible-only");
   RunWrite(store_, "polygon add " + Quote(store_) + " " + Quote(Square("b.geojson", 3000, 1500)) +
                        " --surface terrain --mode erase");
   const auto [tx_b, fb] = LastEdit();
   EXPECT_NE(fb, fa);
 
-  // The past, exported: as many vertices and triangles as then; OGR reads every triangle.
+  // The past, exported: without b's erase, more triangles are visible than now; OGR reads every
+  // triangle written; the store is unchanged.
+  const auto visible = [&](const std::string& extra, const std::string& out) {
+    return Json(RunCli("export " + Quote(store_) + " --surface terrain --visible-only -o " +
+                       Quote(dir_.Path(out)) + " --json" + extra))["triangles"]
+        .get<int64_t>();
+  };
   const auto before = testing::TableChecksums(store_);
   const std::string past = dir_.Path("past.geojson");
-  const nlohmann::json as_of =
-      Json(RunCli("export " + Quote(store_) + " --surface terrain --as-of " +
-                  std::to_string(tx_a) + " -o " + Quote(past) + " --json"));
-  EXPECT_EQ(as_of["vertices"], then["vertices"]);
-  EXPECT_EQ(as_of["triangles"], then["triangles"]);
+  const int64_t visible_then = visible(" --as-of " + std::to_string(tx_a), "past.geojson");
   EXPECT_EQ(testing::TableChecksums(store_), before) << "export --as-of changed the store";
+  EXPECT_GT(visible_then, visible("", "now.geojson"));
+  const int64_t all_then =
+      Json(RunCli("export " + Quote(store_) + " --surface terrain --as-of " + std::to_string(tx_a) +
+                  " -o " + Quote(dir_.Path("all.obj")) + " --json"))["triangles"]
+          .get<int64_t>();
+  EXPECT_EQ(all_then - visible_then, hidden_at_a) << "as of the fill, only nodata was hidden";
   if (testing::HaveTool("ogrinfo")) {
     const testing::ToolResult info = testing::RunTool("ogrinfo -ro -so -al " + Quote(past));
     std::smatch m;
     ASSERT_TRUE(std::regex_search(info.out, m, std::regex("Feature Count: (\\d+)"))) << info.out;
-    EXPECT_EQ(std::stoll(m[1]), as_of["triangles"].get<int64_t>());
+    EXPECT_EQ(std::stoll(m[1]), visible_then);
   }
 
   // Update a, then revert the add: refused, naming the update; with --cascade both go.
-  RunWrite(store_, "polygon update " + Quote(store_) + " " + std::to_string(fa) + " " +
+  RunWrite(store_, "polygon update " + Quote(store_) + std::string(" ") + std::to_string(fa) + " " +
                        Quote(Square("a2.geojson", -500, 1200)));
   const auto [tx_c, fc] = LastEdit();
-  ExpectRejected(store_, "revert " + Quote(store_) + " " + std::to_string(tx_a),
-                 "changed again by transaction " + std::to_string(tx_c) + " (polygon update)");
+  ExpectRejected(
+      store_, "revert " + Quote(store_) + std::string(" ") + std::to_string(tx_a),
+      std::string("changed again by transaction ") + std::to_string(tx_c) + " (polygon update)");
   ExpectRejected(store_, "revert " + Quote(store_) + " 99999", "no transaction 99999");
   ExpectRejected(store_,
                  "export " + Quote(store_) + " --surface terrain --as-of 99999 -o " +
@@ -106,18 +119,20 @@ TEST_F(HistoryCliTest, RevertHistoryChangesAndExportAsOf) {
   const nlohmann::json changes = Json(RunCli("changes --json " + Quote(store_)));
   for (const nlohmann::json& c : changes) {
     if (c["action"] != "build") continue;
-    ExpectRejected(store_, "revert " + Quote(store_) + " " + std::to_string(c["tx"].get<int64_t>()),
-                   "is not an edit of features");
+    ExpectRejected(
+        store_,
+        "revert " + Quote(store_) + std::string(" ") + std::to_string(c["tx"].get<int64_t>()),
+        "is not an edit of features");
   }
 
-  const nlohmann::json reverted = Json(RunWrite(store_, "revert " + Quote(store_) + " " +
-                                                            std::to_string(tx_c) + " --json"));
+  const nlohmann::json reverted = Json(RunWrite(
+      store_, "revert " + Quote(store_) + std::string(" ") + std::to_string(tx_c) + " --json"));
   EXPECT_EQ(reverted["reverted"], nlohmann::json::array({tx_c}));
   EXPECT_EQ(reverted["restored_features"], nlohmann::json::array({fa}));
   EXPECT_EQ(reverted["removed_features"], nlohmann::json::array({fc}));
 
-  const nlohmann::json history =
-      Json(RunCli("history " + Quote(store_) + " --feature " + std::to_string(fa) + " --json"));
+  const nlohmann::json history = Json(RunCli(
+      "history " + Quote(store_) + std::string(" --feature ") + std::to_string(fa) + " --json"));
   ASSERT_EQ(history["versions"].size(), 3u) << history.dump();
   EXPECT_EQ(history["versions"][0]["state"], "added");
   EXPECT_EQ(history["versions"][1]["state"], "removed");
@@ -126,7 +141,8 @@ TEST_F(HistoryCliTest, RevertHistoryChangesAndExportAsOf) {
   EXPECT_EQ(history["versions"][2]["tag"], "a");
   ExpectRejected(store_, "history " + Quote(store_) + " --feature 99999", "has no history");
 
-  RunWrite(store_, "revert " + Quote(store_) + " " + std::to_string(tx_b) + " --cascade");
+  RunWrite(store_,
+           "revert " + Quote(store_) + std::string(" ") + std::to_string(tx_b) + " --cascade");
 }
 
 }  // namespace

@@ -1,7 +1,10 @@
 // Feature versions, revert and as-of on the Hamersley surface: each edit writes the versions of
-// the features it touched; a revert takes the surface back to what it was (tests/db/history/
-// surface_signature.h) and refuses unknown transactions, builds and conflicts with the store
-// unchanged; --as-of reads the past without changing the store.
+// the features it touched; a revert puts the features back as they were (tests/db/history/
+// surface_signature.h) with every invariant of the full check, and refuses unknown transactions,
+// builds and conflicts with the store unchanged; --as-of reads the past without changing the
+// store.
+#include "db/history/revert.h"
+
 #include <gtest/gtest.h>
 
 #include <string>
@@ -11,7 +14,6 @@
 #include "db/dem_store.h"
 #include "db/history/as_of.h"
 #include "db/history/feature_versions.h"
-#include "db/history/revert.h"
 #include "db/polygon_editor.h"
 #include "db/surface_builder.h"
 #include "tests/db/history/surface_signature.h"
@@ -51,7 +53,7 @@ class RevertTest : public ::testing::Test {
     o.file = testing::WritePolygons(dir_, name, {{ring}});
     o.mode = mode;
     o.tag = mode == FeatureMode::kFill ? name : "";
-    if (mode == FeatureMode::kReplace) o.level = 450;
+    if (mode == FeatureMode::kReplace) o.level = 450.25;  // no DEM cell has it
     auto report = AddPolygons(*store_, o);
     EXPECT_TRUE(report.ok()) << report.status().ToString();
     return report.ok() ? *report : PolygonAddReport{};
@@ -105,14 +107,13 @@ TEST_F(RevertTest, EveryEditWritesTheVersionsOfTheFeaturesItTouched) {
   ASSERT_EQ(new_versions->size(), 2u);
   EXPECT_EQ((*new_versions)[1].tx, removed->tx);
   EXPECT_FALSE((*new_versions)[1].present);
-  EXPECT_EQ((*new_versions)[1].tag, "b.geojson");
+  EXPECT_EQ((*new_versions)[1].tag, "a.geojson") << "an update keeps the tag";
 
   auto changes = ChangesSince(*store_, a.tx - 1);
   ASSERT_TRUE(changes.ok());
   ASSERT_EQ(changes->size(), 3u);
   EXPECT_EQ((*changes)[0].features, std::vector<int64_t>{a.first_feature_id});
-  EXPECT_EQ((*changes)[1].features,
-            (std::vector<int64_t>{a.first_feature_id, b.first_feature_id}));
+  EXPECT_EQ((*changes)[1].features, (std::vector<int64_t>{a.first_feature_id, b.first_feature_id}));
   EXPECT_EQ((*changes)[2].features, std::vector<int64_t>{b.first_feature_id});
 }
 
@@ -130,13 +131,20 @@ TEST_F(RevertTest, RevertOfAnAddTakesTheSurfaceBack) {
   const testing::SurfaceSignature original = testing::SignatureOf(*store_);
   const PolygonAddReport a = Add("a.geojson", Ngon(kCx, kCy, 8 * kCell, 24), FeatureMode::kReplace);
   ASSERT_NE(testing::SignatureOf(*store_), original);
+  ASSERT_GT(*store_->db().QueryInt("SELECT count(*) FROM vertices WHERE z = 450.25"), 0);
   const RevertReport r = Revert(a.tx);
   EXPECT_EQ(r.reverted, std::vector<int64_t>{a.tx});
   EXPECT_EQ(r.removed_features, std::vector<int64_t>{a.first_feature_id});
-  testing::ExpectSameSurface(original, testing::SignatureOf(*store_), "after the revert");
+  testing::ExpectSameFeatures(original, testing::SignatureOf(*store_), "after the revert");
+  // Nothing of the replace polygon is left: no constraint, ring or crossing vertex, level or tag.
+  const auto count = [&](const std::string& sql) { return *store_->db().QueryInt(sql); };
+  EXPECT_EQ(count("SELECT count(*) FROM constraints"), 0);
+  EXPECT_EQ(count("SELECT count(*) FROM vertices WHERE kind IN ('ring', 'steiner')"), 0);
+  EXPECT_EQ(count("SELECT count(*) FROM vertices WHERE z = 450.25"), 0);
+  EXPECT_EQ(count("SELECT count(*) FROM triangles WHERE tag IS NOT NULL"), 0);
   auto change = ChangeOf(*store_, r.transactions.at(0));
   ASSERT_TRUE(change.ok());
-  EXPECT_EQ(change->action, "revert " + std::to_string(a.tx));
+  EXPECT_EQ(change->action, std::string("revert ") + std::to_string(a.tx));
 }
 
 TEST_F(RevertTest, RevertOfARemoveOrUpdatePutsTheFeatureBackUnderItsId) {
@@ -146,12 +154,12 @@ TEST_F(RevertTest, RevertOfARemoveOrUpdatePutsTheFeatureBackUnderItsId) {
   auto removed = RemovePolygon(*store_, a.first_feature_id);
   ASSERT_TRUE(removed.ok());
   Revert(removed->tx);
-  testing::ExpectSameSurface(with_a, testing::SignatureOf(*store_), "after reverting the remove");
+  testing::ExpectSameFeatures(with_a, testing::SignatureOf(*store_), "after reverting the remove");
 
   const PolygonAddReport b = Update(a.first_feature_id, "b.geojson", Ngon(kCx, kCy, 4 * kCell, 9));
   const RevertReport r = Revert(b.tx);
   EXPECT_EQ(r.restored_features, std::vector<int64_t>{a.first_feature_id});
-  testing::ExpectSameSurface(with_a, testing::SignatureOf(*store_), "after reverting the update");
+  testing::ExpectSameFeatures(with_a, testing::SignatureOf(*store_), "after reverting the update");
   // A revert is an edit like the others: reverting it redoes the update.
   Revert(r.transactions.at(0));
   auto features = store_->db().QueryInt("SELECT count(*) FROM features WHERE id = " +
@@ -183,7 +191,7 @@ TEST_F(RevertTest, RefusesUnknownTransactionsBuildsAndConflictsLeavingTheStoreUn
   const RevertReport both = Revert(a.tx, /*cascade=*/true);
   EXPECT_EQ(both.reverted, (std::vector<int64_t>{a.tx, b.tx}));
   EXPECT_EQ(both.transactions.size(), 1u) << "a cascade is one transaction";
-  testing::ExpectSameSurface(original, testing::SignatureOf(*store_), "after the cascade");
+  testing::ExpectSameFeatures(original, testing::SignatureOf(*store_), "after the cascade");
 }
 
 TEST_F(RevertTest, AsOfReadsThePastAndLeavesTheStoreUnchanged) {
@@ -197,7 +205,7 @@ TEST_F(RevertTest, AsOfReadsThePastAndLeavesTheStoreUnchanged) {
   {
     auto past = BeginAsOf(*store_, *surface, a.tx);
     ASSERT_TRUE(past.ok()) << past.status().ToString();
-    testing::ExpectSameSurface(after_a, testing::SignatureOf(*store_), "as of the first add");
+    testing::ExpectSameFeatures(after_a, testing::SignatureOf(*store_), "as of the first add");
   }
   EXPECT_EQ(Checksums(), before);
 
