@@ -16,21 +16,33 @@ std::string Described(const Change& c) {
   return std::string("transaction ") + std::to_string(c.tx) + " (" + c.action + ")";
 }
 
-// The features of transaction `tx` changed again by a later transaction: Conflict naming the
-// earliest such transaction and its feature.
+// Whether two versions of one feature describe the same feature row (both absent counts too).
+bool SameState(const FeatureVersion& a, const FeatureVersion& b) {
+  if (a.present != b.present) return false;
+  return !a.present || (a.surface == b.surface && a.name == b.name && a.mode == b.mode &&
+                        a.tag == b.tag && a.level == b.level && a.attributes == b.attributes &&
+                        a.geometry == b.geometry && a.z_from == b.z_from);
+}
+
+// Conflict naming the transaction and the feature when a feature of `change` is no longer as
+// `change` left it. Later edits that came to nothing (an edit and its revert, as when edits are
+// reverted in reverse order) leave it as it was, and are no conflict.
 Status CheckNoLaterEdits(Store& store, const Change& change) {
-  int64_t first_later = 0, feature = 0;
   for (int64_t f : change.features) {
-    TB_ASSIGN_OR_RETURN(std::vector<int64_t> later, LaterVersions(store, f, change.tx));
-    if (!later.empty() && (first_later == 0 || later.front() < first_later))
-      first_later = later.front(), feature = f;
+    TB_ASSIGN_OR_RETURN(std::vector<FeatureVersion> versions, VersionsOfFeature(store, f));
+    const FeatureVersion& now = versions.back();
+    if (now.tx == change.tx) continue;
+    const FeatureVersion* after = nullptr;
+    for (const FeatureVersion& v : versions)
+      if (v.tx <= change.tx) after = &v;
+    if (after != nullptr && SameState(*after, now)) continue;
+    TB_ASSIGN_OR_RETURN(Change later, ChangeOf(store, now.tx));
+    return Status::Conflict("cannot revert " + Described(change) + ": feature " +
+                            std::to_string(f) + " was changed again by " + Described(later) +
+                            "; revert " + std::to_string(now.tx) +
+                            " first, or give --cascade to revert both");
   }
-  if (first_later == 0) return Status::Ok();
-  TB_ASSIGN_OR_RETURN(Change later, ChangeOf(store, first_later));
-  return Status::Conflict("cannot revert " + Described(change) + ": feature " +
-                          std::to_string(feature) + " was changed again by " + Described(later) +
-                          std::string("; revert ") + std::to_string(first_later) +
-                          " first, or give --cascade to revert both");
+  return Status::Ok();
 }
 
 // Transaction `tx` and every later transaction that touched one of their features, closed under
@@ -66,6 +78,8 @@ Status PlanFeature(Store& store, int64_t feature, int64_t first, RevertPlan* pla
   for (const FeatureVersion& v : versions)
     if (v.tx < first) back = &v;
   const bool back_present = back != nullptr && back->present;
+  // Back where it was (a revert of a revert inside the set): nothing to do.
+  if (now.present && back_present && SameState(now, *back)) return Status::Ok();
   if (now.present) plan->remove.push_back(now);
   if (back_present) plan->restore.push_back(*back);
   return Status::Ok();
@@ -102,14 +116,19 @@ Result<RevertPlan> PlanRevert(Store& store, int64_t tx, const RevertOptions& opt
     return Status::InvalidArgument(Described(change) +
                                    " is not an edit of features: only edits (polygon add, update, "
                                    "remove, points, revert) can be reverted");
-  if (!options.cascade) TB_RETURN_IF_ERROR(CheckNoLaterEdits(store, change));
-  std::set<int64_t> transactions, features;
-  TB_RETURN_IF_ERROR(CloseOverLaterEdits(store, change, &transactions, &features));
+  std::set<int64_t> transactions{tx};
+  std::set<int64_t> features(change.features.begin(), change.features.end());
+  if (options.cascade) {
+    TB_RETURN_IF_ERROR(CloseOverLaterEdits(store, change, &transactions, &features));
+  } else {
+    TB_RETURN_IF_ERROR(CheckNoLaterEdits(store, change));
+  }
   RevertPlan plan;
   TB_ASSIGN_OR_RETURN(plan.surface, SurfaceOf(store, change));
   plan.transactions.assign(transactions.begin(), transactions.end());
   // Each feature goes back to before the first undone transaction that touched it: every later
-  // version of it is undone too (the closure holds every transaction after tx that touched it).
+  // version of it is undone too (with --cascade the closure holds every transaction after tx that
+  // touched it; without, the check made sure the later ones came to nothing).
   for (int64_t f : features) TB_RETURN_IF_ERROR(PlanFeature(store, f, change.tx, &plan));
   return plan;
 }

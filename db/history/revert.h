@@ -46,8 +46,8 @@ struct RevertReport {
 
 // The plan that undoes transaction `tx`. NotFound "no transaction 12"; InvalidArgument when tx
 // wrote no feature version (a build, a DEM import: "transaction 3 (build) is not an edit of
-// features"); Conflict naming the later transaction and the feature when a later edit touched a
-// feature of tx and options.cascade is off. REQUIRES: inside a WriteTransaction (the plan holds
+// features"); Conflict naming the later transaction and the feature when a feature of tx is no
+// longer as tx left it (a later edit changed it and was not reverted) and options.cascade is off. REQUIRES: inside a WriteTransaction (the plan holds
 // only until another writer could come).
 Result<RevertPlan> PlanRevert(Store& store, int64_t tx, const RevertOptions& options);
 

@@ -194,6 +194,18 @@ TEST_F(RevertTest, RefusesUnknownTransactionsBuildsAndConflictsLeavingTheStoreUn
   testing::ExpectSameFeatures(original, testing::SignatureOf(*store_), "after the cascade");
 }
 
+// Reverts in reverse order need no --cascade: a later edit that was itself reverted left the
+// feature as it was.
+TEST_F(RevertTest, RevertsInReverseOrderAreNoConflict) {
+  const testing::SurfaceSignature original = testing::SignatureOf(*store_);
+  const PolygonAddReport a = Add("a.geojson", Ngon(kCx, kCy, 8 * kCell, 24));
+  const PolygonAddReport b = Update(a.first_feature_id, "b.geojson", Ngon(kCx, kCy, 6 * kCell, 17));
+  Revert(b.tx);
+  const RevertReport r = Revert(a.tx);
+  EXPECT_EQ(r.reverted, std::vector<int64_t>{a.tx});
+  testing::ExpectSameFeatures(original, testing::SignatureOf(*store_), "after both reverts");
+}
+
 TEST_F(RevertTest, AsOfReadsThePastAndLeavesTheStoreUnchanged) {
   const PolygonAddReport a = Add("a.geojson", Ngon(kCx, kCy, 8 * kCell, 24));
   const testing::SurfaceSignature after_a = testing::SignatureOf(*store_);
