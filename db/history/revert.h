@@ -47,8 +47,8 @@ struct RevertReport {
 // The plan that undoes transaction `tx`. NotFound "no transaction 12"; InvalidArgument when tx
 // wrote no feature version (a build, a DEM import: "transaction 3 (build) is not an edit of
 // features"); Conflict naming the later transaction and the feature when a feature of tx is no
-// longer as tx left it (a later edit changed it and was not reverted) and options.cascade is off. REQUIRES: inside a WriteTransaction (the plan holds
-// only until another writer could come).
+// longer as tx left it (a later edit changed it and was not reverted) and options.cascade is off.
+// REQUIRES: inside a WriteTransaction (the plan holds only until another writer could come).
 Result<RevertPlan> PlanRevert(Store& store, int64_t tx, const RevertOptions& options);
 
 // The plan that takes `surface` back to the state after transaction `tx`. InvalidArgument for a
