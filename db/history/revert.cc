@@ -112,6 +112,12 @@ FeatureInverse InverseOf(const RevertPlan& plan, std::string_view family, bool s
 
 Result<RevertPlan> PlanRevert(Store& store, int64_t tx, const RevertOptions& options) {
   TB_ASSIGN_OR_RETURN(Change change, ChangeOf(store, tx));
+  // An edit committed before the store had feature versions (migration 0015) left none.
+  const bool old_edit = change.action.rfind("polygon ", 0) == 0;
+  if (change.features.empty() && old_edit)
+    return Status::InvalidArgument(Described(change) +
+                                   " predates the feature versions of this store (migration "
+                                   "0015): it cannot be reverted");
   if (change.features.empty())
     return Status::InvalidArgument(Described(change) +
                                    " is not an edit of features: only edits (polygon add, update, "
