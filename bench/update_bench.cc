@@ -9,6 +9,7 @@
 //     point kept, end to end (read, validate, drape, insert, commit).
 //   - a 1000+ polygon map loaded feature by feature against the same surface rebuilt from
 //     scratch (BM_Map*; BM_MapEachOverRebuild takes the ratio of alternated pairs).
+//   - reverting the 200-vertex insert against the insert itself (BM_RevertOverInsert, issue 28).
 // Each insert is undone (polygon remove, untimed) so every iteration sees the same store.
 // Stores are synthetic smooth terrains built at full resolution in a temporary directory.
 #include <benchmark/benchmark.h>
@@ -33,6 +34,7 @@
 #include "core/vector/polygon_source.h"
 #include "db/dem_store.h"
 #include "db/feature_store.h"
+#include "db/history/revert.h"
 #include "db/polygon_editor.h"
 #include "db/surface_builder.h"
 #include "db/surface_store.h"
@@ -550,6 +552,43 @@ void BM_MapEachOverRebuild(benchmark::State& state) {
   state.counters["ratio_max"] = *std::max_element(ratios.begin(), ratios.end());
 }
 BENCHMARK(BM_MapEachOverRebuild)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(1);
+
+// Issue 28's speed goal: reverting the 200-vertex polygon insert (`tinbase revert`, its inverse
+// applied locally) within 1.5x of the insert itself. Alternated rounds on one store: insert
+// (timed), revert it (timed); the revert leaves the surface as it was, so every round sees the
+// same store. Reports the medians and the median of the per-round ratios.
+void BM_RevertOverInsert(benchmark::State& state) {
+  constexpr int kRounds = 15;
+  const int64_t side = state.range(0);
+  auto store = Store::Open(BuildStore(side));
+  if (!store.ok()) std::abort();
+  const PolygonAddOptions o = NgonFill(side, 200, 30);
+  const auto round = [&](double* insert_ms, double* revert_ms) {
+    const auto start = std::chrono::steady_clock::now();
+    auto report = AddPolygons(**store, o);
+    *insert_ms = MillisecondsSince(start);
+    if (!report.ok()) std::abort();
+    const auto middle = std::chrono::steady_clock::now();
+    auto reverted = RevertTransaction(**store, report->tx, {});
+    *revert_ms = MillisecondsSince(middle);
+    if (!reverted.ok()) std::abort();
+  };
+  double insert_ms = 0, revert_ms = 0;
+  round(&insert_ms, &revert_ms);  // untimed: statements prepared, pages read once
+  std::vector<double> inserts, reverts, ratios;
+  for (auto _ : state) {
+    for (int k = 0; k < kRounds; ++k) {
+      round(&insert_ms, &revert_ms);
+      inserts.push_back(insert_ms);
+      reverts.push_back(revert_ms);
+      ratios.push_back(revert_ms / insert_ms);
+    }
+  }
+  state.counters["insert_ms"] = Median(inserts);
+  state.counters["revert_ms"] = Median(reverts);
+  state.counters["revert_over_insert"] = Median(ratios);
+}
+BENCHMARK(BM_RevertOverInsert)->Arg(225)->Arg(708)->Unit(benchmark::kMillisecond)->Iterations(1);
 
 }  // namespace
 }  // namespace tinbase

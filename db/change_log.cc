@@ -2,6 +2,10 @@
 
 #include <chrono>
 #include <ctime>
+#include <map>
+#include <utility>
+
+#include "db/history/feature_versions.h"
 
 namespace tinbase {
 
@@ -35,32 +39,105 @@ Result<int64_t> AppendChange(Store& store, const Change& change) {
   return RunReturningId(*stmt);
 }
 
+namespace {
+
+constexpr const char* kChangeColumns =
+    "SELECT tx, time, surface, feature, action, removed, added, min_x, min_y, max_x, max_y "
+    "FROM changes ";
+
+Change ChangeOfRow(const Statement& stmt) {
+  Change c;
+  c.tx = stmt.ColumnInt(0);
+  c.time = stmt.ColumnText(1);
+  if (!stmt.ColumnIsNull(2)) c.surface = stmt.ColumnInt(2);
+  if (!stmt.ColumnIsNull(3)) c.feature = stmt.ColumnInt(3);
+  c.action = stmt.ColumnText(4);
+  c.removed = stmt.ColumnInt(5);
+  c.added = stmt.ColumnInt(6);
+  c.min_x = stmt.ColumnDouble(7);
+  c.min_y = stmt.ColumnDouble(8);
+  c.max_x = stmt.ColumnDouble(9);
+  c.max_y = stmt.ColumnDouble(10);
+  return c;
+}
+
+}  // namespace
+
 Result<std::vector<Change>> ChangesSince(Store& store, int64_t since) {
   TB_ASSIGN_OR_RETURN(Statement * stmt,
-                      store.db().Cached("SELECT tx, time, surface, feature, action, removed, "
-                                        "added, min_x, min_y, max_x, max_y FROM changes "
-                                        "WHERE tx > ? ORDER BY tx"));
+                      store.db().Cached(std::string(kChangeColumns) + "WHERE tx > ? ORDER BY tx"));
   stmt->Bind(1, since);
   std::vector<Change> out;
   while (true) {
-    TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
-    if (!row) break;
-    Change c;
-    c.tx = stmt->ColumnInt(0);
-    c.time = stmt->ColumnText(1);
-    if (!stmt->ColumnIsNull(2)) c.surface = stmt->ColumnInt(2);
-    if (!stmt->ColumnIsNull(3)) c.feature = stmt->ColumnInt(3);
-    c.action = stmt->ColumnText(4);
-    c.removed = stmt->ColumnInt(5);
-    c.added = stmt->ColumnInt(6);
-    c.min_x = stmt->ColumnDouble(7);
-    c.min_y = stmt->ColumnDouble(8);
-    c.max_x = stmt->ColumnDouble(9);
-    c.max_y = stmt->ColumnDouble(10);
-    out.push_back(std::move(c));
+    auto row = stmt->Step();
+    if (!row.ok()) {
+      stmt->Reset();
+      return row.status();
+    }
+    if (!*row) break;
+    out.push_back(ChangeOfRow(*stmt));
   }
   stmt->Reset();
+  TB_ASSIGN_OR_RETURN(auto touched, FeaturesTouchedSince(store, since));
+  for (Change& c : out) {
+    auto it = touched.find(c.tx);
+    if (it != touched.end()) c.features = std::move(it->second);
+  }
   return out;
+}
+
+Result<Change> ChangeOf(Store& store, int64_t tx) {
+  TB_ASSIGN_OR_RETURN(Statement * stmt,
+                      store.db().Cached(std::string(kChangeColumns) + "WHERE tx = ?"));
+  stmt->Bind(1, tx);
+  TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
+  if (!row) {
+    stmt->Reset();
+    return Status::NotFound(std::string("no transaction ") + std::to_string(tx));
+  }
+  Change c = ChangeOfRow(*stmt);
+  stmt->Reset();
+  TB_ASSIGN_OR_RETURN(c.features, FeaturesTouchedBy(store, tx));
+  return c;
+}
+
+Result<int64_t> LastTransaction(Store& store) {
+  TB_ASSIGN_OR_RETURN(Statement * stmt, store.db().Cached("SELECT max(tx) FROM changes"));
+  TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
+  const int64_t last = row && !stmt->ColumnIsNull(0) ? stmt->ColumnInt(0) : 0;
+  stmt->Reset();
+  return last;
+}
+
+namespace {
+
+// The first change `stmt` selects (kChangeColumns, parameters bound), without its features.
+Result<std::optional<Change>> FirstOf(Statement& stmt) {
+  TB_ASSIGN_OR_RETURN(bool row, stmt.Step());
+  std::optional<Change> out;
+  if (row) out = ChangeOfRow(stmt);
+  stmt.Reset();
+  return out;
+}
+
+}  // namespace
+
+Result<std::optional<Change>> FirstChangeOfSurface(Store& store, int64_t surface) {
+  TB_ASSIGN_OR_RETURN(Statement * stmt, store.db().Cached(std::string(kChangeColumns) +
+                                                          "WHERE surface = ? ORDER BY tx LIMIT 1"));
+  stmt->Bind(1, surface);
+  return FirstOf(*stmt);
+}
+
+Result<std::optional<Change>> FirstChangeWithoutFeatures(Store& store, int64_t surface,
+                                                         int64_t after) {
+  TB_ASSIGN_OR_RETURN(
+      Statement * stmt,
+      store.db().Cached(std::string(kChangeColumns) +
+                        "WHERE surface = ? AND tx > ? AND NOT EXISTS (SELECT 1 FROM "
+                        "feature_versions v WHERE v.tx = changes.tx) ORDER BY tx LIMIT 1"));
+  stmt->Bind(1, surface).Bind(2, after);
+  return FirstOf(*stmt);
 }
 
 }  // namespace tinbase

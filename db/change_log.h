@@ -22,11 +22,24 @@ struct Change {
   int64_t removed = 0;                                // triangles removed
   int64_t added = 0;                                  // triangles added
   double min_x = 0, min_y = 0, max_x = 0, max_y = 0;  // the changed region
+  // The features the transaction added, changed or removed, in id order (their versions,
+  // db/history/feature_versions.h); filled by ChangesSince, ignored by AppendChange.
+  std::vector<int64_t> features;
 };
 
 // Appends `change` and returns its transaction number. REQUIRES: inside a WriteTransaction.
 Result<int64_t> AppendChange(Store& store, const Change& change);
-// The changes after transaction `since`, oldest first.
+// The change of transaction `tx`, with the features it touched. NotFound "no transaction 12".
+Result<Change> ChangeOf(Store& store, int64_t tx);
+// The number of the last transaction; 0 for a store with none.
+Result<int64_t> LastTransaction(Store& store);
+// The first change of surface `surface` (its build); nullopt when it has none.
+Result<std::optional<Change>> FirstChangeOfSurface(Store& store, int64_t surface);
+// The first change of surface `surface` after transaction `after` that wrote no feature version
+// (a change of the mesh that is not a feature edit: a rebuild, new DEM data); nullopt when none.
+Result<std::optional<Change>> FirstChangeWithoutFeatures(Store& store, int64_t surface,
+                                                         int64_t after);
+// The changes after transaction `since`, oldest first, with the features each touched.
 Result<std::vector<Change>> ChangesSince(Store& store, int64_t since);
 
 }  // namespace tinbase

@@ -18,6 +18,7 @@
 #include "db/edit/line_z.h"
 #include "db/edit/update_engine_test_hooks.h"
 #include "db/feature_store.h"
+#include "db/history/feature_versions.h"
 #include "db/mesh/mesh_tables.h"
 #include "db/mesh_cache.h"
 #include "db/point_locator.h"
@@ -231,6 +232,8 @@ struct SurfaceSession {
   std::optional<std::pair<double, double>> relief;
   bool strict = false;  // PolygonAddOptions::strict: no clipping to the data area
   BeforeCommit before_commit;  // the caller's, run inside each edit's transaction
+  // The edits run inside a write transaction the caller opened and commits (ApplyFeatureEdit).
+  bool in_caller_transaction = false;
 };
 
 Result<std::unique_ptr<SurfaceSession>> OpenSession(Store& store, const SurfaceInfo& surface) {
@@ -393,7 +396,9 @@ Result<int64_t> AddFeatures(SurfaceSession& session, int64_t tx, std::vector<New
                             LocalEdit& edit) {
   int64_t ring_vertices = 0;
   for (NewFeature& n : added) {
+    const int64_t wanted_id = n.feature.id;  // set when a revert puts a feature back
     TB_RETURN_IF_ERROR(WriteFeature(session.store, session.surface, tx, n.feature));
+    TB_RETURN_IF_ERROR(SettleFeatureId(session.store, wanted_id, n.feature));
     for (EditPolyline& line : n.lines) {
       line.feature = n.feature.id;
       ring_vertices += static_cast<int64_t>(line.points.size());
@@ -402,6 +407,10 @@ Result<int64_t> AddFeatures(SurfaceSession& session, int64_t tx, std::vector<New
     edit.changed.Add(BoxOf(n.feature));
     edit.features.push_back(n.feature);
   }
+  // A revert puts features back under their old ids, and paint applies in id order.
+  const auto by_id = [](const EditorFeature& a, const EditorFeature& b) { return a.id < b.id; };
+  if (!std::is_sorted(edit.features.begin(), edit.features.end(), by_id))
+    std::stable_sort(edit.features.begin(), edit.features.end(), by_id);
   return ring_vertices;
 }
 
@@ -433,7 +442,10 @@ Result<PolygonAddReport> ApplyEditOnce(SurfaceSession& session, std::vector<NewF
                                        const std::vector<int64_t>& removed,
                                        const std::string& action) {
   Store& store = session.store;
-  TB_ASSIGN_OR_RETURN(auto tx, store.BeginWrite());
+  std::unique_ptr<WriteTransaction> tx;
+  if (!session.in_caller_transaction) {
+    TB_ASSIGN_OR_RETURN(tx, store.BeginWrite());
+  }
   Change change;
   change.surface = session.surface.id;
   change.action = action;
@@ -448,13 +460,15 @@ Result<PolygonAddReport> ApplyEditOnce(SurfaceSession& session, std::vector<NewF
   LocalEdit edit = EditRemoving(session, added, removed, std::move(existing));
   TB_ASSIGN_OR_RETURN(report.ring_vertices, AddFeatures(session, report.tx, added, edit));
   ApplyLineZ(session.dem, edit);
+  for (const NewFeature& n : added) report.feature_ids.push_back(n.feature.id);
+  TB_RETURN_IF_ERROR(RecordFeatureVersions(store, report.tx, report.feature_ids, removed));
   UpdateEngine engine(store, session.surface, session.dems, session.dem);
   engine.set_mesh_cache(&session.mesh);
   TB_ASSIGN_OR_RETURN(EditResult result, engine.Apply(edit));
   for (int64_t id : removed) TB_RETURN_IF_ERROR(DeleteFeature(store, id));
   TB_RETURN_IF_ERROR(RecordChange(store, report.tx, added, removed, result, edit.changed));
   if (session.before_commit) TB_RETURN_IF_ERROR(session.before_commit(store, report.tx));
-  TB_RETURN_IF_ERROR(tx->Commit());
+  if (tx) TB_RETURN_IF_ERROR(tx->Commit());
   session.features = std::move(edit.features);
   session.features_tx = report.tx;
   session.mesh.Committed(report.tx);
@@ -465,7 +479,6 @@ Result<PolygonAddReport> ApplyEditOnce(SurfaceSession& session, std::vector<NewF
   report.refinement_points = result.refinement_points;
   report.surface_reads = result.read_whole_surface ? 1 : 0;
   report.first_feature_id = added.empty() ? 0 : added.front().feature.id;
-  for (const NewFeature& n : added) report.feature_ids.push_back(n.feature.id);
   report.visible = result.visible_added;
   for (const NewFeature& n : added)
     if (n.verdict == ClipVerdict::kCut)
@@ -600,6 +613,20 @@ Result<PolygonAddReport> UpdatePolygon(Store& store, int64_t id, const PolygonAd
   std::vector<NewFeature> added;
   added.push_back(std::move(n));
   return ApplyEdit(*session, std::move(added), {id}, "polygon update");
+}
+
+Result<PolygonAddReport> ApplyFeatureEdit(Store& store, const SurfaceInfo& surface,
+                                          std::vector<EditorFeature> restore,
+                                          const std::vector<int64_t>& remove,
+                                          const std::string& action) {
+  TB_ASSIGN_OR_RETURN(auto session, OpenSession(store, surface));
+  session->in_caller_transaction = true;
+  std::vector<NewFeature> added;
+  for (EditorFeature& f : restore) {
+    TB_ASSIGN_OR_RETURN(NewFeature n, Prepare(*session, std::move(f)));
+    added.push_back(std::move(n));
+  }
+  return ApplyEdit(*session, std::move(added), remove, action);
 }
 
 }  // namespace tinbase

@@ -124,4 +124,14 @@ Result<PolygonAddReport> RemovePolygon(Store& store, int64_t id,
 // AddPolygons and RemovePolygon; options.surface is ignored (the feature's surface is used).
 Result<PolygonAddReport> UpdatePolygon(Store& store, int64_t id, const PolygonAddOptions& options);
 
+// For db/history (revert, export --as-of): one local edit of `surface` that puts the `restore`
+// features back, each under its own id (which no feature row holds), draped as AddPolygons drapes,
+// and takes the features `remove` out, with one `changes` row of `action` and its feature
+// versions. REQUIRES: inside a WriteTransaction the caller commits or drops. Errors as
+// AddPolygons and RemovePolygon.
+Result<PolygonAddReport> ApplyFeatureEdit(Store& store, const SurfaceInfo& surface,
+                                          std::vector<EditorFeature> restore,
+                                          const std::vector<int64_t>& remove,
+                                          const std::string& action);
+
 }  // namespace tinbase

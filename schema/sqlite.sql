@@ -358,3 +358,24 @@ CREATE TABLE tiles(
 -- 0013 adds no table: the header's application_id becomes 0x47503131 (GeoPackage 1.1's
 -- 'GP11') and meta gets the row (application, tinbase), by which tinbase knows its stores
 -- (docs/format.md).
+
+-- 0015: the versions of every feature (docs/format.md, "Feature versions").
+CREATE TABLE feature_versions(
+  feature    INTEGER NOT NULL,
+  tx         INTEGER NOT NULL,
+  surface    INTEGER NOT NULL REFERENCES surfaces(id) ON DELETE CASCADE,
+  present    INTEGER NOT NULL CHECK (present IN (0, 1)),
+  name       TEXT,
+  mode       TEXT NOT NULL,
+  level      REAL,
+  tag        INTEGER REFERENCES tags(id),
+  attributes TEXT NOT NULL DEFAULT '{}',
+  geometry   BLOB NOT NULL,
+  min_x      REAL NOT NULL,
+  min_y      REAL NOT NULL,
+  max_x      REAL NOT NULL,
+  max_y      REAL NOT NULL,
+  z_from     TEXT NOT NULL DEFAULT 'dem',
+  PRIMARY KEY (feature, tx)
+) WITHOUT ROWID;
+CREATE INDEX feature_versions_tx ON feature_versions(tx);

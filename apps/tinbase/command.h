@@ -31,6 +31,7 @@ void RegisterDemoCommand(CLI::App& app, int* exit_code);      // demo
 void RegisterMeasureCommands(CLI::App& app, int* exit_code);  // measure area|volume|..., contours
 void RegisterTilesCommands(CLI::App& app, int* exit_code);    // tiles build, export, info
 void RegisterServeCommand(CLI::App& app, int* exit_code);     // serve
+void RegisterHistoryCommands(CLI::App& app, int* exit_code);  // revert, history
 // dem from-contours. REQUIRES: RegisterDemCommands ran first (it adds to the `dem` command).
 void RegisterContourCommand(CLI::App& app, int* exit_code);
 

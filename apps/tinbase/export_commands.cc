@@ -16,6 +16,7 @@
 #include "db/export/export_features.h"
 #include "db/export/gpkg_export.h"
 #include "db/feature_store.h"
+#include "db/history/as_of.h"
 #include "db/query/surface_selection.h"
 #include "db/surface_store.h"
 
@@ -37,6 +38,8 @@ struct ExportArgs {
   double voxel = 0;             // vdb
   std::optional<double> floor;  // vdb
   std::string dem;              // gpkg: the DEM of the raster layer ("none": no raster)
+  // --as-of: the surface as it was after this transaction.
+  std::optional<int64_t> as_of;
 };
 
 // The formats that read more of the store than the selected mesh (features, constraints, a
@@ -142,6 +145,9 @@ int RunExport(const ExportArgs& args) {
         Status::InvalidArgument("--base, --voxel and --floor apply only to --format vdb"));
   if (store_format != "gpkg" && !args.dem.empty())
     return ReportError(Status::InvalidArgument("--dem applies only to --format gpkg"));
+  if (!store_format.empty() && args.as_of)
+    return ReportError(Status::InvalidArgument("--as-of applies to the mesh formats (" +
+                                               ExportFormatList() + "), not to " + store_format));
   if (store_format == "gpkg") return RunGpkgExport(args);
   if (!store_format.empty()) {
     auto filter = FilterOf(args);
@@ -158,7 +164,9 @@ int RunExport(const ExportArgs& args) {
     return ReportError(Status::InvalidArgument("give --surface (or --feature alone)"));
   // Before any reading, so a bad path costs nothing; ExportTin checks again when it writes.
   if (auto out = OutputFile::Create(args.output); !out.ok()) return ReportError(out.status());
-  auto store = Store::Open(args.store, Store::Access::kReadOnly);
+  // --as-of goes back inside a write transaction that is dropped, never committed.
+  auto store =
+      Store::Open(args.store, args.as_of ? Store::Access::kReadWrite : Store::Access::kReadOnly);
   if (!store.ok()) return ReportError(store.status());
   auto crs = (*store)->GetCrs();
   if (!crs.ok()) return ReportError(crs.status());
@@ -167,6 +175,12 @@ int RunExport(const ExportArgs& args) {
   ProgressBar bar(std::string("export ") + ExportFormatName(*format));
   auto surface = ResolveSurface(**store, args);
   if (!surface.ok()) return ReportError(surface.status());
+  std::unique_ptr<WriteTransaction> past;  // dropped at return: the store stays as it is
+  if (args.as_of) {
+    auto begun = BeginAsOf(**store, *surface, *args.as_of);
+    if (!begun.ok()) return ReportError(begun.status());
+    past = std::move(*begun);
+  }
   auto selected = SelectSurface(**store, *surface, *filter);
   if (!selected.ok()) return ReportError(selected.status());
   bar.Update(0.5);
@@ -217,6 +231,8 @@ void RegisterExportCommands(CLI::App& app, int* exit_code) {
   cmd->add_option("--floor", args->floor, "vdb level set: z of the floor under the surface");
   cmd->add_option("--dem", args->dem,
                   "gpkg: DEM of the raster layer (default the surface's; none: no raster)");
+  cmd->add_option("--as-of", args->as_of,
+                  "The surface as it was after this transaction (mesh formats; see `changes`)");
   cmd->callback([=] { *exit_code = RunExport(*args); });
 }
 

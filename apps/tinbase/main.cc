@@ -108,6 +108,7 @@ int main(int argc, char** argv) {
   tinbase::cli::RegisterDemoCommand(app, &exit_code);
   tinbase::cli::RegisterMeasureCommands(app, &exit_code);
   tinbase::cli::RegisterServeCommand(app, &exit_code);
+  tinbase::cli::RegisterHistoryCommands(app, &exit_code);
   tinbase::cli::CheckNumberOptions(app);
   // Bad arguments are reported like every other error: one line that scripts can read.
   app.failure_message([](const CLI::App*, const CLI::Error& e) {

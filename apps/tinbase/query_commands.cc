@@ -416,7 +416,8 @@ int RunChanges(const ChangesArgs& args) {
                  {"action", c.action},
                  {"removed", c.removed},
                  {"added", c.added},
-                 {"bbox", {c.min_x, c.min_y, c.max_x, c.max_y}}});
+                 {"bbox", {c.min_x, c.min_y, c.max_x, c.max_y}},
+                 {"features", c.features}});
   }
   if (args.json) std::cout << j.dump(2) << "\n";
   return kExitOk;
