@@ -4,6 +4,7 @@
 
 #include "core/tin/feature_mode.h"
 #include "core/vector/feature_wkb.h"
+#include "core/vector/line_z_wkb.h"
 
 namespace tinbase {
 
@@ -198,7 +199,12 @@ Result<EditorFeature> EditorFeatureOf(const FeatureVersion& version) {
   f.level = version.level;
   f.attributes = nlohmann::json::parse(version.attributes, nullptr, /*allow_exceptions=*/false);
   if (f.attributes.is_discarded()) f.attributes = nlohmann::json::object();
-  if (f.mode == FeatureMode::kBreakline) {
+  auto z_from = ParseZFrom(version.z_from);
+  if (!z_from.ok()) return Status::Corruption(f.label + ": " + z_from.status().message());
+  f.z_from = *z_from;
+  if (IsLineMode(f.mode) && f.z_from == ZFrom::kFeature) {
+    TB_RETURN_IF_ERROR(LinesZFromWkb(version.geometry, &f.lines, &f.line_z).WithContext(f.label));
+  } else if (IsLineMode(f.mode)) {
     auto lines = LinesFromWkb(version.geometry);
     if (!lines.ok()) return Status::Corruption(f.label + ": " + lines.status().message());
     f.lines = std::move(*lines);
