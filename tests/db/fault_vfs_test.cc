@@ -130,8 +130,8 @@ struct LoopReport {
 
 class FaultVfsTest : public ::testing::Test {
  protected:
-  // Stores made once: "empty" (no DEM, the CRS set), "dem" (the Hamersley DEM) and "surface"
-  // (with a greedy surface "terrain" at 10 m over it).
+  // Stores made once: "empty" (no DEM, the CRS set), "dem" (the Hamersley DEM), "surface"
+  // (with a greedy surface "terrain" at 10 m over it) and "feature" (with a fill polygon on it).
   static void SetUpTestSuite() {
     bases_ = new TempDir();
     auto store = Store::Create(Base("empty"), "EPSG:28350");
@@ -146,6 +146,11 @@ class FaultVfsTest : public ::testing::Test {
     store = Store::Open(Base("surface"));
     ASSERT_TRUE(store.ok()) << store.status().ToString();
     ASSERT_TRUE(BuildTerrain(**store, *bases_).ok());
+    store->reset();
+    std::filesystem::copy_file(Base("surface"), Base("feature"));
+    store = Store::Open(Base("feature"));
+    ASSERT_TRUE(store.ok()) << store.status().ToString();
+    ASSERT_TRUE(AddPolygon(**store, *bases_, false).ok());
   }
   static void TearDownTestSuite() {
     delete bases_;
@@ -330,6 +335,14 @@ TEST_F(FaultVfsTest, PolygonAddEach) {
   LoopEveryError("surface", [](Store& s, const TempDir& d) { return AddPolygon(s, d, true, 3); },
                  {[](Store& s, const TempDir& d) { return AddPolygon(s, d, true, 1); },
                   [](Store& s, const TempDir& d) { return AddPolygon(s, d, true, 2); }});
+}
+
+TEST_F(FaultVfsTest, PolygonRemove) {
+  LoopEveryError("feature", [](Store& s, const TempDir&) {
+    auto id = s.db().QueryInt("SELECT max(id) FROM features");
+    if (!id.ok()) return id.status();
+    return RemovePolygon(s, *id).status();
+  });
 }
 
 TEST_F(FaultVfsTest, TinBuild) { LoopEveryError("dem", BuildCoarse); }
