@@ -41,7 +41,9 @@ Status CheckIsStore(Connection& db, const std::string& path) {
     auto marked = db.QueryInt(
         "SELECT count(*) FROM sqlite_master WHERE type = 'table' AND name = 'meta' AND EXISTS "
         "(SELECT 1 FROM meta WHERE key = 'application' AND value = 'tinbase')");
-    if (marked.ok() && *marked == 1) return Status::Ok();
+    // An I/O error reading meta is that error, not a verdict on the file (found by the fault VFS).
+    if (!marked.ok()) return marked.status().WithContext(path);
+    if (*marked == 1) return Status::Ok();
     return Status::InvalidArgument(path +
                                    " is not a tinbase store (a GeoPackage of another "
                                    "program)");

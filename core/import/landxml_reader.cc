@@ -87,6 +87,9 @@ void OnXmlError(void* user, xmlErrorPtr error) {
   sink->message = error->message != nullptr ? error->message : "unreadable";
   while (!sink->message.empty() && std::isspace(static_cast<unsigned char>(sink->message.back())))
     sink->message.pop_back();
+  // Some of libxml2's messages span lines ("... encoding !\nBytes: ..."); an error is one line.
+  for (char& c : sink->message)
+    if (c == '\n' || c == '\r') c = ' ';
   sink->line = error->line;
 }
 

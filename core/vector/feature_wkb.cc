@@ -2,6 +2,7 @@
 
 #include <ogr_geometry.h>
 
+#include <cmath>
 #include <memory>
 
 namespace tinbase {
@@ -15,10 +16,21 @@ OGRLinearRing ToOgrRing(const Ring& ring) {
   return out;
 }
 
-Ring FromOgrRing(const OGRLinearRing& ring) {
+// A polygon's ring (null when the WKB gives the polygon none), open. Corruption unless it has at
+// least three finite vertices: what tinbase writes always does (the decoder reads a column that
+// may be damaged; found by fuzz/feature_wkb_fuzz.cc).
+Result<Ring> FromOgrRing(const OGRLinearRing* ring) {
+  if (ring == nullptr) return Status::Corruption("feature geometry has a polygon without rings");
   Ring out;
   // Drop the closing vertex: tinbase keeps rings open.
-  for (int i = 0; i + 1 < ring.getNumPoints(); ++i) out.push_back({ring.getX(i), ring.getY(i)});
+  for (int i = 0; i + 1 < ring->getNumPoints(); ++i) {
+    const Point2 p{ring->getX(i), ring->getY(i)};
+    if (!std::isfinite(p.x) || !std::isfinite(p.y))
+      return Status::Corruption("feature geometry has a vertex that is not finite");
+    out.push_back(p);
+  }
+  if (out.size() < 3)
+    return Status::Corruption("feature geometry has a ring of fewer than 3 vertices");
   return out;
 }
 
@@ -61,9 +73,11 @@ Result<std::vector<Polygon>> PolygonsFromWkb(const std::vector<uint8_t>& wkb) {
   std::vector<Polygon> out;
   for (const OGRPolygon* part : *multi->toMultiPolygon()) {
     Polygon polygon;
-    polygon.shell = FromOgrRing(*part->getExteriorRing());
-    for (int i = 0; i < part->getNumInteriorRings(); ++i)
-      polygon.holes.push_back(FromOgrRing(*part->getInteriorRing(i)));
+    TB_ASSIGN_OR_RETURN(polygon.shell, FromOgrRing(part->getExteriorRing()));
+    for (int i = 0; i < part->getNumInteriorRings(); ++i) {
+      TB_ASSIGN_OR_RETURN(Ring hole, FromOgrRing(part->getInteriorRing(i)));
+      polygon.holes.push_back(std::move(hole));
+    }
     out.push_back(std::move(polygon));
   }
   return out;

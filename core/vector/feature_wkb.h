@@ -14,7 +14,8 @@
 namespace tinbase {
 
 std::vector<uint8_t> PolygonsToWkb(const std::vector<Polygon>& polygons);
-// Corruption when `wkb` is not a (Multi)Polygon.
+// Corruption when `wkb` is not a (Multi)Polygon, or has a polygon without rings, a ring of fewer
+// than 3 vertices or a vertex that is not finite.
 Result<std::vector<Polygon>> PolygonsFromWkb(const std::vector<uint8_t>& wkb);
 
 std::vector<uint8_t> LinesToWkb(const std::vector<std::vector<Point2>>& lines);
