@@ -8,6 +8,7 @@
 #include "core/tin/cell_cover.h"
 #include "core/tin/ring_blocks.h"
 #include "core/vector/feature_wkb.h"
+#include "core/vector/point_wkb.h"
 #include "db/mesh/mesh_tables.h"
 
 namespace tinbase {
@@ -60,6 +61,13 @@ Result<std::vector<EditorFeature>> SelectFeatures(Store& store, const SurfaceInf
         break;
       }
       f.lines = std::move(*lines);
+    } else if (f.mode == FeatureMode::kPoints) {
+      auto points = PointsFromWkb(wkb);
+      if (!points.ok()) {
+        status = points.status().WithContext(f.label);
+        break;
+      }
+      f.points = std::move(*points);
     } else {
       auto polygons = PolygonsFromWkb(wkb);
       if (!polygons.ok()) {
@@ -99,6 +107,7 @@ Box BoxOf(const EditorFeature& f) {
     for (const Point2& q : p.shell) box.Add(q);
   for (const auto& line : f.lines)
     for (const Point2& q : line) box.Add(q);
+  for (const TinVertex& q : f.points) box.Add(Point2{q.x, q.y});
   f.box_cache = box;
   return box;
 }
@@ -141,7 +150,9 @@ Status WriteFeature(Store& store, const SurfaceInfo& surface, int64_t tx, Editor
     TB_ASSIGN_OR_RETURN(tag_id, InternTag(store, *f.tag));
   }
   const std::vector<uint8_t> wkb =
-      f.mode == FeatureMode::kBreakline ? LinesToWkb(f.lines) : PolygonsToWkb(f.polygons);
+      f.mode == FeatureMode::kBreakline
+          ? LinesToWkb(f.lines)
+          : (f.mode == FeatureMode::kPoints ? PointsToWkb(f.points) : PolygonsToWkb(f.polygons));
   const Box box = BoxOf(f);
   stmt->Bind(1, surface.id).Bind(2, f.tag.value_or(f.label)).Bind(3, FeatureModeName(f.mode));
   if (f.level)
@@ -183,7 +194,7 @@ Paint PaintFromFeatures(const std::vector<EditorFeature>& features, CellSource* 
     // are away from an edit.)
     const bool near = BoxOf(f).Meets(reach);
     if (!near && f.mode != FeatureMode::kClip) continue;
-    if (f.mode == FeatureMode::kBreakline) continue;
+    if (f.mode == FeatureMode::kBreakline || f.mode == FeatureMode::kPoints) continue;
     PaintedFeature p;
     if (near) p.inside = InsideOf(f);
     p.mode = f.mode;
@@ -337,9 +348,9 @@ Result<LoadedSurface> LoadFeatureSurface(Store& store, int64_t feature) {
   SurfaceStore surfaces(store);
   TB_ASSIGN_OR_RETURN(SurfaceInfo surface, surfaces.FindById(surface_id));
   TB_ASSIGN_OR_RETURN(EditorFeature f, LoadFeature(store, surface, feature));
-  if (f.mode == FeatureMode::kBreakline)
-    return Status::InvalidArgument("feature " + std::to_string(feature) +
-                                   " is a breakline: it has no inside to export");
+  if (f.mode == FeatureMode::kBreakline || f.mode == FeatureMode::kPoints)
+    return Status::InvalidArgument("feature " + std::to_string(feature) + " is a " +
+                                   FeatureModeName(f.mode) + ": it has no inside to export");
   MeshTables tables(store.db(), surface);
   TB_ASSIGN_OR_RETURN(LoadedSurface read,
                       TrianglesInside(tables, surface.blocks, BoxOf(f), *InsideOf(f)));

@@ -32,6 +32,8 @@ Status CheckModeOptions(const PolygonAddOptions& o) {
   if (!o.mode && !o.features)
     return Status::InvalidArgument(
         "a feature mode is needed (clip, erase, fill, replace or breakline)");
+  if (o.mode == FeatureMode::kPoints)
+    return Status::InvalidArgument("mode points is for survey points: use `points add`");
   if (!o.features && *o.mode == FeatureMode::kReplace && !o.level)
     return Status::InvalidArgument("mode replace needs --level (the flat z)");
   if (o.level && !std::isfinite(*o.level))
@@ -51,6 +53,8 @@ Result<EditorFeature> FromMemory(const MemoryFeature& m, const PolygonAddOptions
     return Status::InvalidArgument(
         m.label + ": a feature mode is needed (clip, erase, fill, replace or breakline)");
   f.mode = m.mode ? *m.mode : *o.mode;
+  if (f.mode == FeatureMode::kPoints)
+    return Status::InvalidArgument(m.label + ": mode points is for survey points (points add)");
   f.tag = m.tag ? m.tag : (o.tag.empty() ? std::nullopt : std::optional<std::string>(o.tag));
   f.level = m.level ? m.level : o.level;
   if (f.mode == FeatureMode::kReplace && !f.level)

@@ -16,6 +16,8 @@ const char* FeatureModeName(FeatureMode mode) {
       return "replace";
     case FeatureMode::kBreakline:
       return "breakline";
+    case FeatureMode::kPoints:
+      return "points";
   }
   return "?";  // not reached: the switch covers every mode
 }

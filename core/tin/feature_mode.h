@@ -16,15 +16,16 @@ enum class FeatureMode {
   kErase,     // triangles inside are hidden
   kFill,      // triangles inside take the feature's tag
   kReplace,   // as fill, and the vertices inside take z = the feature's level
-  kBreakline  // a line whose segments become constrained edges; paints nothing
+  kBreakline,  // a line whose segments become constrained edges; paints nothing
+  kPoints      // survey points with their own z (db/edit/mass_points.h); paints nothing
 };
 
-inline constexpr std::array<FeatureMode, 5> kFeatureModes = {
-    FeatureMode::kClip, FeatureMode::kErase, FeatureMode::kFill, FeatureMode::kReplace,
-    FeatureMode::kBreakline};
+inline constexpr std::array<FeatureMode, 6> kFeatureModes = {
+    FeatureMode::kClip,    FeatureMode::kErase,     FeatureMode::kFill,
+    FeatureMode::kReplace, FeatureMode::kBreakline, FeatureMode::kPoints};
 
 // The canonical spelling, as the CLI takes it and the store keeps it: "clip", "erase", "fill",
-// "replace" or "breakline".
+// "replace", "breakline" or "points".
 const char* FeatureModeName(FeatureMode mode);
 
 // The mode `name` spells (exactly, lower case). InvalidArgument "unknown feature mode 'x'

@@ -48,6 +48,10 @@ struct LocalEdit {
   // load edit by edit with one MeshCache (`polygon add --each`) that can keep the whole surface
   // (at most half MeshCache::kMaxKeptTriangles); else 0, as for an edit on its own.
   size_t load_points = 0;
+  // Stored vertices that go with the edit although no constraint of theirs does: the survey
+  // points of a removed `points` feature (db/edit/mass_points.h). Their stars join R. A vertex
+  // still on a kept constraint (a later ring snapped onto it) stays.
+  std::vector<int64_t> drop_vertices;
 };
 
 struct EditResult {

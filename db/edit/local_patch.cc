@@ -94,7 +94,9 @@ Status Round::BuildCdt(Cdt& cdt) {
   for (const EditPolyline& line : region_.lines) {
     std::vector<TinVertex> draped = line.points;
     for (TinVertex& p : draped) {
-      p.kind = VertexKind::kRing;
+      // Survey points (kUser, db/edit/mass_points.h) keep their kind: no removal of a
+      // constraint through them may drop them.
+      if (p.kind != VertexKind::kUser) p.kind = VertexKind::kRing;
       if (auto level = rules_.Level({p.x, p.y})) p.z = *level;
     }
     patch_.lines.push_back(cdt.InsertVertices(draped));

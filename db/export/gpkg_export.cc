@@ -133,6 +133,7 @@ Status WriteFeatures(GDALDataset& ds, const std::string& path, const OGRSpatialR
                       CreateLayer(ds, path, "breaklines", srs, wkbMultiLineString, "id", fields));
   for (const EditorFeature& f : features) {
     if (only_feature != 0 ? f.id != only_feature : !BoxOf(f).Meets(box)) continue;
+    if (f.mode == FeatureMode::kPoints) continue;  // survey points are the mesh's user vertices
     const bool is_line = f.mode == FeatureMode::kBreakline;
     OGRLayer* layer = is_line ? lines : polygons;
     OGRFeature feature(layer->GetLayerDefn());
