@@ -19,7 +19,8 @@ TEST(FeatureMode, EveryModeRoundTripsThroughItsSpelling) {
     ASSERT_TRUE(parsed.ok()) << parsed.status().ToString();
     EXPECT_EQ(*parsed, mode) << name;
   }
-  EXPECT_EQ(spellings, (std::set<std::string>{"clip", "erase", "fill", "replace", "breakline"}));
+  EXPECT_EQ(spellings,
+            (std::set<std::string>{"clip", "erase", "fill", "replace", "breakline", "points"}));
 }
 
 TEST(FeatureMode, AnythingElseIsRefusedNamingTheValueAndTheChoices) {
