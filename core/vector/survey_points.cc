@@ -57,8 +57,7 @@ Status AddGeometry(const OGRGeometry* g, const std::string& label, SurveyPoints*
     for (const OGRPoint* p : *g->toMultiPoint()) points.push_back(p);
   }
   for (size_t k = 0; k < points.size(); ++k) {
-    const std::string name =
-        points.size() > 1 ? label + ", point " + std::to_string(k) : label;
+    const std::string name = points.size() > 1 ? label + ", point " + std::to_string(k) : label;
     const OGRPoint& p = *points[k];
     if (p.IsEmpty()) return Status::InvalidArgument(name + ": an empty point");
     if (!std::isfinite(p.getX()) || !std::isfinite(p.getY()) || !std::isfinite(p.getZ()))
@@ -110,9 +109,8 @@ Result<SurveyPoints> ReadCloudPoints(const std::string& path, std::optional<Crs>
 
 Result<SurveyPoints> ReadSurveyPoints(const std::string& path, const std::optional<Crs>& target) {
   std::optional<Crs> crs;
-  Result<SurveyPoints> read = IsVectorSource(LowerExtension(path))
-                                  ? ReadVectorPoints(path, &crs)
-                                  : ReadCloudPoints(path, &crs);
+  Result<SurveyPoints> read = IsVectorSource(LowerExtension(path)) ? ReadVectorPoints(path, &crs)
+                                                                   : ReadCloudPoints(path, &crs);
   if (!read.ok()) return read.status();
   SurveyPoints out = std::move(*read);
   if (out.points.empty()) return Status::InvalidArgument(path + ": no points");

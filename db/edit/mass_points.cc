@@ -89,8 +89,7 @@ Result<PointsTransaction> Begin(PointsSession& session, MeshCache& mesh, const c
 
 // Completes the `changes` row of `tx`: the first feature added (else removed), the triangle
 // counts and the extent of `box` and the region.
-Status RecordChange(Store& store, int64_t tx, int64_t feature, const EditResult& result,
-                    Box box) {
+Status RecordChange(Store& store, int64_t tx, int64_t feature, const EditResult& result, Box box) {
   box.Add(result.region);
   TB_ASSIGN_OR_RETURN(Statement * update,
                       store.db().Cached("UPDATE changes SET feature = ?, removed = ?, added = ?, "
@@ -236,7 +235,8 @@ Result<PointsReport> RemovePoints(Store& store, const PointsRemoveOptions& optio
     report.features_added.push_back(rest.id);
   }
   if (going.empty())
-    return Status::InvalidArgument("surface '" + surface.name + "' has no survey points in the box");
+    return Status::InvalidArgument("surface '" + surface.name +
+                                   "' has no survey points in the box");
   report.points_in = static_cast<int64_t>(going.size());
   for (const TinVertex& p : going) {
     TB_ASSIGN_OR_RETURN(const int64_t v, SurveyVertexAt(ctx, p));
@@ -249,8 +249,7 @@ Result<PointsReport> RemovePoints(Store& store, const PointsRemoveOptions& optio
   engine.set_mesh_cache(&mesh);
   TB_ASSIGN_OR_RETURN(EditResult result, ApplyEdit(*session, engine, edit));
   for (int64_t id : edit.remove) TB_RETURN_IF_ERROR(DeleteFeature(store, id));
-  TB_RETURN_IF_ERROR(
-      RecordChange(store, tx.number, report.features_removed.front(), result, box));
+  TB_RETURN_IF_ERROR(RecordChange(store, tx.number, report.features_removed.front(), result, box));
   TB_RETURN_IF_ERROR(tx.tx->Commit());
   report.inserted = static_cast<int64_t>(edit.drop_vertices.size());
   report.removed = result.removed;

@@ -32,7 +32,8 @@ std::vector<size_t> SpatialOrder(const std::vector<TinVertex>& points) {
     const int64_t sa = keyed[a].first, sb = keyed[b].first;
     if (sa != sb) return sa < sb;
     const bool up = sa % 2 == 0;
-    if (points[a].y != points[b].y) return up ? points[a].y < points[b].y : points[a].y > points[b].y;
+    if (points[a].y != points[b].y)
+      return up ? points[a].y < points[b].y : points[a].y > points[b].y;
     return a < b;
   });
   return order;
@@ -128,8 +129,7 @@ std::string DescribeSnap(const SnappedPoint& s, const std::vector<TinVertex>& po
   char distance[32];
   std::snprintf(distance, sizeof distance, "%.3g", s.distance);
   const TinVertex& p = points[s.index];
-  const std::string onto =
-      s.vertex != 0 ? "vertex " + std::to_string(s.vertex) : labels[s.earlier];
+  const std::string onto = s.vertex != 0 ? "vertex " + std::to_string(s.vertex) : labels[s.earlier];
   return labels[s.index] + ": " + FormatPoint({p.x, p.y}) + " snapped onto " + onto + " (" +
          distance + " away), left out";
 }

@@ -25,9 +25,9 @@ namespace tinbase {
 // input point it lies on.
 struct SnappedPoint {
   size_t index = 0;
-  int64_t vertex = 0;        // 0 when it snapped onto an earlier point of the input
-  size_t earlier = 0;        // that point's index, when vertex is 0
-  double distance = 0;       // plan distance to it
+  int64_t vertex = 0;   // 0 when it snapped onto an earlier point of the input
+  size_t earlier = 0;   // that point's index, when vertex is 0
+  double distance = 0;  // plan distance to it
 };
 
 struct ScreenedPoints {
