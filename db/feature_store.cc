@@ -8,6 +8,7 @@
 #include "core/tin/cell_cover.h"
 #include "core/tin/ring_blocks.h"
 #include "core/vector/feature_wkb.h"
+#include "core/vector/line_z_wkb.h"
 #include "core/vector/point_wkb.h"
 #include "db/mesh/mesh_tables.h"
 
@@ -19,7 +20,8 @@ Result<std::vector<EditorFeature>> SelectFeatures(Store& store, const SurfaceInf
                                                   std::optional<int64_t> only) {
   TB_ASSIGN_OR_RETURN(Statement * stmt,
                       store.db().Cached("SELECT f.id, f.name, f.mode, f.level, t.value, "
-                                        "f.geometry, f.attributes FROM features f LEFT JOIN tags t "
+                                        "f.geometry, f.attributes, f.z_from FROM features f "
+                                        "LEFT JOIN tags t "
                                         "ON t.id = f.tag WHERE f.surface = ?1 "
                                         "AND (CAST(?2 AS BIGINT) IS NULL OR f.id = ?2) "
                                         "ORDER BY f.id"));
@@ -54,7 +56,16 @@ Result<std::vector<EditorFeature>> SelectFeatures(Store& store, const SurfaceInf
     size_t size = 0;
     const uint8_t* blob = stmt->ColumnBlob(5, &size);
     std::vector<uint8_t> wkb(blob, blob + size);
-    if (f.mode == FeatureMode::kBreakline) {
+    auto z_from = ParseZFrom(stmt->ColumnText(7));
+    if (!z_from.ok()) {
+      status = Status::Corruption(f.label + ": " + z_from.status().message());
+      break;
+    }
+    f.z_from = *z_from;
+    if (IsLineMode(f.mode) && f.z_from == ZFrom::kFeature) {
+      status = LinesZFromWkb(wkb, &f.lines, &f.line_z).WithContext(f.label);
+      if (!status.ok()) break;
+    } else if (IsLineMode(f.mode)) {
       auto lines = LinesFromWkb(wkb);
       if (!lines.ok()) {
         status = lines.status().WithContext(f.label);
@@ -68,7 +79,7 @@ Result<std::vector<EditorFeature>> SelectFeatures(Store& store, const SurfaceInf
         break;
       }
       f.points = std::move(*points);
-    } else {
+    } else if (IsPolygonMode(f.mode)) {
       auto polygons = PolygonsFromWkb(wkb);
       if (!polygons.ok()) {
         status = polygons.status().WithContext(f.label);
@@ -143,16 +154,17 @@ Status WriteFeature(Store& store, const SurfaceInfo& surface, int64_t tx, Editor
   TB_ASSIGN_OR_RETURN(
       Statement * stmt,
       store.db().Cached("INSERT INTO features(surface, name, mode, level, tag, "
-                        "attributes, geometry, min_x, min_y, max_x, max_y, tx) "
-                        "VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?) RETURNING id"));
+                        "attributes, geometry, min_x, min_y, max_x, max_y, tx, z_from) "
+                        "VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?) RETURNING id"));
   std::optional<int64_t> tag_id;
   if (f.tag) {
     TB_ASSIGN_OR_RETURN(tag_id, InternTag(store, *f.tag));
   }
-  const std::vector<uint8_t> wkb =
-      f.mode == FeatureMode::kBreakline
-          ? LinesToWkb(f.lines)
-          : (f.mode == FeatureMode::kPoints ? PointsToWkb(f.points) : PolygonsToWkb(f.polygons));
+  const bool own_z = IsLineMode(f.mode) && f.z_from == ZFrom::kFeature;
+  const std::vector<uint8_t> wkb = own_z                            ? LinesZToWkb(f.lines, f.line_z)
+                                   : IsLineMode(f.mode)             ? LinesToWkb(f.lines)
+                                   : f.mode == FeatureMode::kPoints ? PointsToWkb(f.points)
+                                                                    : PolygonsToWkb(f.polygons);
   const Box box = BoxOf(f);
   stmt->Bind(1, surface.id).Bind(2, f.tag.value_or(f.label)).Bind(3, FeatureModeName(f.mode));
   if (f.level)
@@ -165,6 +177,7 @@ Status WriteFeature(Store& store, const SurfaceInfo& surface, int64_t tx, Editor
     stmt->BindNull(5);
   stmt->Bind(6, f.attributes.dump()).BindBlob(7, wkb.data(), wkb.size());
   stmt->Bind(8, box.min_x).Bind(9, box.min_y).Bind(10, box.max_x).Bind(11, box.max_y).Bind(12, tx);
+  stmt->Bind(13, ZFromName(own_z ? ZFrom::kFeature : ZFrom::kDem));
   TB_ASSIGN_OR_RETURN(f.id, RunReturningId(*stmt));
   return Status::Ok();
 }
@@ -194,7 +207,7 @@ Paint PaintFromFeatures(const std::vector<EditorFeature>& features, CellSource* 
     // are away from an edit.)
     const bool near = BoxOf(f).Meets(reach);
     if (!near && f.mode != FeatureMode::kClip) continue;
-    if (f.mode == FeatureMode::kBreakline || f.mode == FeatureMode::kPoints) continue;
+    if (!IsPolygonMode(f.mode)) continue;
     PaintedFeature p;
     if (near) p.inside = InsideOf(f);
     p.mode = f.mode;
@@ -348,7 +361,7 @@ Result<LoadedSurface> LoadFeatureSurface(Store& store, int64_t feature) {
   SurfaceStore surfaces(store);
   TB_ASSIGN_OR_RETURN(SurfaceInfo surface, surfaces.FindById(surface_id));
   TB_ASSIGN_OR_RETURN(EditorFeature f, LoadFeature(store, surface, feature));
-  if (f.mode == FeatureMode::kBreakline || f.mode == FeatureMode::kPoints)
+  if (!IsPolygonMode(f.mode))
     return Status::InvalidArgument("feature " + std::to_string(feature) + " is a " +
                                    FeatureModeName(f.mode) + ": it has no inside to export");
   MeshTables tables(store.db(), surface);
@@ -356,6 +369,16 @@ Result<LoadedSurface> LoadFeatureSurface(Store& store, int64_t feature) {
                       TrianglesInside(tables, surface.blocks, BoxOf(f), *InsideOf(f)));
   // Vertices of triangles left outside were read too; keep only the used ones.
   return WithUsedVertices(std::move(read), feature);
+}
+
+LineElevation LineElevationOf(const std::vector<EditorFeature>& features, double near) {
+  std::vector<Line3> lines;
+  for (const EditorFeature& f : features) {
+    if (!IsLineMode(f.mode) || f.z_from != ZFrom::kFeature) continue;
+    for (size_t k = 0; k < f.lines.size() && k < f.line_z.size(); ++k)
+      lines.push_back({f.id, f.lines[k], f.line_z[k]});
+  }
+  return LineElevation(std::move(lines), near);
 }
 
 std::vector<Polygon> ReplacePolygons(const std::vector<EditorFeature>& features) {

@@ -22,6 +22,7 @@
 #include "core/tin/block_grid.h"
 #include "core/tin/feature_mode.h"
 #include "core/tin/feature_paint.h"
+#include "core/tin/line_elevation.h"
 #include "core/tin/tin.h"
 #include "db/store.h"
 #include "db/surface_store.h"
@@ -71,7 +72,16 @@ struct EditorFeature {
   mutable std::shared_ptr<const PolygonLocator> inside_cache;
   mutable std::shared_ptr<const std::vector<int64_t>> ring_blocks_cache;  // of ring_blocks_grid
   mutable BlockGrid ring_blocks_grid;
+
+  // Line modes: where the lines' vertices take their z (`features.z_from`). With kFeature,
+  // line_z holds each vertex's own z (line_z[k][i] for lines[k][i]); it is empty otherwise.
+  ZFrom z_from = ZFrom::kDem;
+  std::vector<std::vector<double>> line_z;
 };
+
+// The 3D lines of `features` (line features with z from the feature), points within `near` of
+// one counting as on it (core/tin/line_elevation.h).
+LineElevation LineElevationOf(const std::vector<EditorFeature>& features, double near);
 
 // The plan-view box of the feature's rings, lines and points.
 Box BoxOf(const EditorFeature& f);

@@ -15,7 +15,9 @@
 #include "core/tin/cell_cover.h"
 #include "db/dem_cell_source.h"
 #include "db/dem_store.h"
+#include "db/edit/line_z.h"
 #include "db/feature_store.h"
+#include "db/integrity_lines.h"
 #include "db/mesh/mesh_rows.h"
 #include "db/mesh/mesh_tables.h"
 #include "db/surface_store.h"
@@ -57,6 +59,7 @@ class SurfaceChecker {
     CheckEuler();
     CheckWinding();
     CheckConstraints();
+    TB_RETURN_IF_ERROR(AddLineProblems(CheckConstraintKinds(store_, surface_)));
     if (surface_.kind == SurfaceKind::kDelaunay) CheckDelaunay();
     CheckBlocks();
     // Paint and tolerance are only meaningful over a sound triangulation.
@@ -381,7 +384,13 @@ class SurfaceChecker {
     }
   }
 
-  // Invariants 6 and 7, on the surface loaded as a Tin (rows in id order, as rows_).
+  Status AddLineProblems(Result<std::vector<LineProblem>> found) {
+    TB_RETURN_IF_ERROR(found.status());
+    for (const auto& [code, text] : *found) Add(code.c_str(), std::nullopt, text);
+    return Status::Ok();
+  }
+
+  // Invariants 6, 7 and 9, on the surface loaded as a Tin (rows in id order, as rows_).
   Status CheckPaintAndTolerance() {
     TB_ASSIGN_OR_RETURN(LoadedSurface loaded, SurfaceStore(store_).Load(surface_));
     TB_ASSIGN_OR_RETURN(std::vector<EditorFeature> features, LoadFeatures(store_, surface_));
@@ -390,6 +399,9 @@ class SurfaceChecker {
     std::optional<DemCellSource> dem;
     if (surface_.dem) {
       TB_ASSIGN_OR_RETURN(DemInfo info, dems.FindById(*surface_.dem));
+      lines_ = LineElevationOf(features, LineNearDistance(info));
+      line_band_ = kLineBandCells * std::max(info.geometry.cell_x, std::fabs(info.geometry.cell_y));
+      TB_RETURN_IF_ERROR(AddLineProblems(CheckLineZ(store_, surface_, lines_)));
       dem.emplace(dems, std::move(info));
     }
     Tin& tin = loaded.tin;
@@ -420,7 +432,8 @@ class SurfaceChecker {
     return dem ? dem->status() : Status::Ok();
   }
 
-  // Invariant 7 over the cell centres each visible triangle covers, replace polygons excepted.
+  // Invariant 7 over the cell centres each visible triangle covers, replace polygons and the
+  // bands along 3D lines excepted (db/edit/elevation_rules.h ToleranceExempt).
   // The slack covers the round-off of evaluating a plane from another vertex order.
   void CheckTolerance(const Tin& tin, const std::vector<int64_t>& ids, const Paint& paint,
                       const std::vector<EditorFeature>& features, CellSource& dem) {
@@ -447,9 +460,9 @@ class SurfaceChecker {
           if (!HoldsCellCentre(g, tin.vertices[tri.v[0]], tin.vertices[tri.v[1]],
                                tin.vertices[tri.v[2]], c, r))
             return;
-          if (!replaced.empty() &&
-              replaced.Locate({g.CellCenterX(c), g.CellCenterY(r)}) != PointInPolygon::kOutside)
-            return;
+          const Point2 centre{g.CellCenterX(c), g.CellCenterY(r)};
+          if (!replaced.empty() && replaced.Locate(centre) != PointInPolygon::kOutside) return;
+          if (!lines_.empty() && lines_.Near(centre, line_band_)) return;
           worst = error, worst_z = z, worst_col = c, worst_row = r, worst_dem = value;
         });
       });
@@ -477,6 +490,8 @@ class SurfaceChecker {
   std::vector<std::pair<int64_t, int64_t>> constraints_;  // (min, max), sorted
   std::vector<HalfEdge> half_edges_;                      // sorted by (a, b), then triangle
   bool overused_ = false;
+  LineElevation lines_;   // the surface's 3D lines (full check of a surface on a DEM)
+  double line_band_ = 0;  // kLineBandCells in map units
 };
 
 }  // namespace

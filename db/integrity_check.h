@@ -28,12 +28,16 @@ namespace tinbase {
 //      overused-edge         an edge is used twice in one direction (or by 3+ triangles)
 //   3  euler                 V - E + F != 2C - B, or a vertex used by no triangle (no triangle)
 //      overlap               the fan around a vertex turns more than once (on its lowest triangle)
-//   4  constraint-not-edge   a constrained edge is not an edge (no triangle)
+//   4  constraint-not-edge   a constrained edge is not an edge (no triangle; hard and soft
+//                            constraints alike: a softline is an edge for the surface's shape)
+//      constraint-kind       a constraint row's kind is not 'soft' for a softline's row and
+//                            'hard' for any other (no triangle)
 //   5  not-delaunay          across an unconstrained edge the far vertex is strictly inside the
 //                            circumcircle (`delaunay` surfaces only; on the lower triangle id)
 //   6  unknown-tag           the tag is not an id of the tags table
 //   8  wrong-block           the block column is not the block of the centroid
-// With CheckOptions::full, on a surface whose structure (1-5, 8) is sound:
+// With CheckOptions::full, on a surface whose structure (1-5, 8) is sound (9 on a surface with a
+// DEM):
 //   6  wrong-visibility      visible differs from the features' paint recomputed from scratch
 //                            (db/feature_store PaintFromFeatures: modes in feature id order, and
 //                            hidden where the centroid lies on DEM nodata)
@@ -41,7 +45,10 @@ namespace tinbase {
 //   7  tolerance             a DEM cell centre covered by this visible triangle, outside every
 //                            replace polygon, is further from the triangle's plane than the
 //                            surface's tolerance (surfaces with a DEM and a tolerance; the
-//                            message names the worst cell)
+//                            message names the worst cell); cells within kLineBandCells of a 3D
+//                            line (core/tin/line_elevation.h) are excepted too
+//   9  line-z                a vertex of a 3D line's constraints (a line feature with z from the
+//                            feature) does not have the z the 3D lines give it (no triangle)
 // Problems without a triangle come first in their surface. A corruption usually shows up under
 // several codes (a flipped triangle also breaks its links); the lowest triangle id comes first.
 struct Problem {

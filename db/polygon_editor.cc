@@ -15,6 +15,7 @@
 #include "core/vector/polygon_source.h"
 #include "db/change_log.h"
 #include "db/dem_store.h"
+#include "db/edit/line_z.h"
 #include "db/edit/update_engine_test_hooks.h"
 #include "db/feature_store.h"
 #include "db/mesh/mesh_tables.h"
@@ -26,20 +27,29 @@ namespace tinbase {
 
 namespace {
 
+// Points features are `tinbase points add`'s: the polygon editor takes the other modes.
+Status CheckEditableMode(FeatureMode mode, const std::string& prefix) {
+  if (mode != FeatureMode::kPoints) return Status::Ok();
+  return Status::InvalidArgument(prefix + "mode points is for `tinbase points add`");
+}
+
 // In-memory features may carry their own mode and level, so for them the mode is checked
 // feature by feature (FromMemory).
 Status CheckModeOptions(const PolygonAddOptions& o) {
   if (!o.mode && !o.features)
     return Status::InvalidArgument(
-        "a feature mode is needed (clip, erase, fill, replace or breakline)");
-  if (o.mode == FeatureMode::kPoints)
-    return Status::InvalidArgument("mode points is for survey points: use `points add`");
+        "a feature mode is needed (clip, erase, fill, replace, breakline or softline)");
+  if (o.mode) TB_RETURN_IF_ERROR(CheckEditableMode(*o.mode, ""));
   if (!o.features && *o.mode == FeatureMode::kReplace && !o.level)
     return Status::InvalidArgument("mode replace needs --level (the flat z)");
   if (o.level && !std::isfinite(*o.level))
     return Status::InvalidArgument("--level must be a finite number");
   if (!o.tag.empty() && !o.tag_field.empty())
     return Status::InvalidArgument("give --tag or --tag-field, not both");
+  if (o.z_from == ZFrom::kFeature && o.mode && !IsLineMode(*o.mode))
+    return Status::InvalidArgument(
+        "--z-from feature is for lines (modes breakline and softline), not mode " +
+        std::string(FeatureModeName(*o.mode)));
   return Status::Ok();
 }
 
@@ -51,17 +61,16 @@ Result<EditorFeature> FromMemory(const MemoryFeature& m, const PolygonAddOptions
   f.label = m.label;
   if (!m.mode && !o.mode)
     return Status::InvalidArgument(
-        m.label + ": a feature mode is needed (clip, erase, fill, replace or breakline)");
+        m.label + ": a feature mode is needed (clip, erase, fill, replace, breakline or softline)");
   f.mode = m.mode ? *m.mode : *o.mode;
-  if (f.mode == FeatureMode::kPoints)
-    return Status::InvalidArgument(m.label + ": mode points is for survey points (points add)");
   f.tag = m.tag ? m.tag : (o.tag.empty() ? std::nullopt : std::optional<std::string>(o.tag));
   f.level = m.level ? m.level : o.level;
   if (f.mode == FeatureMode::kReplace && !f.level)
     return Status::InvalidArgument(m.label + ": mode replace needs a level (the flat z)");
   if (f.level && !std::isfinite(*f.level))
     return Status::InvalidArgument(m.label + ": the level must be a finite number");
-  const bool breakline = f.mode == FeatureMode::kBreakline;
+  TB_RETURN_IF_ERROR(CheckEditableMode(f.mode, m.label + ": "));
+  const bool breakline = IsLineMode(f.mode);
   if (breakline ? m.lines.empty() : m.polygons.empty())
     return Status::InvalidArgument(m.label + ": mode " + std::string(FeatureModeName(f.mode)) +
                                    (breakline ? " needs a LineString or MultiLineString"
@@ -69,6 +78,13 @@ Result<EditorFeature> FromMemory(const MemoryFeature& m, const PolygonAddOptions
   f.attributes = m.attributes;
   f.polygons = breakline ? std::vector<Polygon>{} : m.polygons;
   f.lines = breakline ? m.lines : std::vector<std::vector<Point2>>{};
+  if (m.z_from.value_or(o.z_from) == ZFrom::kFeature) {
+    if (!breakline)
+      return Status::InvalidArgument(m.label + ": z from the feature is for lines, not mode " +
+                                     FeatureModeName(f.mode));
+    f.z_from = ZFrom::kFeature;
+    f.line_z = m.line_z;
+  }
   return f;
 }
 
@@ -99,12 +115,19 @@ Result<std::vector<EditorFeature>> ReadFeatures(const PolygonAddOptions& o, cons
     f.tag = o.tag.empty() ? tag : std::optional<std::string>(o.tag);
     f.level = o.level;
   };
-  if (*o.mode == FeatureMode::kBreakline) {
+  if (IsLineMode(*o.mode)) {
     TB_ASSIGN_OR_RETURN(auto lines, ReadLineFeatures(o.file, source));
     for (auto& line : lines) {
       EditorFeature f;
       base(f, line.label, line.attributes, line.tag);
+      if (o.z_from == ZFrom::kFeature && !line.has_z)
+        return Status::InvalidArgument(line.label +
+                                       ": --z-from feature needs lines with z (LineString Z)");
       f.lines = std::move(line.lines);
+      if (o.z_from == ZFrom::kFeature) {
+        f.z_from = ZFrom::kFeature;
+        f.line_z = std::move(line.z);
+      }
       out.push_back(std::move(f));
     }
   } else {
@@ -289,8 +312,12 @@ Status CheckLevel(SurfaceSession& session, const EditorFeature& f) {
 Result<NewFeature> Prepare(SurfaceSession& session, EditorFeature f) {
   TB_RETURN_IF_ERROR(CheckLevel(session, f));
   NewFeature out;
-  TB_RETURN_IF_ERROR(DrapeFeature(session.store, session.surface, f, session.elevation,
-                                  session.drape, &out.lines));
+  if (f.z_from == ZFrom::kFeature) {
+    TB_ASSIGN_OR_RETURN(out.lines, OwnZPolylines(f));
+  } else {
+    TB_RETURN_IF_ERROR(DrapeFeature(session.store, session.surface, f, session.elevation,
+                                    session.drape, &out.lines));
+  }
   out.feature = std::move(f);
   return out;
 }
@@ -398,6 +425,7 @@ Result<PolygonAddReport> ApplyEditOnce(SurfaceSession& session, std::vector<NewF
 
   LocalEdit edit = EditRemoving(session, added, removed, std::move(existing));
   TB_ASSIGN_OR_RETURN(report.ring_vertices, AddFeatures(session, report.tx, added, edit));
+  ApplyLineZ(session.dem, edit);
   UpdateEngine engine(store, session.surface, session.dems, session.dem);
   engine.set_mesh_cache(&session.mesh);
   TB_ASSIGN_OR_RETURN(EditResult result, engine.Apply(edit));
@@ -526,6 +554,7 @@ Result<PolygonAddReport> UpdatePolygon(Store& store, int64_t id, const PolygonAd
   for (size_t k = 1; k < read.size(); ++k) {
     merged.polygons.insert(merged.polygons.end(), read[k].polygons.begin(), read[k].polygons.end());
     merged.lines.insert(merged.lines.end(), read[k].lines.begin(), read[k].lines.end());
+    merged.line_z.insert(merged.line_z.end(), read[k].line_z.begin(), read[k].line_z.end());
   }
   if (o.tag.empty() && o.tag_field.empty() && !merged.tag) merged.tag = old.tag;
   if (merged.attributes.empty()) merged.attributes = old.attributes;

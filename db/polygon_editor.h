@@ -34,7 +34,11 @@ struct MemoryFeature {
   std::optional<double> level;
   nlohmann::json attributes = nlohmann::json::object();
   std::vector<Polygon> polygons;           // clip, erase, fill, replace
-  std::vector<std::vector<Point2>> lines;  // breakline
+  std::vector<std::vector<Point2>> lines;  // breakline, softline
+  // Lines with their own z (z_from kFeature; unset: the options' z_from): line_z[k][i] is the z
+  // of lines[k][i].
+  std::optional<ZFrom> z_from;
+  std::vector<std::vector<double>> line_z;
 };
 
 struct PolygonAddOptions {
@@ -56,6 +60,9 @@ struct PolygonAddOptions {
   // preparing them is counted as half the work, the one edit the other half), from the calling
   // thread; empty: not called. For progress bars.
   std::function<void(double fraction)> progress;
+  // Line modes: draped on the DEM, or each vertex at the source's own z (3D lines; the source's
+  // geometry must have z, and every z must be a number).
+  ZFrom z_from = ZFrom::kDem;
 };
 
 struct PolygonAddReport {

@@ -30,6 +30,7 @@ struct AddArgs {
   PolygonAddOptions options;
   std::string mode;  // parsed into options.mode by the handler
   double level = 0;
+  std::string z_from = "dem";  // parsed into options.z_from by the handler
 };
 
 // --mode's text as a FeatureMode: the one place a polygon command reads a mode string.
@@ -41,6 +42,9 @@ Status ParseModeOption(const std::string& text, PolygonAddOptions* options) {
 
 int RunAdd(AddArgs args, bool level_given) {
   if (Status s = ParseModeOption(args.mode, &args.options); !s.ok()) return ReportError(s);
+  auto z_from = ParseZFrom(args.z_from);
+  if (!z_from.ok()) return ReportError(z_from.status().WithContext("--z-from"));
+  args.options.z_from = *z_from;
   auto store = Store::Open(args.store);
   if (!store.ok()) return ReportError(store.status());
   if (level_given) args.options.level = args.level;
@@ -110,7 +114,10 @@ void RegisterPolygonCommands(CLI::App& app, int* exit_code) {
   add->add_option("file", args->options.file, "Vector file (GeoJSON, GeoPackage, shapefile, ...)")
       ->required();
   add->add_option("--surface", args->options.surface, "Surface name")->required();
-  add->add_option("--mode", args->mode, "clip, erase, fill, replace or breakline")->required();
+  add->add_option("--mode", args->mode, "clip, erase, fill, replace, breakline or softline")
+      ->required();
+  add->add_option("--z-from", args->z_from,
+                  "Lines: dem (draped, the default) or feature (each vertex keeps its own z)");
   add->add_option("--layer", args->options.layer, "Layer name (default: the only layer)");
   add->add_option("--where", args->options.where, "OGR attribute filter, e.g. \"code = 'A-b'\"");
   add->add_option("--tag-field", args->options.tag_field, "Field whose value tags the triangles");

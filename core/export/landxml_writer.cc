@@ -123,6 +123,13 @@ const char* BoundaryType(FeatureMode mode, size_t ring) {
   return ring == 0 ? "void" : "island";
 }
 
+// LandXML's breakline type of a line feature. Readers take a standard breakline for a slope
+// break; a softline is an edge for shape only, on the surface's own elevations, which is what
+// LandXML's nondestructive breakline is (it changes no elevation of the surface it crosses).
+const char* BreaklineType(FeatureMode mode) {
+  return mode == FeatureMode::kSoftline ? "nondestructive" : "standard";
+}
+
 bool IsBoundary(FeatureMode mode) {
   return mode == FeatureMode::kClip || mode == FeatureMode::kErase;
 }
@@ -138,7 +145,7 @@ void WriteSourceData(XmlOut& out, const LandXmlSurface& s) {
       const LandXmlFeature& f = s.features[i];
       if (IsBoundary(f.mode)) continue;
       for (size_t l = 0; l < f.lines.size(); ++l) {
-        out.Start("Breakline").Attr("brkType", "standard").Attr("name", f.name);
+        out.Start("Breakline").Attr("brkType", BreaklineType(f.mode)).Attr("name", f.name);
         RingAttrs(out, i, l, 0);
         out.Start("PntList2D").Text(PointList2D(f.lines[l], false)).End().End();
       }

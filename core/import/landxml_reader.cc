@@ -522,7 +522,7 @@ class Parser {
     for (const auto& [fp, rings] : polygons) {
       LandXmlFeature& f = out_.features[fp.first - 1];
       const RawRing& first = *rings.begin()->second;
-      if (f.mode == FeatureMode::kBreakline) {
+      if (IsLineMode(f.mode)) {
         if (rings.size() != 1 || first.points.size() < 2)
           return Error(first.line, first.element, "a breakline is one line of 2 or more points");
         f.lines.push_back(first.points);

@@ -16,6 +16,8 @@ const char* FeatureModeName(FeatureMode mode) {
       return "replace";
     case FeatureMode::kBreakline:
       return "breakline";
+    case FeatureMode::kSoftline:
+      return "softline";
     case FeatureMode::kPoints:
       return "points";
   }
@@ -25,8 +27,18 @@ const char* FeatureModeName(FeatureMode mode) {
 Result<FeatureMode> ParseFeatureMode(std::string_view name) {
   for (FeatureMode mode : kFeatureModes)
     if (name == FeatureModeName(mode)) return mode;
-  return Status::InvalidArgument("unknown feature mode '" + std::string(name) +
-                                 "' (expected clip, erase, fill, replace or breakline)");
+  return Status::InvalidArgument(
+      "unknown feature mode '" + std::string(name) +
+      "' (expected clip, erase, fill, replace, breakline, softline or points)");
+}
+
+const char* ZFromName(ZFrom z_from) { return z_from == ZFrom::kFeature ? "feature" : "dem"; }
+
+Result<ZFrom> ParseZFrom(std::string_view name) {
+  if (name == "dem") return ZFrom::kDem;
+  if (name == "feature") return ZFrom::kFeature;
+  return Status::InvalidArgument("unknown z source '" + std::string(name) +
+                                 "' (expected dem or feature)");
 }
 
 }  // namespace tinbase

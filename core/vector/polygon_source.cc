@@ -339,16 +339,24 @@ Result<std::vector<LineFeature>> ReadLineFeatures(const std::string& path,
         }
         LineFeature out;
         FillCommon(out, feature, fid, label, open);
+        out.has_z = !parts.empty();
         for (size_t k = 0; k < parts.size(); ++k) {
           const std::string what = label + ", line " + std::to_string(k);
           TB_ASSIGN_OR_RETURN(std::vector<Point2> raw, ReadPoints(open, *parts[k], what));
           TB_RETURN_IF_ERROR(CheckFinite(raw, what));
           std::vector<Point2> line;
-          for (const Point2& p : raw)
-            if (line.empty() || !SamePoint(line.back(), p)) line.push_back(p);
+          std::vector<double> z;
+          const bool has_z = parts[k]->Is3D();
+          out.has_z = out.has_z && has_z;
+          for (size_t i = 0; i < raw.size(); ++i) {
+            if (!line.empty() && SamePoint(line.back(), raw[i])) continue;
+            line.push_back(raw[i]);
+            z.push_back(has_z ? parts[k]->getZ(static_cast<int>(i)) : std::nan(""));
+          }
           if (line.size() < 2)
             return Status::InvalidArgument(what + ": fewer than 2 distinct points");
           out.lines.push_back(std::move(line));
+          out.z.push_back(std::move(z));
         }
         features.push_back(std::move(out));
         return Status::Ok();

@@ -53,6 +53,10 @@ struct LineFeature {
   std::vector<std::vector<Point2>> lines;  // one per part of a MultiLineString
   nlohmann::json attributes = nlohmann::json::object();
   std::optional<std::string> tag;
+  // The source's z of each kept vertex (z[k][i] for lines[k][i]; NaN where the geometry has no
+  // z), for lines that keep their own z; has_z: every part has z. z is not reprojected.
+  std::vector<std::vector<double>> z;
+  bool has_z = false;
 };
 
 // The polygon features of `path` (Polygon or MultiPolygon geometries), each polygon valid

@@ -1,8 +1,11 @@
 #include "db/edit/elevation_rules.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <utility>
+
+#include "db/edit/line_z.h"
 
 namespace tinbase {
 
@@ -19,6 +22,9 @@ ElevationRules::ElevationRules(DemStore& dems, const DemInfo& dem,
   }
   has_replace_polygons_ = !replace_polygons.empty();
   replaced_ = std::make_unique<PolygonLocator>(replace_polygons);
+  const double cell_x = dem.geometry.cell_x, cell_y = std::fabs(dem.geometry.cell_y);
+  lines_ = LineElevationOf(features, LineNearDistance(dem));
+  line_band_ = kLineBandCells * std::max(cell_x, cell_y);
 }
 
 std::optional<double> ElevationRules::Level(const Point2& p) const {
@@ -28,6 +34,7 @@ std::optional<double> ElevationRules::Level(const Point2& p) const {
 }
 
 double ElevationRules::TargetZ(const TinVertex& v) const {
+  if (auto z = lines_.ZAt({v.x, v.y})) return *z;
   if (auto level = Level({v.x, v.y})) return *level;
   if (restore_ && restore_->Locate({v.x, v.y}) != PointInPolygon::kOutside) {
     const double z = DemZ(v.x, v.y);
@@ -37,12 +44,17 @@ double ElevationRules::TargetZ(const TinVertex& v) const {
 }
 
 double ElevationRules::NewZ(double x, double y) const {
+  if (auto z = lines_.ZAt({x, y})) return *z;
   if (auto level = Level({x, y})) return *level;
   return DemZ(x, y);
 }
 
 bool ElevationRules::Replaced(const Point2& p) const {
   return has_replace() && replaced_->Locate(p) != PointInPolygon::kOutside;
+}
+
+bool ElevationRules::ToleranceExempt(const Point2& p) const {
+  return Replaced(p) || (!lines_.empty() && lines_.Near(p, line_band_));
 }
 
 double ElevationRules::DemZ(double x, double y) const {

@@ -1,7 +1,9 @@
 // ElevationRules: the z an edit gives a vertex (docs/design.md, "Inserting a polygon"). A point
-// inside a replace feature takes its level (the last such feature in id order wins, as in
-// painting); an existing vertex inside a removed replace feature gets its DEM z back; a new point
-// elsewhere takes the DEM's z. Borrows the DEM store; not thread-safe (sampling reads blocks
+// on a 3D line (a line feature with z from the feature) takes the line's z (core/tin/
+// line_elevation.h: the line of the highest feature id where several meet); else a point inside
+// a replace feature takes its level (the last such feature in id order wins, as in painting); an
+// existing vertex inside a removed replace feature gets its DEM z back; a new point elsewhere
+// takes the DEM's z. Borrows the DEM store; not thread-safe (sampling reads blocks
 // through the store's cache).
 #pragma once
 
@@ -10,6 +12,7 @@
 #include <vector>
 
 #include "core/geometry/polygon_locator.h"
+#include "core/tin/line_elevation.h"
 #include "core/tin/tin.h"
 #include "db/dem_store.h"
 #include "db/feature_store.h"
@@ -39,6 +42,11 @@ class ElevationRules {
   bool Replaced(const Point2& p) const;
   // Whether some replace feature has a polygon.
   bool has_replace() const { return has_replace_polygons_; }
+  // Whether the tolerance does not apply at `p`: inside a replace feature, or within
+  // kLineBandCells of a 3D line.
+  bool ToleranceExempt(const Point2& p) const;
+  // The 3D lines of the features.
+  const LineElevation& lines() const { return lines_; }
 
  private:
   double DemZ(double x, double y) const;
@@ -51,6 +59,8 @@ class ElevationRules {
   bool has_replace_polygons_ = false;
   std::shared_ptr<const PolygonLocator> restore_;
   mutable Status first_error_;
+  LineElevation lines_;
+  double line_band_ = 0;  // kLineBandCells in map units
 };
 
 }  // namespace tinbase

@@ -184,7 +184,7 @@ void Round::Refine(Cdt& cdt) {
   RefineOptions refine;
   refine.tolerance = ctx_.surface.tolerance.value_or(1.0);
   refine.excluded = [this](double x, double y) {
-    return outline_index_.OnAny({x, y}) || rules_.Replaced({x, y});
+    return outline_index_.OnAny({x, y}) || rules_.ToleranceExempt({x, y});
   };
   if (!every_face_inside) {
     refine.in_region = [&](const std::array<uint32_t, 3>& v) {

@@ -7,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include "db/edit/constraint_kinds.h"
 #include "db/mesh/mesh_tables.h"
 #include "db/sql/unchecked_foreign_keys.h"
 #include "db/surface_store.h"
@@ -80,7 +81,8 @@ Status WriteConstraints(Connection& db, MeshTables& tables, const MeshDelta& del
   TB_RETURN_IF_ERROR(tables.DeleteConstraintsOfFeatures(delta.removed_features));
   TB_RETURN_IF_ERROR(tables.DeleteConstraints(delta.split_constraints));
   TB_ASSIGN_OR_RETURN(auto unchecked, UncheckedIf(db, delta.whole_surface));
-  return tables.InsertConstraints(delta.added_constraints);
+  TB_RETURN_IF_ERROR(tables.InsertConstraints(delta.added_constraints));
+  return MarkSoftConstraints(db, delta.surface, delta.added_constraints);
 }
 
 // Long runs of consecutive ids that take the same paint are one UPDATE each: the builders store

@@ -33,7 +33,7 @@ NearRings NoteFeatures(const BlockGrid& g, const BlockWindow& window, const Loca
   window_box.Add(Point2{high.x + reach, high.y + reach});
   const auto note = [&](const EditorFeature& f, bool is_changed) {
     if (!is_changed && !BoxOf(f).Meets(window_box)) return;  // no ring of it near the window
-    if (f.mode == FeatureMode::kBreakline) return;
+    if (!IsPolygonMode(f.mode)) return;
     near.near_any.AddBlocks(RingBlocksOf(f, g));
     if (!is_changed) return;
     near.near_changed.AddBlocks(RingBlocksOf(f, g));

@@ -9,6 +9,7 @@
 #include <limits>
 #include <memory>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include "core/base/output_file.h"
@@ -133,8 +134,8 @@ Status WriteFeatures(GDALDataset& ds, const std::string& path, const OGRSpatialR
                       CreateLayer(ds, path, "breaklines", srs, wkbMultiLineString, "id", fields));
   for (const EditorFeature& f : features) {
     if (only_feature != 0 ? f.id != only_feature : !BoxOf(f).Meets(box)) continue;
-    if (f.mode == FeatureMode::kPoints) continue;  // survey points are the mesh's user vertices
-    const bool is_line = f.mode == FeatureMode::kBreakline;
+    if (f.mode == FeatureMode::kPoints) continue;  // its points are vertices
+    const bool is_line = IsLineMode(f.mode);
     OGRLayer* layer = is_line ? lines : polygons;
     OGRFeature feature(layer->GetLayerDefn());
     feature.SetFID(f.id);
@@ -155,14 +156,20 @@ Status WriteFeatures(GDALDataset& ds, const std::string& path, const OGRSpatialR
   return Status::Ok();
 }
 
-// The `constraints` layer: the constrained edges of the surface whose two vertices are selected.
+// The `constraints` layer: the constrained edges of the surface whose two vertices are selected,
+// with their kind: 'soft' for a softline's, 'hard' for the others (db/edit/constraint_kinds.h).
 Status WriteConstraints(GDALDataset& ds, const std::string& path, const OGRSpatialReference* srs,
                         Store& store, const SurfaceInfo& surface, const LoadedSurface& part,
-                        GpkgExportReport& report) {
-  TB_ASSIGN_OR_RETURN(
-      OGRLayer * layer,
-      CreateLayer(ds, path, "constraints", srs, wkbLineString25D, "fid",
-                  {{"va", OFTInteger64}, {"vb", OFTInteger64}, {"feature", OFTInteger64}}));
+                        const std::vector<EditorFeature>& features, GpkgExportReport& report) {
+  TB_ASSIGN_OR_RETURN(OGRLayer * layer,
+                      CreateLayer(ds, path, "constraints", srs, wkbLineString25D, "fid",
+                                  {{"va", OFTInteger64},
+                                   {"vb", OFTInteger64},
+                                   {"feature", OFTInteger64},
+                                   {"kind", OFTString}}));
+  std::unordered_set<int64_t> softlines;
+  for (const EditorFeature& f : features)
+    if (f.mode == FeatureMode::kSoftline) softlines.insert(f.id);
   std::unordered_map<int64_t, uint32_t> index;
   index.reserve(part.vertex_ids.size());
   for (size_t i = 0; i < part.vertex_ids.size(); ++i)
@@ -180,6 +187,7 @@ Status WriteConstraints(GDALDataset& ds, const std::string& path, const OGRSpati
     feature.SetField(0, static_cast<GIntBig>(row.va));
     feature.SetField(1, static_cast<GIntBig>(row.vb));
     if (row.feature) feature.SetField(2, static_cast<GIntBig>(*row.feature));
+    feature.SetField(3, row.feature && softlines.count(*row.feature) ? "soft" : "hard");
     auto line = std::make_unique<OGRLineString>();
     for (uint32_t v : {a->second, b->second}) {
       const TinVertex& p = part.tin.vertices[v];
@@ -207,7 +215,7 @@ Status WriteVectors(const std::string& file, const std::string& path,
   if (ds->StartTransaction() != OGRERR_NONE) return GdalFailure(path, "cannot start writing");
   TB_RETURN_IF_ERROR(WriteTriangles(*ds, path, srs, part));
   TB_RETURN_IF_ERROR(WriteFeatures(*ds, path, srs, features, box, only_feature, report));
-  TB_RETURN_IF_ERROR(WriteConstraints(*ds, path, srs, store, surface, part, report));
+  TB_RETURN_IF_ERROR(WriteConstraints(*ds, path, srs, store, surface, part, features, report));
   if (ds->CommitTransaction() != OGRERR_NONE) return GdalFailure(path, "cannot commit layers");
   // GDAL 3.6's GDALClose returns nothing; a failed final write shows as the last error.
   CPLErrorReset();

@@ -242,7 +242,8 @@ TEST_F(CliTest, PolygonAddRemoveUpdateAndFeatureExport) {
   ExpectRejected(
       store_,
       "polygon add " + Quote(store_) + " " + Quote(square) + " --surface terrain --mode paint",
-      "unknown feature mode 'paint' (expected clip, erase, fill, replace or breakline)");
+      "unknown feature mode 'paint' (expected clip, erase, fill, replace, breakline, softline or "
+      "points)");
 }
 
 TEST_F(CliTest, BadInputIsRejectedAndChangesNothing) {

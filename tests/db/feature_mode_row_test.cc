@@ -36,7 +36,7 @@ class FeatureModeRowTest : public ::testing::Test {
       EditorFeature f;
       f.label = FeatureModeName(mode);
       f.mode = mode;
-      if (mode == FeatureMode::kBreakline)
+      if (IsLineMode(mode))
         f.lines = {{{5, 5}, {35, 35}}};
       else
         f.polygons = {Polygon{{{5, 5}, {35, 5}, {35, 35}, {5, 35}}, {}}};
@@ -61,7 +61,7 @@ TEST_F(FeatureModeRowTest, EveryModeIsStoredInItsSpellingAndReadBack) {
     const EditorFeature& f = (*features)[k];
     EXPECT_EQ(f.id, ids_[k]);
     EXPECT_EQ(f.mode, kFeatureModes[k]) << FeatureModeName(kFeatureModes[k]);
-    EXPECT_EQ(f.lines.empty(), kFeatureModes[k] != FeatureMode::kBreakline);
+    EXPECT_EQ(f.lines.empty(), !IsLineMode(kFeatureModes[k]));
     auto stmt = store_->db().Cached("SELECT mode FROM features WHERE id = ?");
     ASSERT_TRUE(stmt.ok());
     (*stmt)->Bind(1, f.id);
@@ -79,9 +79,9 @@ TEST_F(FeatureModeRowTest, AnUnknownModeInARowIsCorruptionNamingTheFeature) {
   ASSERT_TRUE(store_->db()
                   .Exec("UPDATE features SET mode = 'paint' WHERE id = " + std::to_string(bad))
                   .ok());
-  const std::string expected =
-      "feature " + std::to_string(bad) +
-      ": unknown feature mode 'paint' (expected clip, erase, fill, replace or breakline)";
+  const std::string expected = "feature " + std::to_string(bad) +
+                               ": unknown feature mode 'paint' (expected clip, erase, fill, "
+                               "replace, breakline, softline or points)";
   auto all = LoadFeatures(*store_, surface_);
   ASSERT_FALSE(all.ok());
   EXPECT_EQ(all.status().code(), StatusCode::kCorruption);

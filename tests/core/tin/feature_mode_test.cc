@@ -19,8 +19,8 @@ TEST(FeatureMode, EveryModeRoundTripsThroughItsSpelling) {
     ASSERT_TRUE(parsed.ok()) << parsed.status().ToString();
     EXPECT_EQ(*parsed, mode) << name;
   }
-  EXPECT_EQ(spellings,
-            (std::set<std::string>{"clip", "erase", "fill", "replace", "breakline", "points"}));
+  EXPECT_EQ(spellings, (std::set<std::string>{"clip", "erase", "fill", "replace", "breakline",
+                                              "softline", "points"}));
 }
 
 TEST(FeatureMode, AnythingElseIsRefusedNamingTheValueAndTheChoices) {
@@ -28,9 +28,9 @@ TEST(FeatureMode, AnythingElseIsRefusedNamingTheValueAndTheChoices) {
     auto parsed = ParseFeatureMode(bad);
     ASSERT_FALSE(parsed.ok()) << "'" << bad << "'";
     EXPECT_EQ(parsed.status().code(), StatusCode::kInvalidArgument);
-    EXPECT_EQ(
-        parsed.status().message(),
-        "unknown feature mode '" + bad + "' (expected clip, erase, fill, replace or breakline)");
+    EXPECT_EQ(parsed.status().message(),
+              "unknown feature mode '" + bad +
+                  "' (expected clip, erase, fill, replace, breakline, softline or points)");
   }
 }
 
