@@ -9,6 +9,7 @@
 #include "core/tin/ring_blocks.h"
 #include "core/vector/feature_wkb.h"
 #include "core/vector/line_z_wkb.h"
+#include "core/vector/point_wkb.h"
 #include "db/mesh/mesh_tables.h"
 
 namespace tinbase {
@@ -71,6 +72,13 @@ Result<std::vector<EditorFeature>> SelectFeatures(Store& store, const SurfaceInf
         break;
       }
       f.lines = std::move(*lines);
+    } else if (f.mode == FeatureMode::kPoints) {
+      auto points = PointsFromWkb(wkb);
+      if (!points.ok()) {
+        status = points.status().WithContext(f.label);
+        break;
+      }
+      f.points = std::move(*points);
     } else if (IsPolygonMode(f.mode)) {
       auto polygons = PolygonsFromWkb(wkb);
       if (!polygons.ok()) {
@@ -110,6 +118,7 @@ Box BoxOf(const EditorFeature& f) {
     for (const Point2& q : p.shell) box.Add(q);
   for (const auto& line : f.lines)
     for (const Point2& q : line) box.Add(q);
+  for (const TinVertex& q : f.points) box.Add(Point2{q.x, q.y});
   f.box_cache = box;
   return box;
 }
@@ -152,9 +161,10 @@ Status WriteFeature(Store& store, const SurfaceInfo& surface, int64_t tx, Editor
     TB_ASSIGN_OR_RETURN(tag_id, InternTag(store, *f.tag));
   }
   const bool own_z = IsLineMode(f.mode) && f.z_from == ZFrom::kFeature;
-  const std::vector<uint8_t> wkb = own_z                ? LinesZToWkb(f.lines, f.line_z)
-                                   : IsLineMode(f.mode) ? LinesToWkb(f.lines)
-                                                        : PolygonsToWkb(f.polygons);
+  const std::vector<uint8_t> wkb = own_z                            ? LinesZToWkb(f.lines, f.line_z)
+                                   : IsLineMode(f.mode)             ? LinesToWkb(f.lines)
+                                   : f.mode == FeatureMode::kPoints ? PointsToWkb(f.points)
+                                                                    : PolygonsToWkb(f.polygons);
   const Box box = BoxOf(f);
   stmt->Bind(1, surface.id).Bind(2, f.tag.value_or(f.label)).Bind(3, FeatureModeName(f.mode));
   if (f.level)

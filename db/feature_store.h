@@ -60,6 +60,8 @@ struct EditorFeature {
   nlohmann::json attributes = nlohmann::json::object();
   std::vector<Polygon> polygons;
   std::vector<std::vector<Point2>> lines;
+  // Mode points: survey points with their own z (db/edit/mass_points.h), kept as MultiPoint Z.
+  std::vector<TinVertex> points;
 
   // Derived from polygons and lines on first use (BoxOf, InsideOf, RingBlocksOf) and shared by
   // later copies:
@@ -81,7 +83,7 @@ struct EditorFeature {
 // one counting as on it (core/tin/line_elevation.h).
 LineElevation LineElevationOf(const std::vector<EditorFeature>& features, double near);
 
-// The plan-view box of the feature's rings and lines.
+// The plan-view box of the feature's rings, lines and points.
 Box BoxOf(const EditorFeature& f);
 // The union of the feature's polygons as a point-in-polygon index.
 const std::shared_ptr<const PolygonLocator>& InsideOf(const EditorFeature& f);

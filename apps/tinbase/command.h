@@ -26,7 +26,7 @@ void RegisterQueryCommands(CLI::App& app, int* exit_code);    // locate, neighbo
 void RegisterExportCommands(CLI::App& app, int* exit_code);   // export
 void RegisterImportCommands(CLI::App& app, int* exit_code);   // import landxml
 void RegisterPolygonCommands(CLI::App& app, int* exit_code);  // polygon add
-void RegisterPointsCommands(CLI::App& app, int* exit_code);   // points import
+void RegisterPointsCommands(CLI::App& app, int* exit_code);   // points import, add, remove
 void RegisterDemoCommand(CLI::App& app, int* exit_code);      // demo
 void RegisterMeasureCommands(CLI::App& app, int* exit_code);  // measure area|volume|..., contours
 void RegisterTilesCommands(CLI::App& app, int* exit_code);    // tiles build, export, info

@@ -1,11 +1,16 @@
-// Kernel: `points import` (a LAS or XYZ point file to a Delaunay surface, optionally thinned).
+// Kernels: `points import` (a LAS or XYZ point file to a Delaunay surface, optionally thinned),
+// `points add` and `points remove` (survey points into and out of an existing surface,
+// db/edit/mass_points.h).
 #include <cmath>
 #include <iostream>
+#include <nlohmann/json.hpp>
 
 #include "apps/tinbase/command.h"
 #include "apps/tinbase/output.h"
 #include "apps/tinbase/progress.h"
+#include "db/edit/mass_points.h"
 #include "db/point_import.h"
+#include "db/query/surface_selection.h"
 
 namespace tinbase::cli {
 
@@ -82,6 +87,111 @@ int RunImport(ImportArgs args) {
   return kExitOk;
 }
 
+struct AddArgs {
+  std::string store;
+  PointsAddOptions options;
+  std::string tag;
+  bool json = false;
+};
+
+struct RemoveArgs {
+  std::string store;
+  int64_t feature = 0;
+  std::string surface;
+  std::string bbox;
+  bool json = false;
+};
+
+nlohmann::json ReportJson(const PointsReport& r) {
+  return {{"tx", r.tx},
+          {"points_in", r.points_in},
+          {"vertices", r.inserted},
+          {"snapped", r.snapped},
+          {"features_added", r.features_added},
+          {"features_removed", r.features_removed},
+          {"triangles_removed", r.removed},
+          {"triangles_added", r.added},
+          {"refinement_points", r.refinement_points},
+          {"reprojected_from", r.reprojected_from}};
+}
+
+int RunAdd(AddArgs args) {
+  if (!args.tag.empty()) args.options.tag = args.tag;
+  auto store = Store::Open(args.store);
+  if (!store.ok()) return ReportError(store.status());
+  Stopwatch watch;
+  auto report = AddPoints(**store, args.options);
+  if (!report.ok()) return ReportError(report.status());
+  if (args.json) {
+    std::cout << ReportJson(*report).dump(2) << "\n";
+    return kExitOk;
+  }
+  for (const std::string& snapped : report->snapped) std::cerr << "tinbase: " << snapped << "\n";
+  std::cout << "added " << report->inserted << " of " << report->points_in << " survey points to '"
+            << args.options.surface << "' as feature " << report->features_added.front() << " ("
+            << report->snapped.size() << " snapped onto a vertex and left out): " << report->removed
+            << " triangles replaced by " << report->added << " (" << report->refinement_points
+            << " refinement points); transaction " << report->tx << " in "
+            << Num(watch.Seconds(), 3) << " s\n";
+  return kExitOk;
+}
+
+int RunRemove(const RemoveArgs& args, bool feature_given) {
+  PointsRemoveOptions options;
+  if (feature_given) options.feature = args.feature;
+  if (!args.bbox.empty()) {
+    if (args.surface.empty()) return ReportError(Status::InvalidArgument("--bbox needs --surface"));
+    auto box = ParseBbox(args.bbox);
+    if (!box.ok()) return ReportError(box.status());
+    options.box = *box;
+    options.surface = args.surface;
+  }
+  auto store = Store::Open(args.store);
+  if (!store.ok()) return ReportError(store.status());
+  Stopwatch watch;
+  auto report = RemovePoints(**store, options);
+  if (!report.ok()) return ReportError(report.status());
+  if (args.json) {
+    std::cout << ReportJson(*report).dump(2) << "\n";
+    return kExitOk;
+  }
+  std::cout << "removed " << report->inserted << " survey point vertices of "
+            << report->features_removed.size() << " feature(s)";
+  if (!report->features_added.empty())
+    std::cout << " (the points left are feature " << report->features_added.front() << ")";
+  std::cout << ": " << report->removed << " triangles replaced by " << report->added << " ("
+            << report->refinement_points << " refinement points); transaction " << report->tx
+            << " in " << Num(watch.Seconds(), 3) << " s\n";
+  return kExitOk;
+}
+
+void RegisterEditCommands(CLI::App* points, int* exit_code) {
+  auto add_args = std::make_shared<AddArgs>();
+  CLI::App* add = points->add_subcommand(
+      "add", "Insert survey points with their own z into a surface, locally (one transaction)");
+  add->add_option("store", add_args->store, "Store file")->required();
+  add->add_option("file", add_args->options.file,
+                  "XYZ/CSV text, LAS, or a vector file of Point Z features (GeoJSON, ...)")
+      ->required();
+  add->add_option("--surface", add_args->options.surface, "Surface name")->required();
+  add->add_option("--tag", add_args->tag, "Name of the points feature");
+  add->add_flag("--json", add_args->json, "The report as JSON");
+  add->callback([=] { *exit_code = RunAdd(*add_args); });
+
+  auto remove_args = std::make_shared<RemoveArgs>();
+  CLI::App* remove = points->add_subcommand(
+      "remove", "Take survey points out of a surface, locally (one transaction)");
+  remove->add_option("store", remove_args->store, "Store file")->required();
+  CLI::Option* feature =
+      remove->add_option("--feature", remove_args->feature, "A points feature, whole");
+  CLI::Option* bbox = remove->add_option("--bbox", remove_args->bbox,
+                                         "Or the survey points in MINX,MINY,MAXX,MAXY");
+  feature->excludes(bbox);
+  remove->add_option("--surface", remove_args->surface, "The surface (with --bbox)");
+  remove->add_flag("--json", remove_args->json, "The report as JSON");
+  remove->callback([=] { *exit_code = RunRemove(*remove_args, feature->count() > 0); });
+}
+
 }  // namespace
 
 void RegisterPointsCommands(CLI::App& app, int* exit_code) {
@@ -110,6 +220,7 @@ void RegisterPointsCommands(CLI::App& app, int* exit_code) {
                      "a point, as COUNT/AREA (paper 003: 10/150 in square feet)");
   import->callback([=] { *exit_code = RunImport(*args);
 });
+RegisterEditCommands(points, exit_code);
 }  // namespace tinbase::cli
 
 }  // namespace tinbase::cli

@@ -34,6 +34,7 @@ class RegionFinder {
 
   Result<ConflictRegion> Run() {
     TB_RETURN_IF_ERROR(SeedRemovals());
+    TB_RETURN_IF_ERROR(SeedDroppedVertices());
     TB_RETURN_IF_ERROR(SeedRemovedReplaceInsides());
     for (int64_t t : edit_.seed) region_.Add(t);  // a resurvey's triangles over changed cells
     TB_RETURN_IF_ERROR(LoadSurfaceIfManyPoints());
@@ -56,6 +57,7 @@ class RegionFinder {
   Result<int64_t> SurfaceTriangles();
   Status SeedRemovals();
   Result<bool> StillConstrained(int64_t v, const std::vector<int64_t>& star);
+  Status SeedDroppedVertices();
   Status SeedRemovedReplaceInsides();
   Status LoadSurfaceIfManyPoints();
   Status ReadBlocksAlongNewRings();
@@ -135,6 +137,22 @@ Result<bool> RegionFinder::StillConstrained(int64_t v, const std::vector<int64_t
     }
   }
   return still_constrained;
+}
+
+// The stars of LocalEdit::drop_vertices join R; each goes unless a kept constraint ends at it.
+Status RegionFinder::SeedDroppedVertices() {
+  for (int64_t v : edit_.drop_vertices) {
+    TB_ASSIGN_OR_RETURN(const TinVertex* vertex, mesh_.Vertex(v));
+    TB_ASSIGN_OR_RETURN(int64_t start, Locate({vertex->x, vertex->y},
+                                              [v] { return "vertex " + std::to_string(v); }));
+    bool closed = true;
+    TB_ASSIGN_OR_RETURN(std::vector<int64_t> star, mesh_.Star(v, start, &closed));
+    for (int64_t t : star) region_.Add(t);
+    if (!closed) continue;  // on the domain boundary: the hull needs it
+    TB_ASSIGN_OR_RETURN(const bool constrained, StillConstrained(v, star));
+    if (!constrained) region_.dropped.insert(v);
+  }
+  return Status::Ok();
 }
 
 // A removed replace feature's inside joins R: its vertices get their DEM z back and its cells
@@ -437,6 +455,8 @@ Result<std::vector<Point2>> RegionFinder::SeedPolylines(std::vector<SnappedLine>
     const size_t n = line.points.size();
     const size_t segments = line.closed ? n : n - 1;
     std::vector<TinVertex> points;
+    // A lone point (a survey point) has no segment to walk: its triangle seeds R.
+    if (n == 1) region_.Add(s.located[0]);
     for (size_t i = 0; i < n; ++i) {
       const Point2 p{line.points[i].x, line.points[i].y};
       points.push_back(line.points[i]);

@@ -54,6 +54,10 @@ struct LocalEdit {
   // have its whole star among `seed`, so that R's outline keeps its z.
   std::vector<int64_t> seed;
   std::vector<Box> resample;
+  // Stored vertices that go with the edit although no constraint of theirs does: the survey
+  // points of a removed `points` feature (db/edit/mass_points.h). Their stars join R. A vertex
+  // still on a kept constraint (a later ring snapped onto it) stays.
+  std::vector<int64_t> drop_vertices;
 };
 
 struct EditResult {

@@ -91,13 +91,29 @@ Status Round::CollectRegion(const Box& paint_box) {
 // new points snapped onto them) and the new segments as constraints; crossings indexed.
 Status Round::BuildCdt(Cdt& cdt) {
   cdt.InsertVertices(points_);  // distinct store vertices: local index i is points_[i]
-  for (const EditPolyline& line : region_.lines) {
-    std::vector<TinVertex> draped = line.points;
+  // Lone points (survey points, db/edit/mass_points.h) go in as one spatially sorted range:
+  // thousands of one-point calls would each walk to their point from anywhere.
+  std::vector<TinVertex> lone;
+  std::vector<size_t> lone_lines;
+  patch_.lines.resize(region_.lines.size());
+  for (size_t l = 0; l < region_.lines.size(); ++l) {
+    std::vector<TinVertex> draped = region_.lines[l].points;
     for (TinVertex& p : draped) {
-      p.kind = VertexKind::kRing;
+      // Survey points (kUser, db/edit/mass_points.h) keep their kind: no removal of a
+      // constraint through them may drop them.
+      if (p.kind != VertexKind::kUser) p.kind = VertexKind::kRing;
       if (auto level = rules_.Level({p.x, p.y})) p.z = *level;
     }
-    patch_.lines.push_back(cdt.InsertVertices(draped));
+    if (draped.size() == 1) {
+      lone.push_back(draped.front());
+      lone_lines.push_back(l);
+      continue;
+    }
+    patch_.lines[l] = cdt.InsertVertices(draped);
+  }
+  if (!lone.empty()) {
+    const std::vector<uint32_t> index = cdt.InsertVertices(lone);
+    for (size_t k = 0; k < lone.size(); ++k) patch_.lines[lone_lines[k]] = {index[k]};
   }
   if (!carried_.empty()) cdt.InsertVertices(carried_);
   for (const OutlineEdge& e : patch_.outline)
