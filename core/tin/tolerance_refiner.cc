@@ -6,10 +6,7 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
-#include <array>
-#include <cassert>
 #include <cmath>
-#include <cstdint>
 #include <queue>
 #include <set>
 #include <utility>
@@ -26,7 +23,6 @@ class Refiner {
  public:
   Refiner(Cdt& cdt, CellSource& dem, const RefineOptions& options)
       : cdt_(cdt), dem_(dem), geometry_(dem.geometry()), options_(options) {
-    assert(geometry_.width <= INT32_MAX && geometry_.height <= INT32_MAX);
     if (options.tile > 0) {
       tiles_across_ = (geometry_.width + options.tile - 1) / options.tile;
       const int64_t tiles_down = (geometry_.height + options.tile - 1) / options.tile;
@@ -70,13 +66,11 @@ class Refiner {
   }
 
  private:
-  // 32 bytes: a dense TIN queues millions, and sifting them is mostly cache misses. Cells are
-  // int32 (ValidateGeometry caps a grid's sides at INT32_MAX).
   struct Candidate {
     double error;
     Cdt::FaceRef face;
     uint64_t stamp;
-    int32_t col, row;
+    int64_t col, row;
     bool operator<(const Candidate& o) const { return error < o.error; }
   };
   using Queue = std::priority_queue<Candidate>;
@@ -203,16 +197,13 @@ class Refiner {
     const WorstCell& worst = job.worst;
     if (worst.col >= 0) {
       QueueOf(worst.col, worst.row)
-          .push(Candidate{worst.error, job.face, job.stamp, static_cast<int32_t>(worst.col),
-                          static_cast<int32_t>(worst.row)});
+          .push(Candidate{worst.error, job.face, job.stamp, worst.col, worst.row});
     }
   }
 
   // The worst sample the face may insert, its rows shared between threads when it is very large
   // (AnyWorstCell).
   WorstCell WorstOfFaceSharingRows(const ScanJob& job) {
-    WorstCell corners{options_.tolerance};
-    if (WorstOfCornerCells(job, &corners)) return Insertable(job, corners);
     return Insertable(job, AnyWorstCell(job.cells, job.plane));
   }
 
@@ -220,44 +211,9 @@ class Refiner {
   // blocked cells and the options, never the triangulation, so any thread may run it.
   WorstCell WorstOfFace(const ScanJob& job) const {
     WorstCell worst{options_.tolerance};
-    if (WorstOfCornerCells(job, &worst)) return Insertable(job, worst);
     const auto [row_min, row_max] = CellSpanRows(job.cells, geometry_.height);
     RaiseToWorstInRows(dem_, job.cells, job.plane, row_min, row_max, &worst);
     return Insertable(job, worst);
-  }
-
-  // A face whose corners are cell centres and whose area is half a cell holds no other centre,
-  // inside or on it (Pick's theorem: area = interior + boundary / 2 - 1 lattice points), so its
-  // scan reads its three corner cells alone. Most faces of a dense TIN are such, and laying out
-  // their spans cost more than reading them. The corners are read here in the scan's order (by
-  // row, then column) with the scan's expression for the error (worst_cell.cc ErrorAt), keeping
-  // the first strict maximum: the same cell and error the scan finds. Raises `worst` and returns
-  // true for such a face; false, `worst` untouched, for any other.
-  bool WorstOfCornerCells(const ScanJob& job, WorstCell* worst) const {
-    std::array<std::pair<int64_t, int64_t>, 3> cells;  // (row, col), as the scan orders them
-    for (size_t i = 0; i < 3; ++i) {
-      const double col = std::round(job.cells.col[i]), row = std::round(job.cells.row[i]);
-      if (std::fabs(col - job.cells.col[i]) > kCellSpanMargin ||
-          std::fabs(row - job.cells.row[i]) > kCellSpanMargin || col < 0 || row < 0 ||
-          col >= static_cast<double>(geometry_.width) ||
-          row >= static_cast<double>(geometry_.height))
-        return false;
-      cells[i] = {static_cast<int64_t>(row), static_cast<int64_t>(col)};
-    }
-    const int64_t doubled_area =
-        (cells[1].second - cells[0].second) * (cells[2].first - cells[0].first) -
-        (cells[2].second - cells[0].second) * (cells[1].first - cells[0].first);
-    if (doubled_area != 1 && doubled_area != -1) return false;
-    std::sort(cells.begin(), cells.end());
-    const CellPlane& plane = job.plane;
-    for (const auto& [row, col] : cells) {
-      const auto value = static_cast<double>(dem_.At(col, row));
-      const double row_term = plane.b * (static_cast<double>(row) - plane.r0);
-      const double error =
-          std::fabs(plane.z0 + plane.a * (static_cast<double>(col) - plane.c0) + row_term - value);
-      if (error > worst->error) *worst = WorstCell{error, col, row};  // NaN never wins
-    }
-    return true;
   }
 
   // `worst`, the worst cell of the face's spans, is nearly always one the face may insert; when

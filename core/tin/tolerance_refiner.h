@@ -59,8 +59,7 @@ struct RefineReport {
 // plane. Returns the indices of the new vertices in
 // insertion order. The DEM may be streamed (core/raster/cell_source.h): cells it fails to read
 // count as nodata, and the caller checks dem.status() afterwards. REQUIRES: every vertex of `cdt`
-// has an index (Cdt::IndexCrossings after constraints crossed), options.tolerance > 0, the DEM's
-// sides at most INT32_MAX cells (a queued cell is two int32s).
+// has an index (Cdt::IndexCrossings after constraints crossed), options.tolerance > 0.
 std::vector<uint32_t> RefineToTolerance(Cdt& cdt, CellSource& dem, const RefineOptions& options,
                                         RefineReport* report = nullptr);
 // The same, scanning at first only `faces` (and then those insertions create): for a

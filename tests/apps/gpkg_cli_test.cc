@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include "db/migrations.h"
 #include "db/sql/connection.h"
 #include "db/store.h"
 #include "tests/support/cli_support.h"
@@ -171,16 +172,52 @@ TEST_F(GpkgCliTest, TheStoreOpensAsAGeoPackageByItsOwnName) {
       << r.out;
 }
 
+// Copies into `db` (an older schema) the rows of every table of `source` it also has, in the
+// columns it has; the older schema's own rows of meta are kept.
+void CopyRowsOfOlderSchema(Connection& db, const std::string& source) {
+  ASSERT_TRUE(db.Exec("ATTACH DATABASE '" + source + "' AS src").ok());
+  auto tables = db.Prepare(
+      "SELECT name FROM main.sqlite_master WHERE type = 'table' AND name NOT LIKE 'sqlite_%' "
+      "AND name NOT LIKE 'gpkg_%' AND name <> 'meta' AND name IN (SELECT name FROM "
+      "src.sqlite_master WHERE type = 'table')");
+  ASSERT_TRUE(tables.ok()) << tables.status().ToString();
+  std::vector<std::string> names;
+  while (true) {
+    auto row = (*tables)->Step();
+    ASSERT_TRUE(row.ok()) << row.status().ToString();
+    if (!*row) break;
+    names.push_back((*tables)->ColumnText(0));
+  }
+  (*tables).reset();  // finished before the writes
+  ASSERT_TRUE(db.Exec("PRAGMA foreign_keys = OFF").ok());
+  for (const std::string& table : names) {
+    auto columns = db.Prepare("SELECT group_concat('\"' || name || '\"') FROM pragma_table_info('" +
+                              table + "', 'main')");
+    ASSERT_TRUE(columns.ok() && *(*columns)->Step()) << table;
+    const std::string list = (*columns)->ColumnText(0);
+    ASSERT_TRUE(db.Exec("DELETE FROM main.\"" + table + "\"; INSERT INTO main.\"" + table + "\"(" +
+                        list + ") SELECT " + list + " FROM src.\"" + table + "\"")
+                    .ok())
+        << table;
+  }
+  ASSERT_TRUE(db.Exec("PRAGMA foreign_keys = ON").ok());
+  ASSERT_TRUE(db.Exec("DETACH DATABASE src").ok());
+}
+
 TEST_F(GpkgCliTest, AnOlderStoreOpensAsAGeoPackageOnceMigrated) {
   const std::string old = dir_->Path("old.tinbase");
-  std::filesystem::copy_file(store_, old);
   {
-    // The header and meta of a store written before migration 0013.
-    auto db = Connection::Open(old, Connection::Mode::kReadWrite);
+    // A store as migration 0012 left it, holding the rows of store_ (the columns it had then):
+    // the header and meta written before migration 0013.
+    auto db = Connection::Open(old, Connection::Mode::kCreate);
     ASSERT_TRUE(db.ok()) << db.status().ToString();
+    ASSERT_TRUE(
+        (*db)->Exec("PRAGMA application_id = " + std::to_string(kTinbaseApplicationId)).ok());
+    ASSERT_TRUE(MigrateStore(**db, 12).ok());
+    CopyRowsOfOlderSchema(**db, store_);
     ASSERT_TRUE((*db)
                     ->Exec("PRAGMA application_id = " + std::to_string(kTinbaseApplicationId) +
-                           "; DELETE FROM meta WHERE key = 'application'; PRAGMA user_version = 12")
+                           "; DELETE FROM meta WHERE key = 'application'")
                     .ok());
   }
   auto before = RunTool("ogrinfo -ro " + Quote(old));

@@ -121,7 +121,7 @@ Tally AddWithCliFor(const TempDir& dir, const std::string& store) {
   Tally tally;
   const auto end = std::chrono::steady_clock::now() + kDuration;
   for (int k = 0; std::chrono::steady_clock::now() < end; ++k) {
-    const double x = 350000 + 700.0 * (k % 20), y = 4870000 + 700.0 * (k / 20 % 10);
+    const double x = 350000 + 700.0 * (k % 20), y = 4860000 + 700.0 * (k / 20 % 10);
     const PointList square = {{x, y}, {x + 300, y}, {x + 300, y + 300}, {x, y + 300}, {x, y}};
     const std::string file = WritePolygons(dir, "cli.geojson", {{square}}, 32632);
     const CliResult r = RunCli("polygon add " + Quote(store) + " " + Quote(file) +
