@@ -230,7 +230,7 @@ struct SurfaceSession {
   size_t load_points = 0;
   // The lowest and highest z of the DEM's cells, read when a level is first checked.
   std::optional<std::pair<double, double>> relief;
-  bool strict = false;  // PolygonAddOptions::strict: no clipping to the data area
+  bool strict = false;         // PolygonAddOptions::strict: no clipping to the data area
   BeforeCommit before_commit;  // the caller's, run inside each edit's transaction
   // The edits run inside a write transaction the caller opened and commits (ApplyFeatureEdit).
   bool in_caller_transaction = false;
