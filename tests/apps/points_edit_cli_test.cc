@@ -42,10 +42,11 @@ class PointsEditCli : public ::testing::Test {
     const std::string path = dir_.Path("shots.csv");
     std::ofstream out(path);
     out << "x,y,z\n";
+    const int half = n / 2;  // the grid's middle shot is the centre's
     for (int i = 0; i < n; ++i) {
       for (int j = 0; j < n; ++j) {
-        const double x = kCx + (i - n / 2) * 3.3 * kCell + 0.37;
-        const double y = kCy + (j - n / 2) * 3.3 * kCell + 0.61;
+        const double x = kCx + (i - half) * 3.3 * kCell + 0.37;
+        const double y = kCy + (j - half) * 3.3 * kCell + 0.61;
         auto z = RunCli("dem sample --json " + Quote(store_) + " -- " + std::to_string(x) + " " +
                         std::to_string(y));
         const nlohmann::json j_z = nlohmann::json::parse(z.out);
