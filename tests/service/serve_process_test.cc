@@ -16,64 +16,13 @@
 
 #include "db/feature_store.h"
 #include "db/surface_store.h"
+#include "tests/support/serve_child.h"
 #include "tests/support/service_support.h"
 
 namespace tinbase::testing {
 namespace {
 
-// A `tinbase serve STORE --listen 127.0.0.1:0` child process.
-class ServeProcess {
- public:
-  explicit ServeProcess(const std::string& store) {
-    int out[2];
-    if (pipe(out) != 0) {
-      ADD_FAILURE() << "pipe failed";
-      return;
-    }
-    pid_ = fork();
-    if (pid_ == 0) {
-      dup2(out[1], STDOUT_FILENO);
-      close(out[0]);
-      close(out[1]);
-      execl(TINBASE_CLI, TINBASE_CLI, "serve", store.c_str(), "--listen", "127.0.0.1:0",
-            static_cast<char*>(nullptr));
-      _exit(127);
-    }
-    close(out[1]);
-    stdout_ = out[0];
-    // "serving STORE on http://127.0.0.1:PORT/"
-    std::string line;
-    char c = 0;
-    while (read(stdout_, &c, 1) == 1 && c != '\n') line += c;
-    const size_t colon = line.rfind(':');
-    if (colon == std::string::npos || line.find("serving ") != 0) {
-      ADD_FAILURE() << "tinbase serve printed: " << line;
-      return;
-    }
-    port_ = std::stoi(line.substr(colon + 1));
-  }
-  ~ServeProcess() {
-    if (pid_ > 0) Kill();
-    if (stdout_ >= 0) close(stdout_);
-  }
-  ServeProcess(const ServeProcess&) = delete;
-  ServeProcess& operator=(const ServeProcess&) = delete;
-
-  int port() const { return port_; }
-  // SIGKILL, then reaps it; EXPECTs that it died of that signal (not of its own failure first).
-  void Kill() {
-    kill(pid_, SIGKILL);
-    int status = 0;
-    waitpid(pid_, &status, 0);
-    EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL) << "status " << status;
-    pid_ = -1;
-  }
-
- private:
-  pid_t pid_ = -1;
-  int stdout_ = -1;
-  int port_ = 0;
-};
+using testing::ServeChild;
 
 // Clients posting small squares at distinct places until the service goes away; what they were
 // answered 201 is collected.
@@ -137,7 +86,7 @@ TEST(ServeProcessTest, KillDuringWritesLeavesAStoreThatChecksClean) {
   std::vector<int64_t> acknowledged;
   for (int round = 0; round < 2; ++round) {
     SCOPED_TRACE("round " + std::to_string(round));
-    ServeProcess serve(store);
+    ServeChild serve(store);
     ASSERT_GT(serve.port(), 0);
     {
       Posters posters(serve.port(), 3, round);
