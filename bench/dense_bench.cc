@@ -14,7 +14,6 @@
 //       the TIN (vertices and triangles in order), so a change to the builder shows both its
 //       speed and whether the TIN stayed the same.
 #include <gdal_priv.h>
-#include <ogr_spatialref.h>
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -30,6 +29,7 @@
 #include <vector>
 
 #include "bench/generated_terrain.h"
+#include "bench/terrain_files.h"
 #include "core/raster/gdal_raster.h"
 #include "core/tin/greedy_builder.h"
 #include "core/tin/tin_raster.h"
@@ -39,19 +39,8 @@
 namespace tinbase {
 namespace {
 
-// The terrain's cells (row-major f32) on the 30 m geometry RoughTerrain gives it.
-Grid LoadTerrain(const std::string& dir) {
-  std::ifstream meta_in(dir + "/terrain.json");
-  const auto meta = nlohmann::json::parse(meta_in);
-  const int64_t w = meta["width"], h = meta["height"];
-  Grid grid;
-  grid.geometry = GridGeometry{500000, 5200000, 30, -30, w, h};
-  grid.cells.resize(static_cast<size_t>(w * h));
-  std::ifstream in(dir + "/terrain.f32", std::ios::binary);
-  in.read(reinterpret_cast<char*>(grid.cells.data()),
-          static_cast<std::streamsize>(grid.cells.size() * sizeof(float)));
-  return grid;
-}
+// The cell size RoughTerrain gives the terrain, in metres.
+constexpr double kRoughCell = 30;
 
 // hmm's input: a 16-bit grey PNG of the cells' levels (value / step).
 bool WritePng16(const Grid& grid, double step, const std::string& path) {
@@ -78,9 +67,7 @@ bool WritePng16(const Grid& grid, double step, const std::string& path) {
 int Export(int64_t size, const std::string& out) {
   std::filesystem::create_directories(out);
   auto [grid, step] = RoughTerrain(size);
-  std::ofstream(out + "/terrain.f32", std::ios::binary)
-      .write(reinterpret_cast<const char*>(grid.cells.data()),
-             static_cast<std::streamsize>(grid.cells.size() * sizeof(float)));
+  WriteTerrainCells(grid, out);
   // hmm's z is level / 65535 * zscale: zscale = 65535 * step gives the cells' metres.
   std::ofstream(out + "/terrain.json") << nlohmann::json{
       {"width", size},
@@ -92,13 +79,7 @@ int Export(int64_t size, const std::string& out) {
     std::cerr << "could not write " << out << "/terrain.png\n";
     return 1;
   }
-  OGRSpatialReference srs;
-  srs.importFromEPSG(32632);
-  char* wkt = nullptr;
-  srs.exportToWkt(&wkt);
-  grid.crs_wkt = wkt;
-  CPLFree(wkt);
-  const Status s = WriteGeoTiff(grid, out + "/terrain.tif");
+  const Status s = WriteUtmGeoTiff(std::move(grid), out + "/terrain.tif");
   if (!s.ok()) std::cerr << s.ToString() << "\n";
   return s.ok() ? 0 : 1;
 }
@@ -136,29 +117,6 @@ Tin ReadStl(const std::string& path, const Grid& grid) {
   return tin;
 }
 
-// A delatin mesh written by bench/peers/run_delatin.mjs (grid coordinates).
-Tin ReadMesh(const std::string& path, const Grid& grid) {
-  std::ifstream in(path, std::ios::binary);
-  uint32_t counts[2] = {0, 0};
-  in.read(reinterpret_cast<char*>(counts), sizeof counts);
-  std::vector<uint32_t> xy(2 * counts[0]), tri(3 * counts[1]);
-  in.read(reinterpret_cast<char*>(xy.data()), static_cast<std::streamsize>(xy.size() * 4));
-  in.read(reinterpret_cast<char*>(tri.data()), static_cast<std::streamsize>(tri.size() * 4));
-  Tin tin;
-  const GridGeometry& g = grid.geometry;
-  for (size_t i = 0; i < counts[0]; ++i) {
-    const int64_t c = xy[2 * i], r = xy[2 * i + 1];
-    tin.vertices.push_back(
-        TinVertex{g.CellCenterX(c), g.CellCenterY(r), grid.At(c, r), VertexKind::kDem});
-  }
-  for (size_t t = 0; t < counts[1]; ++t) {
-    TinTriangle triangle;
-    triangle.v = {tri[3 * t], tri[3 * t + 1], tri[3 * t + 2]};
-    tin.triangles.push_back(triangle);
-  }
-  return tin;
-}
-
 Result<Tin> ReadStoreSurface(const std::string& path, const std::string& name) {
   TB_ASSIGN_OR_RETURN(auto store, Store::Open(path));
   SurfaceStore surfaces(*store);
@@ -169,12 +127,12 @@ Result<Tin> ReadStoreSurface(const std::string& path, const std::string& name) {
 
 int Score(const std::string& dir, const std::string& stl, const std::string& mesh,
           const std::string& store, const std::string& surface, bool match) {
-  const Grid grid = LoadTerrain(dir);
+  const Grid grid = LoadTerrain(dir, kRoughCell);
   Tin tin;
   if (!stl.empty()) {
     tin = ReadStl(stl, grid);
   } else if (!mesh.empty()) {
-    tin = ReadMesh(mesh, grid);
+    tin = ReadPeerMesh(mesh, grid);  // bench/peers/run_delatin.mjs
   } else {
     auto loaded = ReadStoreSurface(store, surface);
     if (!loaded.ok()) {
@@ -219,7 +177,7 @@ uint64_t TinHash(const Tin& tin) {
 }
 
 int Build(const std::string& dir, double error, int runs) {
-  const Grid grid = LoadTerrain(dir);
+  const Grid grid = LoadTerrain(dir, kRoughCell);
   double best = 1e300;
   Tin tin;
   GreedyReport report;

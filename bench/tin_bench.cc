@@ -7,7 +7,6 @@
 //   tin_bench measure --dir DIR --errors E,... tinbase's builders + the peers' meshes in DIR
 //   tin_bench delaunay --points N              CGAL alone against points -> store
 #include <gdal_priv.h>
-#include <ogr_spatialref.h>
 #include <sys/resource.h>
 #include <tbb/global_control.h>
 
@@ -30,6 +29,7 @@
 #include <vector>
 
 #include "bench/generated_terrain.h"
+#include "bench/terrain_files.h"
 #include "core/geometry/cdt.h"
 #include "core/raster/gdal_raster.h"
 #include "core/tin/edge_collapse.h"
@@ -88,19 +88,6 @@ Result<Grid> RealWindow(const std::string& path, int64_t size, int64_t col0) {
   return grid;
 }
 
-Grid LoadTerrain(const std::string& dir) {
-  std::ifstream meta_in(dir + "/terrain.json");
-  const auto meta = nlohmann::json::parse(meta_in);
-  Grid grid;
-  const int64_t w = meta["width"], h = meta["height"];
-  grid.geometry = GridGeometry{500000, 5200000, 1, -1, w, h};
-  grid.cells.resize(static_cast<size_t>(w * h));
-  std::ifstream in(dir + "/terrain.f32", std::ios::binary);
-  in.read(reinterpret_cast<char*>(grid.cells.data()),
-          static_cast<std::streamsize>(grid.cells.size() * sizeof(float)));
-  return grid;
-}
-
 int Export(const std::string& real, int64_t size, int64_t col0, const std::string& out) {
   std::filesystem::create_directories(out);
   Grid grid;
@@ -114,47 +101,16 @@ int Export(const std::string& real, int64_t size, int64_t col0, const std::strin
     }
     grid = std::move(window).value();
   }
-  std::ofstream(out + "/terrain.f32", std::ios::binary)
-      .write(reinterpret_cast<const char*>(grid.cells.data()),
-             static_cast<std::streamsize>(grid.cells.size() * sizeof(float)));
+  WriteTerrainCells(grid, out);
   std::ofstream(out + "/terrain.json") << nlohmann::json{
       {"width", grid.geometry.width},
       {"height", grid.geometry.height},
       {"source",
        real.empty() ? "generated" : real}}.dump();
   // The same cells as a GeoTIFF in a projected CRS, for the store path (dem import).
-  OGRSpatialReference srs;
-  srs.importFromEPSG(32632);
-  char* wkt = nullptr;
-  srs.exportToWkt(&wkt);
-  grid.crs_wkt = wkt;
-  CPLFree(wkt);
-  const Status s = WriteGeoTiff(grid, out + "/terrain.tif");
+  const Status s = WriteUtmGeoTiff(std::move(grid), out + "/terrain.tif");
   if (!s.ok()) std::cerr << s.ToString() << "\n";
   return s.ok() ? 0 : 1;
-}
-
-// A peer's mesh (grid coordinates) as a Tin on `grid`, z the cell values.
-Tin ReadMesh(const std::string& path, const Grid& grid) {
-  std::ifstream in(path, std::ios::binary);
-  uint32_t counts[2] = {0, 0};
-  in.read(reinterpret_cast<char*>(counts), sizeof counts);
-  std::vector<uint32_t> xy(2 * counts[0]), tri(3 * counts[1]);
-  in.read(reinterpret_cast<char*>(xy.data()), static_cast<std::streamsize>(xy.size() * 4));
-  in.read(reinterpret_cast<char*>(tri.data()), static_cast<std::streamsize>(tri.size() * 4));
-  Tin tin;
-  const GridGeometry& g = grid.geometry;
-  for (size_t i = 0; i < counts[0]; ++i) {
-    const int64_t c = xy[2 * i], r = xy[2 * i + 1];
-    tin.vertices.push_back(
-        TinVertex{g.CellCenterX(c), g.CellCenterY(r), grid.At(c, r), VertexKind::kDem});
-  }
-  for (size_t t = 0; t < counts[1]; ++t) {
-    TinTriangle triangle;
-    triangle.v = {tri[3 * t], tri[3 * t + 1], tri[3 * t + 2]};
-    tin.triangles.push_back(triangle);
-  }
-  return tin;
 }
 
 struct Row {
@@ -204,7 +160,7 @@ Row GreedyWithStore(const std::string& dir, double tolerance) {
 
 int Measure(const std::string& dir, const std::vector<double>& errors, bool all_methods,
             bool store) {
-  const Grid grid = LoadTerrain(dir);
+  const Grid grid = LoadTerrain(dir, 1);
   std::map<std::pair<std::string, double>, double> peer_seconds;
   std::ifstream peers(dir + "/peers.jsonl");
   for (std::string line; std::getline(peers, line);) {
@@ -238,7 +194,8 @@ int Measure(const std::string& dir, const std::vector<double>& errors, bool all_
       std::ostringstream name;
       name << dir << "/" << peer << "_" << e << ".mesh";
       if (!std::filesystem::exists(name.str()) || !peer_seconds.count({peer, e})) continue;
-      const Row row = Measured(peer, e, ReadMesh(name.str(), grid), grid, peer_seconds[{peer, e}]);
+      const Row row =
+          Measured(peer, e, ReadPeerMesh(name.str(), grid), grid, peer_seconds[{peer, e}]);
       Print(row, csv);
       if (std::string(peer) == "delatin") {
         // tinbase greedy held to the error delatin really kept: triangles at equal true error.
