@@ -63,10 +63,23 @@ double Along(const Point2& p, double zp, const Point2& q, double zq, const Point
   return zp + t * (zq - zp);
 }
 
-TEST_F(ZFromTest, AThreeDLineKeepsItsOwnZAndTheSurfaceStaysIntact) {
-  // 40 m above the DEM at one end, 30 m below at the other: far beyond the 5 m tolerance.
-  const double za = DemZ(a_) + 40, zb = DemZ(b_) - 30;
-  const int64_t id = Add(FeatureMode::kBreakline, {a_, b_}, std::vector<double>{za, zb});
+// One 3D line per mode: its own z (offsets from the DEM at its ends), linear between its
+// vertices, stored with the feature, its constraints of the mode's kind.
+struct OwnZCase {
+  const char* name;
+  FeatureMode mode;
+  double rise_a = 0;  // the line's z above the DEM at a_, and at b_
+  double rise_b = 0;
+  const char* kind;  // of its constraint rows
+};
+
+class ZFromOwnZTest : public ZFromTest, public ::testing::WithParamInterface<OwnZCase> {};
+
+TEST_P(ZFromOwnZTest, ALineKeepsItsOwnZAndTheSurfaceStaysIntact) {
+  const OwnZCase& line = GetParam();
+  const double za = DemZ(a_) + line.rise_a, zb = DemZ(b_) + line.rise_b;
+  const int64_t id = Add(line.mode, {a_, b_}, std::vector<double>{za, zb});
+  for (const auto& c : testing::ConstraintsOf(*store_, id)) EXPECT_EQ(c.kind, line.kind);
   for (const auto& [p, z] : VerticesOf(id)) EXPECT_NEAR(z, Along(a_, za, b_, zb, p), 1e-6);
   auto stored = LoadFeature(*store_, surface_, id);
   ASSERT_TRUE(stored.ok());
@@ -75,13 +88,13 @@ TEST_F(ZFromTest, AThreeDLineKeepsItsOwnZAndTheSurfaceStaysIntact) {
   ExpectIntact();
 }
 
-TEST_F(ZFromTest, ASoftlineWithItsOwnZIsSoftAndKeepsItsZ) {
-  const double za = DemZ(a_) + 12, zb = DemZ(b_) + 12;
-  const int64_t id = Add(FeatureMode::kSoftline, {a_, b_}, std::vector<double>{za, zb});
-  for (const auto& c : testing::ConstraintsOf(*store_, id)) EXPECT_EQ(c.kind, "soft");
-  for (const auto& [p, z] : VerticesOf(id)) EXPECT_NEAR(z, Along(a_, za, b_, zb, p), 1e-6);
-  ExpectIntact();
-}
+// The breakline's z is 40 m above the DEM at one end and 30 m below at the other: far beyond the
+// 5 m tolerance.
+INSTANTIATE_TEST_SUITE_P(
+    Modes, ZFromOwnZTest,
+    ::testing::Values(OwnZCase{"Breakline", FeatureMode::kBreakline, 40, -30, "hard"},
+                      OwnZCase{"Softline", FeatureMode::kSoftline, 12, 12, "soft"}),
+    [](const ::testing::TestParamInfo<OwnZCase>& info) { return std::string(info.param.name); });
 
 // Two 3D lines cross: the crossing is a vertex of both at the later line's z (the earlier one
 // bends there). A draped breakline across the later line takes its z at their crossing too.
