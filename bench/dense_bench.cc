@@ -32,6 +32,7 @@
 #include "bench/terrain_files.h"
 #include "core/raster/gdal_raster.h"
 #include "core/tin/greedy_builder.h"
+#include "core/tin/tin_hash.h"
 #include "core/tin/tin_raster.h"
 #include "db/store.h"
 #include "db/surface_store.h"
@@ -158,22 +159,6 @@ int Score(const std::string& dir, const std::string& stl, const std::string& mes
   }
   std::cout << line.dump() << "\n";
   return 0;
-}
-
-// FNV-1a over the bytes of every vertex's coordinates and every triangle's corners.
-uint64_t TinHash(const Tin& tin) {
-  uint64_t h = 1469598103934665603ULL;
-  const auto add = [&h](const void* data, size_t size) {
-    const auto* bytes = static_cast<const unsigned char*>(data);
-    for (size_t i = 0; i < size; ++i) h = (h ^ bytes[i]) * 1099511628211ULL;
-  };
-  for (const TinVertex& v : tin.vertices) {
-    add(&v.x, sizeof v.x);
-    add(&v.y, sizeof v.y);
-    add(&v.z, sizeof v.z);
-  }
-  for (const TinTriangle& t : tin.triangles) add(t.v.data(), sizeof(uint32_t) * 3);
-  return h;
 }
 
 int Build(const std::string& dir, double error, int runs) {

@@ -7,6 +7,7 @@
 #include <random>
 
 #include "core/tin/greedy_builder.h"
+#include "core/tin/tin_hash.h"
 #include "core/tin/tin_raster.h"
 #include "tests/support/test_support.h"
 
@@ -23,22 +24,6 @@ Grid NoisyGrid(int64_t size) {
     for (int64_t c = 0; c < size; ++c)
       grid.cells.push_back(static_cast<float>(0.5 * c + 0.25 * r + (rng() % 201) / 100.0));
   return grid;
-}
-
-// FNV-1a over every vertex's coordinates and every triangle's corners, in order.
-uint64_t TinHash(const Tin& tin) {
-  uint64_t h = 1469598103934665603ULL;
-  const auto add = [&h](const void* data, size_t size) {
-    const auto* bytes = static_cast<const unsigned char*>(data);
-    for (size_t i = 0; i < size; ++i) h = (h ^ bytes[i]) * 1099511628211ULL;
-  };
-  for (const TinVertex& v : tin.vertices) {
-    add(&v.x, sizeof v.x);
-    add(&v.y, sizeof v.y);
-    add(&v.z, sizeof v.z);
-  }
-  for (const TinTriangle& t : tin.triangles) add(t.v.data(), sizeof(uint32_t) * 3);
-  return h;
 }
 
 TEST(GreedyDenseTest, RoughTerrainKeepsTheBoundAndTheTinOfTheFullScan) {
