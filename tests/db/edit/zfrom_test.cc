@@ -52,6 +52,22 @@ class ZFromTest : public testing::EditFixture {
     return out;
   }
 
+  // A GeoJSON file `name` of one LineString with `coordinates` (JSON text, as GDAL reads it) in
+  // the DEM's CRS, and the options adding it as a breakline with z from the feature.
+  PolygonAddOptions LineFileOptions(const std::string& name, const std::string& coordinates) {
+    const std::string path = dir_.Path(name);
+    std::ofstream(path) << R"({"type": "FeatureCollection", "crs": {"type": "name", "properties": )"
+                        << R"({"name": "urn:ogc:def:crs:EPSG::28350"}}, "features": [{"type": )"
+                        << R"("Feature", "properties": {}, "geometry": {"type": "LineString", )"
+                        << R"("coordinates": )" << coordinates << "}}]}";
+    PolygonAddOptions o;
+    o.surface = "terrain";
+    o.file = path;
+    o.mode = FeatureMode::kBreakline;
+    o.z_from = ZFrom::kFeature;
+    return o;
+  }
+
   const Point2 a_{kEditCx - 1500, kEditCy - 900}, b_{kEditCx + 1500, kEditCy + 1100};
   const Point2 c_{kEditCx - 1200, kEditCy + 1000}, d_{kEditCx + 1300, kEditCy - 1000};
 };
@@ -151,17 +167,8 @@ TEST_F(ZFromTest, ANanZIsRefusedNamingTheFeatureAndVertexAndChangesNothing) {
   EXPECT_EQ(report.status().message(), "features[0], line 0, vertex 1: z is not a number");
 
   // The same from a file: GeoJSON's NaN, as GDAL reads it.
-  const std::string path = dir_.Path("nan.geojson");
-  std::ofstream(path) << R"({"type": "FeatureCollection", "crs": {"type": "name", "properties": )"
-                      << R"({"name": "urn:ogc:def:crs:EPSG::28350"}}, "features": [{"type": )"
-                      << R"("Feature", "properties": {}, "geometry": {"type": "LineString", )"
-                      << R"("coordinates": [[539000, 7497000, 500], [539600, 7497500, NaN]]}}]})";
-  PolygonAddOptions o;
-  o.surface = "terrain";
-  o.file = path;
-  o.mode = FeatureMode::kBreakline;
-  o.z_from = ZFrom::kFeature;
-  auto from_file = AddPolygons(*store_, o);
+  auto from_file = AddPolygons(
+      *store_, LineFileOptions("nan.geojson", "[[539000, 7497000, 500], [539600, 7497500, NaN]]"));
   ASSERT_FALSE(from_file.ok());
   EXPECT_EQ(from_file.status().message(),
             "nan.geojson feature 0, line 0, vertex 1: z is not a number");
@@ -169,16 +176,7 @@ TEST_F(ZFromTest, ANanZIsRefusedNamingTheFeatureAndVertexAndChangesNothing) {
 }
 
 TEST_F(ZFromTest, ZFromTheFeatureNeedsLinesWithZ) {
-  const std::string path = dir_.Path("flat.geojson");
-  std::ofstream(path) << R"({"type": "FeatureCollection", "crs": {"type": "name", "properties": )"
-                      << R"({"name": "urn:ogc:def:crs:EPSG::28350"}}, "features": [{"type": )"
-                      << R"("Feature", "properties": {}, "geometry": {"type": "LineString", )"
-                      << R"("coordinates": [[539000, 7497000], [539600, 7497500]]}}]})";
-  PolygonAddOptions o;
-  o.surface = "terrain";
-  o.file = path;
-  o.mode = FeatureMode::kBreakline;
-  o.z_from = ZFrom::kFeature;
+  PolygonAddOptions o = LineFileOptions("flat.geojson", "[[539000, 7497000], [539600, 7497500]]");
   auto flat = AddPolygons(*store_, o);
   ASSERT_FALSE(flat.ok());
   EXPECT_EQ(flat.status().message(),
