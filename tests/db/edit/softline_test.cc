@@ -11,6 +11,7 @@
 #include "db/integrity_check.h"
 #include "tests/support/edit_fixture.h"
 #include "tests/support/line_features.h"
+#include "tests/support/tin_fixtures.h"
 
 namespace tinbase {
 namespace {
@@ -27,11 +28,7 @@ class SoftlineTest : public testing::EditFixture {
     return report.ok() ? report->first_feature_id : 0;
   }
 
-  void ExpectIntact() {
-    auto problems = CheckStore(*store_, {.surface = {}, .full = true});
-    ASSERT_TRUE(problems.ok()) << problems.status().ToString();
-    for (const Problem& p : *problems) ADD_FAILURE() << p.code << ": " << p.message;
-  }
+  void ExpectIntact() { testing::ExpectStoreIntact(*store_, /*full=*/true); }
 
   // The kinds of `feature`'s constraint rows, e.g. {"soft"}; the rows must be there.
   std::set<std::string> KindsOf(int64_t feature) {

@@ -12,6 +12,7 @@
 #include "db/integrity_check.h"
 #include "tests/support/edit_fixture.h"
 #include "tests/support/line_features.h"
+#include "tests/support/tin_fixtures.h"
 
 namespace tinbase {
 namespace {
@@ -35,11 +36,7 @@ class ZFromTest : public testing::EditFixture {
     return report.ok() ? report->first_feature_id : 0;
   }
 
-  void ExpectIntact() {
-    auto problems = CheckStore(*store_, {.surface = {}, .full = true});
-    ASSERT_TRUE(problems.ok()) << problems.status().ToString();
-    for (const Problem& p : *problems) ADD_FAILURE() << p.code << ": " << p.message;
-  }
+  void ExpectIntact() { testing::ExpectStoreIntact(*store_, /*full=*/true); }
 
   // The z of every vertex of `feature`'s constraints, with its plan position.
   std::vector<std::pair<Point2, double>> VerticesOf(int64_t feature) {
