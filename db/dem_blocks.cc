@@ -12,6 +12,7 @@
 #include "core/raster/block_codec.h"
 #include "db/dem_store.h"
 #include "db/dem_store_impl.h"
+#include "db/sql/each_row.h"
 
 namespace tinbase {
 
@@ -139,17 +140,13 @@ Result<std::vector<DemStore::Impl::StoredBlock>> DemStore::Impl::ListBlocks(
   stmt->Bind(1, dem.id).Bind(2, static_cast<int64_t>(level));
   stmt->Bind(3, bx_lo).Bind(4, bx_hi).Bind(5, by_lo).Bind(6, by_hi);
   std::vector<StoredBlock> out;
-  for (;;) {
-    auto row = stmt->Step();
-    if (!row.ok() || !*row) {
-      stmt->Reset();  // before returning: callers read blocks, which may use this statement
-      TB_RETURN_IF_ERROR(row.status());
-      return out;
-    }
-    out.push_back(StoredBlock{stmt->ColumnInt(0), stmt->ColumnInt(1),
-                              static_cast<float>(stmt->ColumnDouble(2)),
-                              static_cast<float>(stmt->ColumnDouble(3)), nullptr});
-  }
+  // EachRow resets the statement before returning: callers read blocks, which may use it.
+  TB_RETURN_IF_ERROR(EachRow(*stmt, [&](Statement& row) {
+    out.push_back(StoredBlock{row.ColumnInt(0), row.ColumnInt(1),
+                              static_cast<float>(row.ColumnDouble(2)),
+                              static_cast<float>(row.ColumnDouble(3)), nullptr});
+  }));
+  return out;
 }
 
 Status DemStore::Impl::LoadCells(const DemInfo& dem, int level, std::span<StoredBlock> blocks) {

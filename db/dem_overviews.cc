@@ -4,6 +4,7 @@
 
 #include "db/dem_store.h"
 #include "db/dem_store_impl.h"
+#include "db/sql/each_row.h"
 
 namespace tinbase {
 
@@ -68,15 +69,8 @@ Status DemStore::Impl::UpdateOverviews(const DemInfo& dem, int old_levels,
       TB_ASSIGN_OR_RETURN(Statement * all, store.db().Cached("SELECT bx, by FROM dem_blocks "
                                                              "WHERE dem = ? AND level = ?"));
       all->Bind(1, dem.id).Bind(2, static_cast<int64_t>(level - 1));
-      for (;;) {
-        auto row = all->Step();
-        if (!row.ok() || !*row) {
-          all->Reset();
-          TB_RETURN_IF_ERROR(row.status());
-          break;
-        }
-        touched.emplace(all->ColumnInt(1), all->ColumnInt(0));
-      }
+      TB_RETURN_IF_ERROR(EachRow(
+          *all, [&](Statement& row) { touched.emplace(row.ColumnInt(1), row.ColumnInt(0)); }));
     }
     std::set<std::pair<int64_t, int64_t>> parents;
     for (const auto& [by, bx] : touched) parents.emplace(FloorDiv(by, 2), FloorDiv(bx, 2));

@@ -7,6 +7,7 @@
 #include <random>
 
 #include "db/dem_store_impl.h"
+#include "db/sql/each_row.h"
 
 namespace tinbase {
 
@@ -107,15 +108,7 @@ Result<std::vector<DemInfo>> DemStore::List() {
   TB_ASSIGN_OR_RETURN(Statement * stmt,
                       impl_->store.db().Cached(std::string(kDemColumns) + "ORDER BY id"));
   std::vector<DemInfo> out;
-  for (;;) {
-    auto row = stmt->Step();
-    if (!row.ok() || !*row) {
-      stmt->Reset();
-      if (!row.ok()) return row.status();
-      break;
-    }
-    out.push_back(InfoFromRow(*stmt));
-  }
+  TB_RETURN_IF_ERROR(EachRow(*stmt, [&](Statement& row) { out.push_back(InfoFromRow(row)); }));
   return out;
 }
 
@@ -142,17 +135,11 @@ Result<std::vector<DemLevelStats>> DemStore::LevelStats(const DemInfo& dem) {
                                                "ORDER BY level"));
   stmt->Bind(1, dem.id);
   std::vector<DemLevelStats> out(static_cast<size_t>(std::max(dem.levels, 1)));
-  for (;;) {
-    auto row = stmt->Step();
-    if (!row.ok() || !*row) {
-      stmt->Reset();
-      if (!row.ok()) return row.status();
-      break;
-    }
-    const int64_t level = stmt->ColumnInt(0);
+  TB_RETURN_IF_ERROR(EachRow(*stmt, [&](Statement& row) {
+    const int64_t level = row.ColumnInt(0);
     if (level >= 0 && level < static_cast<int64_t>(out.size()))
-      out[static_cast<size_t>(level)] = {stmt->ColumnInt(1), stmt->ColumnInt(2)};
-  }
+      out[static_cast<size_t>(level)] = {row.ColumnInt(1), row.ColumnInt(2)};
+  }));
   return out;
 }
 
