@@ -10,11 +10,10 @@
 #include <string>
 #include <vector>
 
-#include "db/feature_store.h"
 #include "db/store.h"
-#include "db/surface_store.h"
 #include "tests/support/cli_support.h"
 #include "tests/support/polygon_files.h"
+#include "tests/support/stored_feature.h"
 #include "tests/support/test_support.h"
 
 namespace tinbase {
@@ -81,15 +80,7 @@ class PolygonEditCli : public ::testing::Test {
     return path;
   }
 
-  EditorFeature Load(int64_t id) {
-    auto store = Store::Open(store_, Store::Access::kReadOnly);
-    EXPECT_TRUE(store.ok()) << store.status().ToString();
-    auto surface = SurfaceStore(**store).Find("terrain");
-    EXPECT_TRUE(surface.ok());
-    auto f = LoadFeature(**store, *surface, id);
-    EXPECT_TRUE(f.ok()) << f.status().ToString();
-    return f.ok() ? *f : EditorFeature{};
-  }
+  EditorFeature Load(int64_t id) { return testing::LoadStoredFeature(store_, "terrain", id); }
 
   // The constraint rows of `feature` of `kind` ('hard' or 'soft').
   int64_t Constraints(int64_t feature, const std::string& kind) {

@@ -9,9 +9,8 @@
 #include <vector>
 
 #include "db/change_log.h"
-#include "db/feature_store.h"
-#include "db/surface_store.h"
 #include "tests/support/service_support.h"
+#include "tests/support/stored_feature.h"
 
 namespace tinbase::testing {
 namespace {
@@ -37,15 +36,7 @@ class EditRoutesTest : public ::testing::Test {
   int64_t Features() {
     return Json(RunCli("info --json " + Quote(store_)))["surfaces"][0]["features"].get<int64_t>();
   }
-  EditorFeature LoadStored(int64_t id) {
-    auto store = Store::Open(store_, Store::Access::kReadOnly);
-    EXPECT_TRUE(store.ok()) << store.status().ToString();
-    auto surface = SurfaceStore(**store).Find("t");
-    EXPECT_TRUE(surface.ok());
-    auto f = LoadFeature(**store, *surface, id);
-    EXPECT_TRUE(f.ok()) << f.status().ToString();
-    return f.ok() ? *f : EditorFeature{};
-  }
+  EditorFeature LoadStored(int64_t id) { return LoadStoredFeature(store_, "t", id); }
   // A request that must be refused with `status` and a message containing `expected`, leaving
   // the store as it was and the service serving.
   void ExpectRefused(const httplib::Result& r, int status, const std::string& expected) {

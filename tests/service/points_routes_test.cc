@@ -6,9 +6,8 @@
 
 #include <string>
 
-#include "db/feature_store.h"
-#include "db/surface_store.h"
 #include "tests/support/service_support.h"
+#include "tests/support/stored_feature.h"
 
 namespace tinbase::testing {
 namespace {
@@ -38,15 +37,7 @@ class PointsRoutesTest : public ::testing::Test {
     const CliResult check = RunCli("check --full " + Quote(store_));
     EXPECT_EQ(check.exit_code, 0) << check.out << check.err;
   }
-  EditorFeature LoadStored(int64_t id) {
-    auto store = Store::Open(store_, Store::Access::kReadOnly);
-    EXPECT_TRUE(store.ok()) << store.status().ToString();
-    auto surface = SurfaceStore(**store).Find("t");
-    EXPECT_TRUE(surface.ok());
-    auto f = LoadFeature(**store, *surface, id);
-    EXPECT_TRUE(f.ok()) << f.status().ToString();
-    return f.ok() ? *f : EditorFeature{};
-  }
+  EditorFeature LoadStored(int64_t id) { return LoadStoredFeature(store_, "t", id); }
   // A request that must be refused with `status` and a message containing `expected`, leaving
   // the store as it was.
   void ExpectRefused(const httplib::Result& r, int status, const std::string& expected) {
