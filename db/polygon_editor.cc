@@ -594,6 +594,7 @@ Result<PolygonAddReport> UpdatePolygon(Store& store, int64_t id, const PolygonAd
   PolygonAddOptions o = options;
   if (!o.mode) o.mode = old.mode;
   if (!o.level) o.level = old.level;
+  if (!o.z_from_given && IsLineMode(*o.mode)) o.z_from = old.z_from;
   TB_RETURN_IF_ERROR(CheckModeOptions(o));
   TB_ASSIGN_OR_RETURN(auto session, OpenSession(store, surface));
   session->strict = o.strict;

@@ -75,6 +75,9 @@ struct PolygonAddOptions {
   // Line modes: draped on the DEM, or each vertex at the source's own z (3D lines; the source's
   // geometry must have z, and every z must be a number).
   ZFrom z_from = ZFrom::kDem;
+  // UpdatePolygon: whether z_from was given. When not, a line keeps the old feature's z_from (a
+  // 3D line replaced stays 3D); a polygon mode always drapes.
+  bool z_from_given = false;
 };
 
 struct PolygonAddReport {
@@ -119,8 +122,9 @@ Result<PolygonAddReport> AddPolygons(Store& store, const PolygonAddOptions& opti
 Result<PolygonAddReport> RemovePolygon(Store& store, int64_t id,
                                        const BeforeCommit& before_commit = {});
 
-// Replaces feature `id` by the features of options.file (merged into one feature): mode, tag and
-// level default to the old feature's when options leave them empty. One transaction. Errors as
+// Replaces feature `id` by the features of options.file (merged into one feature): mode, tag,
+// level and (for lines, unless options.z_from_given) z_from default to the old feature's when
+// options leave them empty. One transaction. Errors as
 // AddPolygons and RemovePolygon; options.surface is ignored (the feature's surface is used).
 Result<PolygonAddReport> UpdatePolygon(Store& store, int64_t id, const PolygonAddOptions& options);
 

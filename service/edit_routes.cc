@@ -3,8 +3,6 @@
 // to date inside the edit's own transaction: the edit and its tiles commit together, or neither
 // does. The body is parsed and checked before the writer is taken, so a bad request never holds
 // up other writes.
-#include <algorithm>
-#include <cctype>
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -12,13 +10,13 @@
 #include <vector>
 
 #include "core/vector/gdal_session.h"
-#include "db/change_log.h"
 #include "db/polygon_editor.h"
-#include "db/tiles/tile_pyramid.h"
-#include "service/change_json.h"
+#include "db/tiles/tiles_with_edit.h"
 #include "service/crs_box.h"
+#include "service/edit_request.h"
 #include "service/geojson_request.h"
 #include "service/json_reply.h"
+#include "service/points_routes.h"
 #include "service/request_params.h"
 #include "service/routes.h"
 
@@ -28,36 +26,7 @@ namespace {
 
 enum class EditKind { kAdd, kReplace, kRemove };
 
-// Whether the body is declared JSON (application/json or application/geo+json, any parameters);
-// answers 415 otherwise.
-bool JsonBody(const httplib::Request& req, httplib::Response& res) {
-  std::string type = req.get_header_value("Content-Type");
-  type = type.substr(0, type.find(';'));
-  std::erase_if(type, [](unsigned char c) { return std::isspace(c) != 0; });
-  std::transform(type.begin(), type.end(), type.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  if (type == "application/json" || type == "application/geo+json") return true;
-  ReplyError(res, 415, "unsupported_media_type",
-             "the body must be GeoJSON sent as application/json or application/geo+json, not '" +
-                 req.get_header_value("Content-Type") + "'");
-  return false;
-}
-
-// NotFound unless feature `id` exists and belongs to `surface`.
-Status CheckFeatureOf(Store& store, const SurfaceInfo& surface, int64_t id) {
-  TB_ASSIGN_OR_RETURN(Statement * q,
-                      store.db().Cached("SELECT surface FROM features WHERE id = ?"));
-  q->Bind(1, id);
-  TB_ASSIGN_OR_RETURN(bool row, q->Step());
-  const bool ours = row && q->ColumnInt(0) == surface.id;
-  q->Reset();
-  if (!ours)
-    return Status::NotFound("no feature " + std::to_string(id) + " in surface '" + surface.name +
-                            "'");
-  return Status::Ok();
-}
-
-// The editor's options from the query (mode, tag, level, crs) and the GeoJSON body.
+// The editor's options from the query (mode, tag, level, z_from, crs) and the GeoJSON body.
 Result<PolygonAddOptions> ReadEditOptions(Store& store, const SurfaceInfo& surface,
                                           const httplib::Request& req) {
   PolygonAddOptions options;
@@ -70,6 +39,12 @@ Result<PolygonAddOptions> ReadEditOptions(Store& store, const SurfaceInfo& surfa
   if (auto tag = OptionalParam(req, "tag")) options.tag = *tag;
   if (OptionalParam(req, "level")) {
     TB_ASSIGN_OR_RETURN(options.level, FiniteParam(req, "level"));
+  }
+  if (auto z_from = OptionalParam(req, "z_from")) {
+    auto parsed = ParseZFrom(*z_from);
+    if (!parsed.ok()) return parsed.status().WithContext("parameter 'z_from'");
+    options.z_from = *parsed;
+    options.z_from_given = true;
   }
   std::optional<Crs> source;
   if (auto crs = OptionalParam(req, "crs")) {
@@ -103,30 +78,11 @@ Result<EditPlan> PlanEdit(ServiceContext& context, const httplib::Request& req, 
   return plan;
 }
 
-// Brings every tile pyramid up to date inside the edit's transaction (PolygonAddOptions::
-// before_commit), counting the tiles rewritten or deleted into `*tiles`: the edit and its tiles
-// commit together, so a reader's snapshot never holds an edit with tiles that predate it. A
-// failed update rolls the edit back.
-BeforeCommit UpdateTilesWithEdit(int64_t* tiles) {
-  return [tiles](Store& store, int64_t /*tx*/) -> Status {
-    auto updated = UpdateAllTilePyramids(store);
-    if (!updated.ok()) return updated.status().WithContext("updating the tiles of the edit");
-    *tiles = 0;
-    for (const auto& [surface, report] : *updated)
-      *tiles += report.tiles_rewritten + report.tiles_deleted;
-    return Status::Ok();
-  };
-}
-
 // {"tx", "features", "removed_features", "bbox", "bbox_lonlat", "change", "tiles_updated"} of a
 // committed edit.
 Result<nlohmann::json> Answer(Store& store, const PolygonAddReport& report, int64_t removed,
                               int64_t tiles) {
-  TB_ASSIGN_OR_RETURN(ChangeJson describe, ChangeJson::For(store));
-  TB_ASSIGN_OR_RETURN(std::vector<Change> changes, ChangesSince(store, report.tx - 1));
-  if (changes.empty() || changes.front().tx != report.tx)
-    return Status::Corruption("change " + std::to_string(report.tx) + " is not in the log");
-  TB_ASSIGN_OR_RETURN(nlohmann::json change, describe.Describe(store, changes.front()));
+  TB_ASSIGN_OR_RETURN(nlohmann::json change, DescribeCommittedChange(store, report.tx));
   nlohmann::json answer = {{"tx", report.tx}, {"features", report.feature_ids}};
   answer["removed_features"] = removed != 0 ? nlohmann::json{removed} : nlohmann::json::array();
   answer["bbox"] = change["bbox"];
@@ -146,8 +102,8 @@ void Edit(ServiceContext& context, const httplib::Request& req, httplib::Respons
   if (!plan.ok()) return ReplyStatus(res, plan.status());
   Result<nlohmann::json> answer = nlohmann::json();
   int64_t tx = 0;
-  int64_t tiles = 0;
-  plan->options.before_commit = UpdateTilesWithEdit(&tiles);
+  TileUpdates tiles;
+  plan->options.before_commit = UpdateTilesBeforeCommit(&tiles);
   {
     auto writer = context.stores().Writer();
     if (!writer.ok()) return ReplyStatus(res, writer.status());
@@ -158,7 +114,8 @@ void Edit(ServiceContext& context, const httplib::Request& req, httplib::Respons
             : RemovePolygon(writer->store(), plan->feature, plan->options.before_commit);
     if (!report.ok()) return ReplyStatus(res, report.status());
     tx = report->tx;
-    answer = Answer(writer->store(), *report, kind == EditKind::kAdd ? 0 : plan->feature, tiles);
+    answer = Answer(writer->store(), *report, kind == EditKind::kAdd ? 0 : plan->feature,
+                    TilesTouched(tiles));
   }
   // The tiles committed with the edit: a client the feed wakes fetches tiles that show it.
   context.changes().Notify(tx);
@@ -181,6 +138,7 @@ void RegisterEditRoutes(httplib::Server& server, ServiceContext& context) {
                 [&context](const httplib::Request& req, httplib::Response& res) {
                   Edit(context, req, res, EditKind::kRemove);
                 });
+  RegisterPointsRoutes(server, context);
 }
 
 }  // namespace tinbase::service

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "apps/tinbase/command.h"
+#include "apps/tinbase/edit_tiles.h"
 #include "apps/tinbase/output.h"
 #include "apps/tinbase/progress.h"
 #include "db/edit/mass_points.h"
@@ -92,6 +93,7 @@ struct AddArgs {
   PointsAddOptions options;
   std::string tag;
   bool json = false;
+  EditTiles tiles;
 };
 
 struct RemoveArgs {
@@ -100,30 +102,34 @@ struct RemoveArgs {
   std::string surface;
   std::string bbox;
   bool json = false;
+  EditTiles tiles;
 };
 
-nlohmann::json ReportJson(const PointsReport& r) {
-  return {{"tx", r.tx},
-          {"points_in", r.points_in},
-          {"vertices", r.inserted},
-          {"snapped", r.snapped},
-          {"features_added", r.features_added},
-          {"features_removed", r.features_removed},
-          {"triangles_removed", r.removed},
-          {"triangles_added", r.added},
-          {"refinement_points", r.refinement_points},
-          {"reprojected_from", r.reprojected_from}};
+nlohmann::json ReportJson(const PointsReport& r, const EditTiles& tiles) {
+  nlohmann::json out = {{"tx", r.tx},
+                        {"points_in", r.points_in},
+                        {"vertices", r.inserted},
+                        {"snapped", r.snapped},
+                        {"features_added", r.features_added},
+                        {"features_removed", r.features_removed},
+                        {"triangles_removed", r.removed},
+                        {"triangles_added", r.added},
+                        {"refinement_points", r.refinement_points},
+                        {"reprojected_from", r.reprojected_from}};
+  if (tiles.wanted) out["tiles_updated"] = TilesTouched(tiles.updates);
+  return out;
 }
 
 int RunAdd(AddArgs args) {
   if (!args.tag.empty()) args.options.tag = args.tag;
   auto store = Store::Open(args.store);
   if (!store.ok()) return ReportError(store.status());
+  args.options.before_commit = args.tiles.Hook();
   Stopwatch watch;
   auto report = AddPoints(**store, args.options);
   if (!report.ok()) return ReportError(report.status());
   if (args.json) {
-    std::cout << ReportJson(*report).dump(2) << "\n";
+    std::cout << ReportJson(*report, args.tiles).dump(2) << "\n";
     return kExitOk;
   }
   for (const std::string& snapped : report->snapped) std::cerr << "tinbase: " << snapped << "\n";
@@ -133,11 +139,13 @@ int RunAdd(AddArgs args) {
             << " triangles replaced by " << report->added << " (" << report->refinement_points
             << " refinement points); transaction " << report->tx << " in "
             << Num(watch.Seconds(), 3) << " s\n";
+  args.tiles.Print();
   return kExitOk;
 }
 
-int RunRemove(const RemoveArgs& args, bool feature_given) {
+int RunRemove(RemoveArgs args, bool feature_given) {
   PointsRemoveOptions options;
+  options.before_commit = args.tiles.Hook();
   if (feature_given) options.feature = args.feature;
   if (!args.bbox.empty()) {
     if (args.surface.empty()) return ReportError(Status::InvalidArgument("--bbox needs --surface"));
@@ -152,7 +160,7 @@ int RunRemove(const RemoveArgs& args, bool feature_given) {
   auto report = RemovePoints(**store, options);
   if (!report.ok()) return ReportError(report.status());
   if (args.json) {
-    std::cout << ReportJson(*report).dump(2) << "\n";
+    std::cout << ReportJson(*report, args.tiles).dump(2) << "\n";
     return kExitOk;
   }
   std::cout << "removed " << report->inserted << " survey point vertices of "
@@ -162,7 +170,14 @@ int RunRemove(const RemoveArgs& args, bool feature_given) {
   std::cout << ": " << report->removed << " triangles replaced by " << report->added << " ("
             << report->refinement_points << " refinement points); transaction " << report->tx
             << " in " << Num(watch.Seconds(), 3) << " s\n";
+  args.tiles.Print();
   return kExitOk;
+}
+
+// --update-tiles on an edit command: the tiles in the edit's own transaction.
+void AddUpdateTilesFlag(CLI::App* command, EditTiles* tiles) {
+  command->add_flag("--update-tiles", tiles->wanted,
+                    "Bring the tile pyramids up to date in the edit's own transaction");
 }
 
 void RegisterEditCommands(CLI::App* points, int* exit_code) {
@@ -176,6 +191,7 @@ void RegisterEditCommands(CLI::App* points, int* exit_code) {
   add->add_option("--surface", add_args->options.surface, "Surface name")->required();
   add->add_option("--tag", add_args->tag, "Name of the points feature");
   add->add_flag("--json", add_args->json, "The report as JSON");
+  AddUpdateTilesFlag(add, &add_args->tiles);
   add->callback([=] { *exit_code = RunAdd(*add_args); });
 
   auto remove_args = std::make_shared<RemoveArgs>();
@@ -189,6 +205,7 @@ void RegisterEditCommands(CLI::App* points, int* exit_code) {
   feature->excludes(bbox);
   remove->add_option("--surface", remove_args->surface, "The surface (with --bbox)");
   remove->add_flag("--json", remove_args->json, "The report as JSON");
+  AddUpdateTilesFlag(remove, &remove_args->tiles);
   remove->callback([=] { *exit_code = RunRemove(*remove_args, feature->count() > 0); });
 }
 

@@ -4,30 +4,18 @@
 #include <nlohmann/json.hpp>
 
 #include "apps/tinbase/command.h"
+#include "apps/tinbase/edit_tiles.h"
 #include "apps/tinbase/output.h"
 #include "apps/tinbase/progress.h"
 #include "db/polygon_editor.h"
-#include "db/tiles/tile_pyramid.h"
 
 namespace tinbase::cli {
 
 namespace {
 
-// With --update-tiles, after the edit committed: every pyramid brought up to date in its own
-// transaction (a failure there leaves the tiles as they were; `tiles update` catches up).
-int UpdateTilesAfterEdit(Store& store, bool wanted, int exit_code) {
-  if (!wanted || exit_code != kExitOk) return exit_code;
-  auto updated = UpdateAllTilePyramids(store);
-  if (!updated.ok()) return ReportError(updated.status().WithContext("the edit committed; tiles"));
-  for (const auto& [surface, r] : *updated)
-    std::cout << "tiles of '" << surface.name << "': " << r.tiles_rewritten << " rewritten, "
-              << r.tiles_deleted << " deleted" << (r.full_rebuild ? " (all rebuilt)" : "") << "\n";
-  return kExitOk;
-}
-
 struct AddArgs {
   std::string store;
-  bool update_tiles = false;
+  EditTiles tiles;
   bool json = false;
   PolygonAddOptions options;
   std::string mode;  // parsed into options.mode by the handler
@@ -50,16 +38,18 @@ void PrintOverhangs(const PolygonAddReport& r) {
   for (const std::string& skipped : r.skipped) std::cerr << "tinbase: skipped: " << skipped << "\n";
 }
 
-nlohmann::json AddJson(const PolygonAddReport& r) {
-  return {{"tx", r.tx},
-          {"features", r.feature_ids},
-          {"ring_vertices", r.ring_vertices},
-          {"removed", r.removed},
-          {"added", r.added},
-          {"visible", r.visible},
-          {"failures", r.failures},
-          {"clipped", OverhangCutsJson(r.clipped)},
-          {"skipped", r.skipped}};
+nlohmann::json AddJson(const PolygonAddReport& r, const EditTiles& tiles) {
+  nlohmann::json out = {{"tx", r.tx},
+                        {"features", r.feature_ids},
+                        {"ring_vertices", r.ring_vertices},
+                        {"removed", r.removed},
+                        {"added", r.added},
+                        {"visible", r.visible},
+                        {"failures", r.failures},
+                        {"clipped", OverhangCutsJson(r.clipped)},
+                        {"skipped", r.skipped}};
+  if (tiles.wanted) out["tiles_updated"] = TilesTouched(tiles.updates);
+  return out;
 }
 
 int RunAdd(AddArgs args, bool level_given) {
@@ -70,6 +60,7 @@ int RunAdd(AddArgs args, bool level_given) {
   auto store = Store::Open(args.store);
   if (!store.ok()) return ReportError(store.status());
   if (level_given) args.options.level = args.level;
+  args.options.before_commit = args.tiles.Hook();
   Stopwatch watch;
   auto report = WithProgress("polygon add", [&](std::function<void(double)> progress) {
     args.options.progress = std::move(progress);
@@ -79,27 +70,28 @@ int RunAdd(AddArgs args, bool level_given) {
   for (const std::string& failure : report->failures)
     std::cerr << "tinbase: not added: " << failure << "\n";
   PrintOverhangs(*report);
+  const int exit_code = report->failures.empty() ? kExitOk : kExitFailure;
   if (args.json) {
-    std::cout << AddJson(*report).dump() << "\n";
-    return UpdateTilesAfterEdit(**store, args.update_tiles,
-                                report->failures.empty() ? kExitOk : kExitFailure);
+    std::cout << AddJson(*report, args.tiles).dump() << "\n";
+    return exit_code;
   }
   std::cout << "added " << report->features << " " << args.mode << " feature(s) to '"
             << args.options.surface << "' (" << report->ring_vertices
             << " draped ring vertices): " << report->removed << " triangles replaced by "
             << report->added << ", " << report->visible << " of them visible; transaction "
             << report->tx << " in " << Num(watch.Seconds(), 3) << " s\n";
-  return UpdateTilesAfterEdit(**store, args.update_tiles,
-                              report->failures.empty() ? kExitOk : kExitFailure);
+  args.tiles.Print();
+  return exit_code;
 }
 
 struct EditArgs {
   std::string store;
-  bool update_tiles = false;
+  EditTiles tiles;
   int64_t id = 0;
   PolygonAddOptions options;
   std::string mode;  // update: parsed into options.mode by the handler; empty keeps the old one
   double level = 0;
+  std::string z_from;  // update: parsed into options.z_from; empty keeps the old feature's
 };
 
 void PrintEdit(const char* verb, int64_t id, const PolygonAddReport& r, double seconds) {
@@ -108,28 +100,37 @@ void PrintEdit(const char* verb, int64_t id, const PolygonAddReport& r, double s
             << " of them visible; transaction " << r.tx << " in " << Num(seconds, 3) << " s\n";
 }
 
-int RunRemove(const EditArgs& args) {
+int RunRemove(EditArgs args) {
   auto store = Store::Open(args.store);
   if (!store.ok()) return ReportError(store.status());
   Stopwatch watch;
-  auto report = RemovePolygon(**store, args.id);
+  auto report = RemovePolygon(**store, args.id, args.tiles.Hook());
   if (!report.ok()) return ReportError(report.status());
   PrintEdit("removed", args.id, *report, watch.Seconds());
-  return UpdateTilesAfterEdit(**store, args.update_tiles, kExitOk);
+  args.tiles.Print();
+  return kExitOk;
 }
 
 int RunUpdate(EditArgs args, bool level_given) {
   if (Status s = ParseModeOption(args.mode, &args.options); !s.ok()) return ReportError(s);
+  if (!args.z_from.empty()) {
+    auto z_from = ParseZFrom(args.z_from);
+    if (!z_from.ok()) return ReportError(z_from.status().WithContext("--z-from"));
+    args.options.z_from = *z_from;
+    args.options.z_from_given = true;
+  }
   auto store = Store::Open(args.store);
   if (!store.ok()) return ReportError(store.status());
   if (level_given) args.options.level = args.level;
+  args.options.before_commit = args.tiles.Hook();
   Stopwatch watch;
   auto report = UpdatePolygon(**store, args.id, args.options);
   if (!report.ok()) return ReportError(report.status());
   PrintOverhangs(*report);
   PrintEdit("updated", args.id, *report, watch.Seconds());
   std::cout << "the new geometry is feature " << report->first_feature_id << "\n";
-  return UpdateTilesAfterEdit(**store, args.update_tiles, kExitOk);
+  args.tiles.Print();
+  return kExitOk;
 }
 
 }  // namespace
@@ -156,8 +157,8 @@ void RegisterPolygonCommands(CLI::App& app, int* exit_code) {
                 "Repair invalid polygons with GEOS MakeValid before validating them");
   add->add_flag("--each", args->options.each,
                 "Commit feature by feature; report the features that failed and why");
-  add->add_flag("--update-tiles", args->update_tiles,
-                "Then bring the tile pyramids up to date (tinbase tiles update)");
+  add->add_flag("--update-tiles", args->tiles.wanted,
+                "Bring the tile pyramids up to date in the edit's own transaction");
   add->add_flag("--strict", args->options.strict,
                 "Refuse polygons that overhang the surface's data area instead of clipping them");
   add->add_flag("--json", args->json, "Print the report as JSON");
@@ -168,8 +169,8 @@ void RegisterPolygonCommands(CLI::App& app, int* exit_code) {
       polygon->add_subcommand("remove", "Remove a feature, re-triangulating locally");
   remove->add_option("store", remove_args->store, "Store file")->required();
   remove->add_option("id", remove_args->id, "Feature id")->required();
-  remove->add_flag("--update-tiles", remove_args->update_tiles,
-                   "Then bring the tile pyramids up to date (tinbase tiles update)");
+  remove->add_flag("--update-tiles", remove_args->tiles.wanted,
+                   "Bring the tile pyramids up to date in the edit's own transaction");
   remove->callback([=] { *exit_code = RunRemove(*remove_args); });
 
   auto update_args = std::make_shared<EditArgs>();
@@ -178,7 +179,11 @@ void RegisterPolygonCommands(CLI::App& app, int* exit_code) {
   update->add_option("store", update_args->store, "Store file")->required();
   update->add_option("id", update_args->id, "Feature id")->required();
   update->add_option("file", update_args->options.file, "Vector file")->required();
-  update->add_option("--mode", update_args->mode, "New mode (default: the old one)");
+  update->add_option("--mode", update_args->mode,
+                     "New mode: clip, erase, fill, replace, breakline or softline (default: the "
+                     "old one)");
+  update->add_option("--z-from", update_args->z_from,
+                     "Lines: dem (draped) or feature (own z); default: the old feature's");
   update->add_option("--layer", update_args->options.layer, "Layer name");
   update->add_option("--where", update_args->options.where, "OGR attribute filter");
   update->add_option("--tag-field", update_args->options.tag_field, "Field giving the tag");
@@ -187,8 +192,8 @@ void RegisterPolygonCommands(CLI::App& app, int* exit_code) {
                    "Repair invalid polygons with GEOS MakeValid before validating them");
   CLI::Option* update_level =
       update->add_option("--level", update_args->level, "replace: the flat z in metres");
-  update->add_flag("--update-tiles", update_args->update_tiles,
-                   "Then bring the tile pyramids up to date (tinbase tiles update)");
+  update->add_flag("--update-tiles", update_args->tiles.wanted,
+                   "Bring the tile pyramids up to date in the edit's own transaction");
   update->add_flag(
       "--strict", update_args->options.strict,
       "Refuse a polygon that overhangs the surface's data area instead of clipping it");

@@ -34,6 +34,10 @@ struct LandXmlFeature {
   std::string attributes = "{}";  // JSON object text
   std::vector<Polygon> polygons;  // rings open, shells counter-clockwise, holes clockwise
   std::vector<std::vector<Point2>> lines;
+  // kFeature: a 3D line, written as PntList3D with line_z[k][i] the z of lines[k][i] (and the
+  // Property z_from); kDem: lines are draped, written as PntList2D, line_z empty.
+  ZFrom z_from = ZFrom::kDem;
+  std::vector<std::vector<double>> line_z;
 };
 
 // A constrained edge between vertex indices a and b and the feature (index into

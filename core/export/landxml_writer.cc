@@ -40,6 +40,21 @@ std::string PointList2D(const std::vector<Point2>& points, bool close) {
   return s;
 }
 
+// "y x z y x z ...": a 3D line as LandXML's PntList3D (northing, easting, elevation), `z[i]` the
+// elevation of points[i].
+std::string PointList3D(const std::vector<Point2>& points, const std::vector<double>& z) {
+  std::string s;
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (!s.empty()) s += ' ';
+    AppendNumber(s, points[i].y);
+    s += ' ';
+    AppendNumber(s, points[i].x);
+    s += ' ';
+    AppendNumber(s, z[i]);
+  }
+  return s;
+}
+
 struct WriterDeleter {
   void operator()(xmlTextWriter* w) const { xmlFreeTextWriter(w); }
 };
@@ -147,7 +162,12 @@ void WriteSourceData(XmlOut& out, const LandXmlSurface& s) {
       for (size_t l = 0; l < f.lines.size(); ++l) {
         out.Start("Breakline").Attr("brkType", BreaklineType(f.mode)).Attr("name", f.name);
         RingAttrs(out, i, l, 0);
-        out.Start("PntList2D").Text(PointList2D(f.lines[l], false)).End().End();
+        if (f.z_from == ZFrom::kFeature && l < f.line_z.size() &&
+            f.line_z[l].size() == f.lines[l].size()) {
+          out.Start("PntList3D").Text(PointList3D(f.lines[l], f.line_z[l])).End().End();
+        } else {
+          out.Start("PntList2D").Text(PointList2D(f.lines[l], false)).End().End();
+        }
       }
       for (size_t p = 0; p < f.polygons.size(); ++p) {
         const Polygon& polygon = f.polygons[p];
@@ -245,6 +265,7 @@ void WriteTinbaseFeature(XmlOut& out, const LandXmlSurface& s) {
     out.Property("mode", FeatureModeName(f.mode));
     if (f.tag) out.Property("tag", *f.tag);
     if (f.level) out.Property("level", Number(*f.level));
+    if (f.z_from == ZFrom::kFeature) out.Property("z_from", ZFromName(f.z_from));
     out.Property("attributes", f.attributes);
     out.End();
   }

@@ -62,6 +62,7 @@ struct RawRing {
   int64_t polygon = 0;
   int64_t ring = 0;
   std::vector<Point2> points;
+  std::vector<double> z;  // the elevations of a PntList3D; empty for a PntList2D
   int line = 0;
   std::string element;
 };
@@ -337,8 +338,10 @@ class Parser {
         std::vector<double> values,
         Numbers(Text(), dims,
                 dims == 3 ? "northing easting elevation triples" : "northing easting pairs"));
-    for (size_t i = 0; i < values.size(); i += dims)
+    for (size_t i = 0; i < values.size(); i += dims) {
       ring.points.push_back({values[i + 1], values[i]});
+      if (dims == 3) ring.z.push_back(values[i + 2]);
+    }
     if (ring.feature > 0) rings_.push_back(std::move(ring));
     return Status::Ok();
   }
@@ -392,6 +395,10 @@ class Parser {
       f.level = v;
     } else if (label == "attributes") {
       f.attributes = value;
+    } else if (label == "z_from") {
+      auto z_from = ParseZFrom(value);
+      if (!z_from.ok()) return Here(z_from.status().message());
+      f.z_from = *z_from;
     }
     return Status::Ok();
   }
@@ -528,7 +535,11 @@ class Parser {
       if (IsLineMode(f.mode)) {
         if (rings.size() != 1 || first.points.size() < 2)
           return Error(first.line, first.element, "a breakline is one line of 2 or more points");
+        if (f.z_from == ZFrom::kFeature && first.z.empty())
+          return Error(first.line, first.element,
+                       "a line of a feature with z_from 'feature' needs its z (a PntList3D)");
         f.lines.push_back(first.points);
+        if (f.z_from == ZFrom::kFeature) f.line_z.push_back(first.z);
         continue;
       }
       std::vector<Ring> read;

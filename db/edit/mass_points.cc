@@ -172,6 +172,7 @@ Result<PointsReport> AddPoints(Store& store, const PointsAddOptions& options) {
   engine.set_mesh_cache(&mesh);
   TB_ASSIGN_OR_RETURN(EditResult result, ApplyEdit(*session, engine, edit));
   TB_RETURN_IF_ERROR(RecordChange(store, tx.number, feature.id, result, screened.box));
+  if (options.before_commit) TB_RETURN_IF_ERROR(options.before_commit(store, tx.number));
   TB_RETURN_IF_ERROR(tx.tx->Commit());
   report.inserted = static_cast<int64_t>(screened.kept.size());
   report.features_added.push_back(feature.id);
@@ -250,6 +251,7 @@ Result<PointsReport> RemovePoints(Store& store, const PointsRemoveOptions& optio
   TB_ASSIGN_OR_RETURN(EditResult result, ApplyEdit(*session, engine, edit));
   for (int64_t id : edit.remove) TB_RETURN_IF_ERROR(DeleteFeature(store, id));
   TB_RETURN_IF_ERROR(RecordChange(store, tx.number, report.features_removed.front(), result, box));
+  if (options.before_commit) TB_RETURN_IF_ERROR(options.before_commit(store, tx.number));
   TB_RETURN_IF_ERROR(tx.tx->Commit());
   report.inserted = static_cast<int64_t>(edit.drop_vertices.size());
   report.removed = result.removed;

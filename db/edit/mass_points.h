@@ -21,6 +21,7 @@
 
 #include "core/base/status.h"
 #include "db/feature_store.h"
+#include "db/polygon_editor.h"
 #include "db/store.h"
 
 namespace tinbase {
@@ -33,12 +34,16 @@ struct PointsAddOptions {
   std::optional<std::vector<TinVertex>> points;
   std::vector<std::string> labels;
   std::optional<std::string> tag;  // names the feature; no paint
+  // Called inside the transaction just before its commit, as PolygonAddOptions::before_commit
+  // (the tiles brought up to date with the edit); empty: not called.
+  BeforeCommit before_commit;
 };
 
 struct PointsRemoveOptions {
   std::optional<int64_t> feature;  // a `points` feature, whole
   std::optional<Box> box;          // or the survey points of `surface` in this closed box
   std::string surface;
+  BeforeCommit before_commit;  // as PointsAddOptions'
 };
 
 struct PointsReport {

@@ -120,23 +120,36 @@ Box BoxOfDemBox(const DemBox& b) {
   return box;
 }
 
-// InvalidArgument when a flagged cell of `window` lies within a cell of the DEM's outer rows or
-// columns, whose centres are the surface's boundary: a local edit keeps the boundary's edges (R's
-// outline) and cannot refine along them, so the new cells there could not be met.
-Status RefuseBoundaryCells(const DemInfo& dem, const Grid& window,
+// The extent of the surface's vertices: for a surface built on the DEM, the rectangle of the
+// cell centres the DEM had then (a later import may have grown the grid beyond it).
+Box ExtentOf(const Tin& tin) {
+  Box box;
+  for (const TinVertex& v : tin.vertices) box.Add(Point2{v.x, v.y});
+  return box;
+}
+
+// InvalidArgument when a flagged cell of `window` lies within a cell of the surface's outer edge
+// (`extent`, the centres of the outer rows and columns of the grid it was built on): a local
+// edit keeps the boundary's edges (R's outline) and cannot refine along them, so the new cells
+// there could not be met. Flagged cells are those the surface covers, so none lies beyond it.
+Status RefuseBoundaryCells(const DemInfo& dem, const Box& extent, const Grid& window,
                            const std::vector<uint8_t>& flags) {
   const GridGeometry& g = dem.geometry;
   const GridGeometry& w = window.geometry;
+  // Centres two cells in from the edge are kept; half a cell of slack absorbs rounding.
+  const double reach_x = 1.5 * g.cell_x, reach_y = 1.5 * std::fabs(g.cell_y);
   const auto col0 = std::llround((w.origin_x - g.origin_x) / g.cell_x);
   const auto row0 = std::llround((w.origin_y - g.origin_y) / g.cell_y);
   for (int64_t r = 0; r < w.height; ++r)
     for (int64_t c = 0; c < w.width; ++c) {
       if (!flags[static_cast<size_t>(r * w.width + c)]) continue;
-      const int64_t col = col0 + c, row = row0 + r;
-      if (col > 1 && col < g.width - 2 && row > 1 && row < g.height - 2) continue;
+      const double x = w.CellCenterX(c), y = w.CellCenterY(r);
+      if (x - extent.min_x > reach_x && extent.max_x - x > reach_x && y - extent.min_y > reach_y &&
+          extent.max_y - y > reach_y)
+        continue;
       return Status::InvalidArgument(
-          "the new cell at column " + std::to_string(col) + ", row " + std::to_string(row) +
-          " of DEM '" + dem.name +
+          "the new cell at column " + std::to_string(col0 + c) + ", row " +
+          std::to_string(row0 + r) + " of DEM '" + dem.name +
           "' lies by the surface's boundary and differs from it by more than its tolerance; a "
           "local update cannot refine along the boundary: build the surface again");
     }
@@ -152,7 +165,7 @@ Result<SurfaceResurvey> ResurveySurface(Store& store, DemStore& dems, const DemI
   TB_ASSIGN_OR_RETURN(Grid window, dems.ReadWindow(dem, written, 0));
   const std::vector<uint8_t> flags =
       MissedCells(loaded.tin, window, surface.tolerance.value_or(1.0), &out.cells_missed);
-  TB_RETURN_IF_ERROR(RefuseBoundaryCells(dem, window, flags));
+  TB_RETURN_IF_ERROR(RefuseBoundaryCells(dem, ExtentOf(loaded.tin), window, flags));
   const FlaggedCells flagged(window.geometry, flags);
   LocalEdit edit;
   for (size_t t = 0; t < loaded.tin.triangles.size(); ++t) {
@@ -187,11 +200,6 @@ Result<SurfaceResurvey> ResurveySurface(Store& store, DemStore& dems, const DemI
   return out;
 }
 
-bool SameGrid(const GridGeometry& a, const GridGeometry& b) {
-  return a.origin_x == b.origin_x && a.origin_y == b.origin_y && a.cell_x == b.cell_x &&
-         a.cell_y == b.cell_y && a.width == b.width && a.height == b.height;
-}
-
 }  // namespace
 
 Result<ResurveyReport> ImportUnderSurfaces(Store& store, const std::vector<std::string>& files,
@@ -201,18 +209,12 @@ Result<ResurveyReport> ImportUnderSurfaces(Store& store, const std::vector<std::
   options.under_surfaces = [&](const DemImportReport& imported) -> Status {
     TB_ASSIGN_OR_RETURN(std::vector<SurfaceInfo> all, SurfaceStore(store).List());
     std::vector<SurfaceInfo> on_dem;
-    std::string names;
-    for (const SurfaceInfo& s : all) {
-      if (s.dem != imported.dem.id) continue;
-      on_dem.push_back(s);
-      names += (names.empty() ? "'" : ", '") + s.name + "'";
-    }
+    for (const SurfaceInfo& s : all)
+      if (s.dem == imported.dem.id) on_dem.push_back(s);
     if (on_dem.empty() || imported.written.min_x >= imported.written.max_x) return Status::Ok();
-    if (imported.geometry_before && !SameGrid(*imported.geometry_before, imported.dem.geometry))
-      return Status::InvalidArgument("the sheets grow DEM '" + imported.dem.name +
-                                     "' beyond its grid, and surfaces " + names +
-                                     " are built on it (a surface's hull cannot grow locally): "
-                                     "import the sheets under a new --name and build");
+    // A grown grid keeps the old cells where they were (whole cells added around them), so the
+    // surfaces stay where they are: their cells are compared, the new ones beyond them only
+    // stored (a surface's hull does not grow; build it again to cover them).
     for (const SurfaceInfo& s : on_dem) {
       auto one = ResurveySurface(store, dems, imported.dem, s, imported.written);
       if (!one.ok()) return one.status().WithContext("surface '" + s.name + "'");

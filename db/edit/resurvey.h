@@ -40,12 +40,12 @@ struct ResurveyReport {
 };
 
 // Imports `files` as DemStore::Import does into the DEM options.name (options.under_surfaces is
-// set here) and brings every surface built on it up to date, all in one transaction. Errors of
-// Import; InvalidArgument naming the DEM and its surfaces when the sheets would grow the DEM's
-// grid (a surface's hull cannot grow locally: import under a new name and build); errors of the
-// update engine (Corruption, DEM read errors); InvalidArgument naming the surface and the cell
-// when a cell the surface misses lies within a cell of the DEM's outer rows or columns (the
-// surface's boundary, which a local edit cannot refine). The store is unchanged on every error.
+// set here) and brings every surface built on it up to date, all in one transaction. Sheets may
+// grow the DEM's grid: the cells beyond a surface are stored, and the surface keeps its hull (it
+// does not grow locally). Errors of Import; errors of the update engine (Corruption, DEM read
+// errors); InvalidArgument naming the surface and the cell when a cell the surface misses lies
+// within a cell of the surface's outer edge (its boundary, which a local edit cannot refine).
+// The store is unchanged on every error.
 Result<ResurveyReport> ImportUnderSurfaces(Store& store, const std::vector<std::string>& files,
                                            DemImportOptions options);
 

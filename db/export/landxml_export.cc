@@ -23,6 +23,8 @@ LandXmlFeature FromEditor(const EditorFeature& f) {
   out.attributes = f.attributes.dump();
   out.polygons = f.polygons;
   out.lines = f.lines;
+  out.z_from = f.z_from;
+  out.line_z = f.line_z;
   return out;
 }
 

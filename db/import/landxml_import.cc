@@ -112,6 +112,8 @@ Result<std::vector<int64_t>> WriteFeatures(Store& store, const SurfaceInfo& surf
                                      ": attributes are not a JSON object");
     f.polygons = in.polygons;
     f.lines = in.lines;
+    f.z_from = in.z_from;
+    f.line_z = in.line_z;
     TB_RETURN_IF_ERROR(WriteFeature(store, surface, tx, f));
     ids.push_back(f.id);
   }

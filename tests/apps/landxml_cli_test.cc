@@ -148,6 +148,25 @@ double XPathNumber(const std::string& path, const std::string& expr) {
   return v;
 }
 
+// The string value of XPath `expr` in the file (libxml2's own reader), "" when it cannot be read.
+std::string XPathString(const std::string& path, const std::string& expr) {
+  xmlDocPtr doc = xmlReadFile(path.c_str(), nullptr, XML_PARSE_NONET | XML_PARSE_HUGE);
+  if (doc == nullptr) return "";
+  xmlXPathContextPtr ctx = xmlXPathNewContext(doc);
+  xmlXPathRegisterNs(ctx, BAD_CAST "l", BAD_CAST kLandXmlNamespace);
+  xmlXPathObjectPtr r = xmlXPathEvalExpression(BAD_CAST expr.c_str(), ctx);
+  std::string v;
+  if (r != nullptr) {
+    xmlChar* text = xmlXPathCastToString(r);
+    v = reinterpret_cast<const char*>(text);
+    xmlFree(text);
+    xmlXPathFreeObject(r);
+  }
+  xmlXPathFreeContext(ctx);
+  xmlFreeDoc(doc);
+  return v;
+}
+
 nlohmann::json SurfaceInfoJson(const std::string& store, const std::string& name) {
   const nlohmann::json info = Json(RunCli("info --json " + Quote(store)));
   for (const auto& s : info["surfaces"])
@@ -359,6 +378,88 @@ TEST_F(LandXmlCliTest, BadExportsLeaveNoFile) {
   ExpectRejected(store_, exp + "t --format vdb --floor 5000 -o " + Quote(out + "/a.vdb"),
                  "must lie below");
   EXPECT_EQ(FilesWith(out, ""), 0) << "a rejected export left a file";
+}
+
+// A 3D line (--z-from feature) goes out as a PntList3D of its own z, and comes back in as a 3D
+// line with the same z, on an identical surface.
+TEST_F(LandXmlCliTest, ThreeDLinesKeepTheirZThroughLandXml) {
+  const std::vector<std::array<double, 2>> plan = {
+      {545000.25, 7505000.5}, {547000.75, 7506500.25}, {549500.5, 7507000.75}};
+  std::vector<double> z;
+  for (const auto& [x, y] : plan) {
+    const nlohmann::json sample = Json(RunCli("dem sample --json " + Quote(store_) + " -- " +
+                                              std::to_string(x) + " " + std::to_string(y)));
+    z.push_back((sample.is_array() ? sample[0]["z"] : sample["z"]).get<double>() + 2.5);
+  }
+  const std::string line = dir_.Path("ridge.geojson");
+  {
+    std::ofstream out(line);
+    out.precision(17);
+    out << R"({"type": "FeatureCollection", "crs": {"type": "name", "properties": {"name": )"
+        << R"("urn:ogc:def:crs:EPSG::28350"}}, "features": [{"type": "Feature", "properties": )"
+        << R"({}, "geometry": {"type": "LineString", "coordinates": [)";
+    for (size_t i = 0; i < plan.size(); ++i)
+      out << (i ? "," : "") << "[" << plan[i][0] << "," << plan[i][1] << "," << z[i] << "]";
+    out << "]}}]}\n";
+  }
+  RunWrite(store_, "polygon add " + Quote(store_) + " " + Quote(line) +
+                       " --surface t --mode breakline --z-from feature --tag ridge");
+  const std::string xml = dir_.Path("ridge.xml");
+  RunWrite(store_, "export " + Quote(store_) + " --surface t --format landxml -o " + Quote(xml));
+
+  // libxml2 reads the line's own z: y x z triples, as LandXML orders them.
+  EXPECT_EQ(XPathNumber(xml, "count(//l:Breaklines/l:Breakline/l:PntList3D)"), 1);
+  std::ostringstream expected;
+  expected.precision(17);
+  for (size_t i = 0; i < plan.size(); ++i)
+    expected << (i ? " " : "") << plan[i][1] << " " << plan[i][0] << " " << z[i];
+  const std::string text = XPathString(xml, "string(//l:Breaklines/l:Breakline/l:PntList3D)");
+  std::istringstream got(text), want(expected.str());
+  double a = 0, b = 0;
+  int numbers = 0;
+  while (want >> b) {
+    ASSERT_TRUE(static_cast<bool>(got >> a)) << text;
+    EXPECT_EQ(a, b) << text;
+    ++numbers;
+  }
+  EXPECT_EQ(numbers, 9);
+
+  RunWrite(store_, "import landxml " + Quote(store_) + " " + Quote(xml) + " --surface t3");
+  const Canonical before = Stored(store_, "t"), after = Stored(store_, "t3");
+  EXPECT_EQ(before.vertices, after.vertices);
+  EXPECT_TRUE(before.triangles == after.triangles);
+  EXPECT_TRUE(before.features == after.features);
+  auto opened = Store::Open(store_, Store::Access::kReadOnly);
+  ASSERT_TRUE(opened.ok()) << opened.status().ToString();
+  auto surface = SurfaceStore(**opened).Find("t3");
+  ASSERT_TRUE(surface.ok()) << surface.status().ToString();
+  auto read = LoadLandXmlSurface(**opened, *surface);
+  ASSERT_TRUE(read.ok()) << read.status().ToString();
+  int three_d = 0;
+  for (const LandXmlFeature& f : read->features) {
+    if (f.z_from != ZFrom::kFeature) continue;
+    ++three_d;
+    EXPECT_EQ(f.tag, "ridge");
+    ASSERT_EQ(f.line_z.size(), 1u);
+    EXPECT_EQ(f.line_z[0], z) << "the imported line keeps the file's z";
+  }
+  EXPECT_EQ(three_d, 1);
+
+  // A 3D line without its z in the file is refused, naming the element.
+  std::string flat = Slurp(xml);
+  const size_t list = flat.find("<PntList3D>");
+  ASSERT_NE(list, std::string::npos);
+  const size_t end = flat.find("</PntList3D>", list);
+  std::ostringstream pairs;
+  pairs.precision(17);
+  for (size_t i = 0; i < plan.size(); ++i)
+    pairs << (i ? " " : "") << plan[i][1] << " " << plan[i][0];
+  flat.replace(list, end + 12 - list, "<PntList2D>" + pairs.str() + "</PntList2D>");
+  Spit(dir_.Path("flat.xml"), flat);
+  ExpectRejected(
+      store_,
+      "import landxml " + Quote(store_) + " " + Quote(dir_.Path("flat.xml")) + " --surface t4",
+      "needs its z (a PntList3D)");
 }
 
 TEST_F(LandXmlCliTest, VdbExportsReadByVdbPrint) {

@@ -1,7 +1,8 @@
 // `dem import --update-surfaces` end to end: a corrected sheet of the Hamersley DEM (a hill raised
 // in a window) goes under surface "terrain"; the command says what it did per surface, `check
 // --full` passes against the new cells, and `changes --json` (read by nlohmann::json) lists one
-// "dem resurvey" row. A sheet that would grow the DEM's grid is refused, the store unchanged.
+// "dem resurvey" row. A sheet that grows the DEM's grid is taken where the surface does not
+// reach; a change by the surface's edge is refused, the store unchanged.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -18,6 +19,7 @@ namespace {
 using testing::CliResult;
 using testing::DataPath;
 using testing::ExpectRejected;
+using testing::Json;
 using testing::Quote;
 using testing::RunCli;
 using testing::RunWrite;
@@ -33,8 +35,9 @@ class ResurveyCliTest : public ::testing::Test {
     RunWrite(store_, "tin build " + Quote(store_) + " --surface terrain --tolerance 10");
   }
 
-  // `n` x `n` cells of the DEM from (col0, row0) with `raise` metres added (400 m off the DEM).
-  std::string Sheet(int64_t col0, int64_t row0, int64_t n, float raise) {
+  // `n` x `n` cells of the DEM from (col0, row0) with `raise` metres added (400 m off the DEM);
+  // with `margin`, only to the cells at least that many cells inside the DEM's edge.
+  std::string Sheet(int64_t col0, int64_t row0, int64_t n, float raise, int64_t margin = 0) {
     auto raster = GdalRaster::Open(DataPath("geology/hamersley/dtm_rp.tif"));
     EXPECT_TRUE(raster.ok());
     auto full = raster->Read();
@@ -46,8 +49,12 @@ class ResurveyCliTest : public ::testing::Test {
     sheet.geometry.width = sheet.geometry.height = n;
     sheet.cells.clear();
     for (int64_t r = row0; r < row0 + n; ++r)
-      for (int64_t c = col0; c < col0 + n; ++c)
-        sheet.cells.push_back((c < g.width && r < g.height ? full->At(c, r) : 400.0f) + raise);
+      for (int64_t c = col0; c < col0 + n; ++c) {
+        const bool inside = c < g.width && r < g.height;
+        const bool raised =
+            c >= margin && c < g.width - margin && r >= margin && r < g.height - margin;
+        sheet.cells.push_back((inside ? full->At(c, r) : 400.0f) + (raised ? raise : 0.0f));
+      }
     const std::string path = dir_.Path("sheet" + std::to_string(col0) + ".tif");
     EXPECT_TRUE(WriteGeoTiff(sheet, path).ok());
     return path;
@@ -69,11 +76,40 @@ TEST_F(ResurveyCliTest, CorrectedSheetUpdatesTheSurface) {
   EXPECT_GT(changes[0]["added"].get<int64_t>(), 0);
 }
 
-TEST_F(ResurveyCliTest, SheetGrowingTheGridIsRefused) {
+// A sheet that grows the DEM's grid: the new cells beyond the surface are stored, the surface
+// stays where it is and is re-triangulated where the cells under it changed; a change by the
+// surface's edge is still refused, the store unchanged.
+TEST_F(ResurveyCliTest, SheetGrowingTheGridIsTakenWhereTheSurfaceDoesNotReach) {
+  const nlohmann::json before = Json(RunCli("info --json " + Quote(store_)));
+  const int64_t width = before["dems"][0]["width"].get<int64_t>();
+  const int64_t height = before["dems"][0]["height"].get<int64_t>();
+  // Raised by 60 m everywhere, the edge included: refused.
   ExpectRejected(store_,
-                 "dem import " + Quote(store_) + " " + Quote(Sheet(190, 20, 12, 0)) +
+                 "dem import " + Quote(store_) + " " + Quote(Sheet(width - 8, 20, 16, 60)) +
                      " --name dtm_rp --update-surfaces",
-                 "surfaces 'terrain' are built on it");
+                 "lies by the surface's boundary");
+  // Raised 6 or more cells inside the edge only, and grown by 8 columns.
+  const CliResult r = RunWrite(store_, "dem import " + Quote(store_) + " " +
+                                           Quote(Sheet(width - 8, 20, 16, 60, 6)) +
+                                           " --name dtm_rp --update-surfaces");
+  EXPECT_NE(r.out.find("surface 'terrain': "), std::string::npos) << r.out;
+  const nlohmann::json after = Json(RunCli("info --json " + Quote(store_)));
+  EXPECT_EQ(after["dems"][0]["width"].get<int64_t>(), width + 8) << after.dump();
+  EXPECT_EQ(after["dems"][0]["height"].get<int64_t>(), height);
+  // The surface does not grow with the grid: a new cell's centre lies outside it.
+  const auto& bbox = after["dems"][0]["bbox"];
+  const double cell = after["dems"][0]["cell_size"][0].get<double>();
+  const std::string x = std::to_string(bbox[2].get<double>() - 2.5 * cell);
+  const std::string y = std::to_string(0.5 * (bbox[1].get<double>() + bbox[3].get<double>()));
+  const CliResult outside =
+      RunCli("locate --json " + Quote(store_) + " --surface terrain -- " + x + " " + y);
+  EXPECT_NE(outside.exit_code, 0);
+  EXPECT_NE(outside.err.find("is outside surface 'terrain'"), std::string::npos) << outside.err;
+  const nlohmann::json changes =
+      nlohmann::json::parse(RunCli("changes " + Quote(store_) + " --since 1 --json").out);
+  ASSERT_EQ(changes.size(), 1u) << changes.dump();
+  EXPECT_EQ(changes[0]["action"], "dem resurvey");
+  EXPECT_GT(changes[0]["added"].get<int64_t>(), 0) << "the raised cells under it were met";
 }
 
 }  // namespace

@@ -1,13 +1,14 @@
 // `tinbase points add` and `points remove` end to end on the Hamersley DEM: survey points from
 // CSV and GeoJSON go in and come out again with `check --full` passing after every write, and bad
 // input (a point outside, a point without z, NaN, a polygon feature) is refused with one line
-// naming it and the store unchanged.
+// naming it and the store unchanged; with --update-tiles the tiles commit with the edit.
 #include <gtest/gtest.h>
 
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "db/store.h"
 #include "tests/support/cli_support.h"
 #include "tests/support/test_support.h"
 
@@ -127,6 +128,44 @@ TEST_F(PointsEditCli, BadInputIsRefusedNamingItAndChangesNothing) {
   ExpectRejected(store_, "points add " + store + " --surface nowhere " + Quote(outside), "nowhere");
   ExpectRejected(store_, "points remove " + store + " --feature 77", "no feature 77");
   ExpectRejected(store_, "points remove " + store + " --bbox 1,2,3", "--bbox");
+}
+
+// --update-tiles: the tiles are rewritten inside the edit's own transaction (the change log has
+// no transaction of their own, the pyramid's transaction is the edit's, nothing is left for
+// `tiles update`), and a tile update that fails rolls the edit back.
+TEST_F(PointsEditCli, UpdateTilesCommitsTheTilesWithTheEdit) {
+  const std::string store = Quote(store_);
+  RunWrite(store_, "tiles build " + store + " --surface terrain --max-zoom 9");
+  const std::string csv = GridCsv(2);
+  const auto expect_tiles_with = [&](const nlohmann::json& report) {
+    EXPECT_GT(report["tiles_updated"].get<int64_t>(), 0) << report.dump();
+    const nlohmann::json info = Json(RunCli("tiles info " + store + " --surface terrain --json"));
+    EXPECT_EQ(info["layer"]["tinbase"]["tx"], report["tx"]) << info.dump();
+    const nlohmann::json changes = Json(RunCli("changes --json " + store));
+    EXPECT_EQ(changes.back()["tx"], report["tx"]) << "the tiles made no transaction of their own";
+    EXPECT_EQ(Json(RunCli("tiles update " + store + " --surface terrain --json"))["changes"], 0);
+  };
+  const nlohmann::json add = Json(RunWrite(
+      store_, "points add --json --update-tiles " + store + " --surface terrain " + Quote(csv)));
+  expect_tiles_with(add);
+  const std::string feature = std::to_string(add["features_added"][0].get<int64_t>());
+
+  // A pyramid the update cannot read: the remove is refused and the points stay.
+  const auto set_extensions = [&](const std::string& names) {
+    auto opened = Store::Open(store_);
+    ASSERT_TRUE(opened.ok()) << opened.status().ToString();
+    ASSERT_TRUE((*opened)->db().Exec("UPDATE tile_pyramids SET extensions = '" + names + "'").ok());
+  };
+  set_extensions("bogus");
+  ExpectRejected(store_, "points remove --update-tiles " + store + " --feature " + feature,
+                 "updating the tiles of the edit: unknown tile extension 'bogus'");
+  // Shots beside those in the store (the grid's third row and column): they would go in.
+  ExpectRejected(store_,
+                 "points add --update-tiles " + store + " --surface terrain " + Quote(GridCsv(3)),
+                 "updating the tiles of the edit");
+  set_extensions("octvertexnormals");
+  expect_tiles_with(Json(
+      RunWrite(store_, "points remove --json --update-tiles " + store + " --feature " + feature)));
 }
 
 }  // namespace

@@ -9,9 +9,8 @@
 #include <vector>
 
 #include "db/change_log.h"
-#include "db/feature_store.h"
-#include "db/surface_store.h"
 #include "tests/support/service_support.h"
+#include "tests/support/stored_feature.h"
 
 namespace tinbase::testing {
 namespace {
@@ -37,15 +36,7 @@ class EditRoutesTest : public ::testing::Test {
   int64_t Features() {
     return Json(RunCli("info --json " + Quote(store_)))["surfaces"][0]["features"].get<int64_t>();
   }
-  EditorFeature LoadStored(int64_t id) {
-    auto store = Store::Open(store_, Store::Access::kReadOnly);
-    EXPECT_TRUE(store.ok()) << store.status().ToString();
-    auto surface = SurfaceStore(**store).Find("t");
-    EXPECT_TRUE(surface.ok());
-    auto f = LoadFeature(**store, *surface, id);
-    EXPECT_TRUE(f.ok()) << f.status().ToString();
-    return f.ok() ? *f : EditorFeature{};
-  }
+  EditorFeature LoadStored(int64_t id) { return LoadStoredFeature(store_, "t", id); }
   // A request that must be refused with `status` and a message containing `expected`, leaving
   // the store as it was and the service serving.
   void ExpectRefused(const httplib::Result& r, int status, const std::string& expected) {
@@ -122,6 +113,66 @@ TEST_F(EditRoutesTest, CoordinatesWithoutCrsAreTheStoresAndQueryModeAndTagApply)
   EXPECT_DOUBLE_EQ(fault.lines[0][0].x, x - 300);
   EXPECT_DOUBLE_EQ(fault.lines[0][0].y, y - 200);
   ExpectStoreChecksClean();
+}
+
+// 3D lines: LineString Z with properties.z_from "feature" (or the query's z_from) keep their own
+// z, and a PUT without z_from keeps the old line's; a line without z, z_from on a polygon and an
+// unknown source are refused naming the place.
+TEST_F(EditRoutesTest, ThreeDLinesKeepTheirZThroughPostAndPut) {
+  Serve();
+  const auto line = [](const nlohmann::json& coordinates, nlohmann::json properties) {
+    return nlohmann::json{{"type", "Feature"},
+                          {"properties", std::move(properties)},
+                          {"geometry", {{"type", "LineString"}, {"coordinates", coordinates}}}};
+  };
+  const nlohmann::json first = {{kLandX - 300, kLandY - 200, 548.5},
+                                {kLandX + 300, kLandY + 250, 561.25}};
+  const nlohmann::json a =
+      JsonAnswer(PostGeoJson(*service_->Client(), "/surfaces/t/features",
+                             line(first, {{"mode", "breakline"}, {"z_from", "feature"}})),
+                 201);
+  const int64_t id = a["features"][0].get<int64_t>();
+  const EditorFeature own = LoadStored(id);
+  EXPECT_EQ(own.z_from, ZFrom::kFeature);
+  EXPECT_EQ(own.line_z, (std::vector<std::vector<double>>{{548.5, 561.25}}));
+  ExpectStoreChecksClean();
+
+  // Replaced without z_from: still 3D, with the new z.
+  const nlohmann::json second = {{kLandX - 250, kLandY + 300, 552},
+                                 {kLandX, kLandY + 20, 555.5},
+                                 {kLandX + 280, kLandY - 240, 549}};
+  const nlohmann::json put =
+      JsonAnswer(service_->Client()->Put("/surfaces/t/features/" + std::to_string(id),
+                                         line(second, nullptr).dump(), "application/json"));
+  const EditorFeature kept = LoadStored(put["features"][0].get<int64_t>());
+  EXPECT_EQ(kept.mode, FeatureMode::kBreakline);
+  EXPECT_EQ(kept.z_from, ZFrom::kFeature);
+  EXPECT_EQ(kept.line_z, (std::vector<std::vector<double>>{{552, 555.5, 549}}));
+  ExpectStoreChecksClean();
+
+  // The query's z_from, with lon/lat positions: the heights are not reprojected away.
+  const nlohmann::json lonlat = {{kLon + 0.01, kLat, 530.5}, {kLon + 0.014, kLat + 0.003, 540}};
+  const nlohmann::json b = JsonAnswer(
+      PostGeoJson(*service_->Client(), std::string(kPost) + "&mode=softline&z_from=feature",
+                  line(lonlat, nullptr)),
+      201);
+  const EditorFeature soft = LoadStored(b["features"][0].get<int64_t>());
+  EXPECT_EQ(soft.mode, FeatureMode::kSoftline);
+  EXPECT_EQ(soft.line_z, (std::vector<std::vector<double>>{{530.5, 540}}));
+  ExpectStoreChecksClean();
+
+  before_ = TableChecksums(store_);
+  const nlohmann::json flat = {{kLandX - 300, kLandY - 900}, {kLandX + 300, kLandY - 650}};
+  RefuseBody(line(flat, {{"mode", "breakline"}, {"z_from", "feature"}}),
+             "feature, line 0: no z (z from the feature needs LineString Z)", "");
+  RefuseBody(line(first, {{"mode", "breakline"}, {"z_from", "up"}}),
+             "feature: properties.z_from: unknown z source 'up'", "");
+  RefuseBody(LonLatSquare(kLon, kLat, 0.004, {{"mode", "fill"}, {"z_from", "feature"}}),
+             "feature: z from the feature is for lines, not mode fill");
+  RefuseBody(line(first, {{"mode", "breakline"}}), "parameter 'z_from'", "?z_from=sky");
+  nlohmann::json nan_z = line(first, {{"mode", "breakline"}, {"z_from", "feature"}});
+  nan_z["geometry"]["coordinates"][1][2] = nullptr;
+  RefuseBody(nan_z, "feature, line 0, vertex 1: coordinate null is not a finite number", "");
 }
 
 TEST_F(EditRoutesTest, ReplaceTakesItsLevelFromThePropertiesOrTheQuery) {

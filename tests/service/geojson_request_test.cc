@@ -127,5 +127,70 @@ TEST(GeoJsonRequestTest, BadBodiesNameThePlace) {
   EXPECT_EQ(huge.status().message(), "malformed JSON: number overflow parsing '1e999'");
 }
 
+// 3D lines: a line's z is kept when every vertex has one (a repeated point keeps the first z),
+// reprojected with it; properties.z_from says whether the editor uses it.
+TEST(GeoJsonRequestTest, KeepsTheZOfLinesAndReadsZFrom) {
+  const nlohmann::json own_line = {{"type", "LineString"},
+                                   {"coordinates", {{0, 0, 5.5}, {0, 0, 9}, {4, 3, 7.25}}}};
+  const nlohmann::json mixed_lines = {
+      {"type", "MultiLineString"}, {"coordinates", {{{0, 0, 1}, {1, 1}}, {{2, 2, 3}, {3, 3, 4}}}}};
+  const nlohmann::json flat_line = {{"type", "LineString"}, {"coordinates", {{0, 0}, {1, 1}}}};
+  auto r = Parse(Collection({Feature(own_line, {{"mode", "breakline"}, {"z_from", "feature"}}),
+                             Feature(mixed_lines, {{"z_from", "dem"}}), Feature(flat_line)}));
+  ASSERT_TRUE(r.ok()) << r.status().ToString();
+  const MemoryFeature& own = (*r)[0];
+  EXPECT_EQ(own.z_from, ZFrom::kFeature);
+  EXPECT_FALSE(own.attributes.contains("z_from")) << own.attributes.dump();
+  ASSERT_EQ(own.line_z.size(), 1u);
+  EXPECT_EQ(own.line_z[0], (std::vector<double>{5.5, 7.25}));
+  const MemoryFeature& mixed = (*r)[1];
+  EXPECT_EQ(mixed.z_from, ZFrom::kDem);
+  ASSERT_EQ(mixed.line_z.size(), 2u);
+  EXPECT_TRUE(mixed.line_z[0].empty()) << "a line with a vertex without z has no z";
+  EXPECT_EQ(mixed.line_z[1], (std::vector<double>{3, 4}));
+  EXPECT_FALSE((*r)[2].z_from) << "no z_from: the request's or the editor's default";
+
+  // From lon/lat to UTM 32 the heights stay as they are.
+  const nlohmann::json lonlat_line = {{"type", "LineString"},
+                                      {"coordinates", {{9, 0, 120.5}, {9, 0.01, 130.25}}}};
+  auto lonlat = Parse(Feature(lonlat_line), *Crs::FromUserInput("EPSG:4326"));
+  ASSERT_TRUE(lonlat.ok()) << lonlat.status().ToString();
+  EXPECT_EQ((*lonlat)[0].line_z[0], (std::vector<double>{120.5, 130.25}));
+
+  const nlohmann::json line = {{"type", "LineString"}, {"coordinates", {{0, 0, 1}, {1, 1, 2}}}};
+  ExpectRefused(Feature(line, {{"z_from", "sky"}}),
+                "feature: properties.z_from: unknown z source 'sky'");
+  ExpectRefused(Feature(line, {{"z_from", 1}}), "feature: properties.z_from is number");
+}
+
+TEST(GeoJsonRequestTest, ReadsSurveyPointsWithTheirZ) {
+  const auto points = [](const nlohmann::json& body) {
+    return ParseGeoJsonPoints(body.dump(), std::nullopt, Utm32());
+  };
+  auto r = points(Collection(
+      {Feature({{"type", "Point"}, {"coordinates", {1.5, 2.5, 3.5}}}),
+       Feature({{"type", "MultiPoint"}, {"coordinates", {{4, 5, 6}, {7, 8, 9}}}}, {{"a", 1}})}));
+  ASSERT_TRUE(r.ok()) << r.status().ToString();
+  ASSERT_EQ(r->points.size(), 3u);
+  EXPECT_EQ(r->points[0].z, 3.5);
+  EXPECT_EQ(r->points[2].x, 7);
+  EXPECT_EQ(r->labels, (std::vector<std::string>{"features[0], point 0", "features[1], point 0",
+                                                 "features[1], point 1"}));
+  const auto refused = [&](const nlohmann::json& body, const std::string& expected) {
+    auto bad = points(body);
+    ASSERT_FALSE(bad.ok()) << body.dump();
+    EXPECT_EQ(bad.status().message().substr(0, expected.size()), expected);
+  };
+  refused(Feature({{"type", "MultiPoint"}, {"coordinates", {{4, 5, 6}, {7, 8}}}}),
+          "feature, point 1: (7, 8) has no z (a survey point is x, y, z)");
+  refused(Feature({{"type", "LineString"}, {"coordinates", {{0, 0, 1}, {1, 1, 2}}}}),
+          "feature: geometry is a LineString; survey points are a Point or MultiPoint");
+  refused(Feature({{"type", "MultiPoint"}, {"coordinates", nlohmann::json::array()}}),
+          "feature: the geometry is empty");
+  refused(Feature({{"type", "Point"}, {"coordinates", {1, 2, 3, 4}}}),
+          "feature, vertex 0: a position is an array of 2 or 3 numbers");
+  refused(Collection({}), "the FeatureCollection has no features");
+}
+
 }  // namespace
 }  // namespace tinbase::service

@@ -5,8 +5,8 @@
 // triangulation of its vertices and constraints (the exact local test of
 // tests/db/update_engine_property_test.cc), triangles away from the sheet keep their rows, the
 // features are kept and there is one `changes` row per surface; a rebuild from the new DEM with
-// the same features passes the same tests. A sheet that would grow the DEM's grid is refused,
-// the store unchanged.
+// the same features passes the same tests. A sheet may grow the DEM's grid beyond the surfaces;
+// one that changes cells by a surface's edge is refused, the store unchanged.
 #include "db/edit/resurvey.h"
 
 #include <gtest/gtest.h>
@@ -287,7 +287,9 @@ TEST_F(ResurveyTest, WithoutTheUpdateTheSurfacesMissTheNewCells) {
   EXPECT_GT(tolerance, 0u);
 }
 
-TEST_F(ResurveyTest, SheetGrowingTheGridIsRefusedAndChangesNothing) {
+// A sheet that grows the grid with a hill on the surfaces' edge: refused for the edge, as any
+// change there, and the store unchanged.
+TEST_F(ResurveyTest, SheetGrowingTheGridWithChangesOnTheEdgeIsRefused) {
   store_.reset();
   const auto before = testing::TableChecksums(path_);
   auto store = Store::Open(path_);
@@ -295,16 +297,33 @@ TEST_F(ResurveyTest, SheetGrowingTheGridIsRefusedAndChangesNothing) {
   store_ = std::move(*store);
   DemImportOptions o;
   o.name = "dtm";
-  // Columns 180..209 reach past the DEM's 197.
+  // Columns 180..209 reach past the DEM's 197; the hill's centre is on its last columns.
   auto report = ImportUnderSurfaces(*store_, {CorrectedSheet(180, 50, 30, 50)}, o);
   ASSERT_EQ(report.status().code(), StatusCode::kInvalidArgument);
-  EXPECT_NE(report.status().message().find("grow DEM 'dtm'"), std::string::npos)
-      << report.status().message();
-  EXPECT_NE(report.status().message().find("surfaces 'coarse', 'terrain' are built on it"),
-            std::string::npos)
+  EXPECT_NE(report.status().message().find("lies by the surface's boundary"), std::string::npos)
       << report.status().message();
   store_.reset();
   EXPECT_EQ(testing::TableChecksums(path_), before);
+}
+
+// A sheet that grows the grid and leaves the cells under the surfaces as they were: the new cells
+// are stored, the surfaces keep their extent (no vertex beyond the old grid's last column of
+// centres) and pass the full check against the grown DEM.
+TEST_F(ResurveyTest, SheetGrowingTheGridBeyondTheSurfacesIsTaken) {
+  auto dem = DemStore(*store_).Find("dtm");
+  ASSERT_TRUE(dem.ok());
+  const double last_centre = dem->geometry.CellCenterX(dem->geometry.width - 1);
+  DemImportOptions o;
+  o.name = "dtm";
+  auto report = ImportUnderSurfaces(*store_, {CorrectedSheet(190, 50, 20, 0)}, o);
+  ASSERT_TRUE(report.ok()) << report.status().ToString();
+  EXPECT_EQ(report->import.dem.geometry.width, 210);
+  EXPECT_EQ(report->surfaces.size(), 2u);
+  auto max_x = store_->db().Prepare("SELECT max(x) FROM vertices");
+  ASSERT_TRUE(max_x.ok());
+  ASSERT_TRUE(*(*max_x)->Step());
+  EXPECT_EQ((*max_x)->ColumnDouble(0), last_centre) << "the surfaces do not grow with the grid";
+  testing::ExpectStoreIntact(*store_, /*full=*/true);
 }
 
 }  // namespace
