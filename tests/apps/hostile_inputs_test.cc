@@ -318,7 +318,7 @@ TEST_F(HostileInputsTest, BadPointFilesAreRefusedNamingThePlace) {
            "is far outside the relief"},
           {File("comma.xyz", "539300,5 7497340 500\n") + " --surface terrain",
            "line 1: expected x y z"},
-          {File("nul.xyz", std::string("539300\0 7497340 500\n", 21)) + " --surface terrain",
+          {File("nul.xyz", std::string("539300") + '\0' + " 7497340 500\n") + " --surface terrain",
            "line 1"},
           {File("empty.xyz", "") + " --surface terrain", "no points"},
           {File("nan.xyz", "nan 7497340 500\n") + " --surface terrain", "is not finite"},

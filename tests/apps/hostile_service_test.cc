@@ -205,7 +205,8 @@ TEST_F(HostileServiceTest, ManyEditsAtOnceAllLand) {
   std::vector<std::thread> clients;
   for (int k = 0; k < 16; ++k)
     clients.emplace_back([&, k] {
-      const std::string body = Feature(Square(kCx + (k % 4) * 600.0, kCy + (k / 4) * 600.0, 900));
+      const int column = k % 4, row = k / 4;
+      const std::string body = Feature(Square(kCx + column * 600.0, kCy + row * 600.0, 900));
       const Reply r =
           Exchange(serve.port(), Request("POST", "/surfaces/terrain/features?mode=fill", body));
       if (r.status == 201) ++created;
