@@ -134,7 +134,8 @@ class FaultVfsTest : public ::testing::Test {
  protected:
   // Stores made once: "empty" (no DEM, the CRS set), "dem" (the Hamersley DEM), "surface"
   // (with a greedy surface "terrain" at 10 m over it), "feature" (with a fill polygon on it) and
-  // "coarse" (the DEM with a greedy surface "coarse" at 40 m, for the tile pyramid).
+  // "coarse" (the DEM with a greedy surface "coarse" at 100 m, for the tile pyramid: the loop
+  // builds the pyramid once per I/O of it, so the surface is kept small).
   static void SetUpTestSuite() {
     bases_ = new TempDir();
     auto store = Store::Create(Base("empty"), "EPSG:28350");
@@ -158,7 +159,7 @@ class FaultVfsTest : public ::testing::Test {
     std::filesystem::copy_file(Base("dem"), Base("coarse"));
     store = Store::Open(Base("coarse"));
     ASSERT_TRUE(store.ok()) << store.status().ToString();
-    ASSERT_TRUE(BuildCoarse(**store, *bases_).ok());
+    ASSERT_TRUE(BuildSurface(**store, "coarse", 100).ok());
   }
   static void TearDownTestSuite() {
     delete bases_;
