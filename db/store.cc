@@ -1,5 +1,7 @@
 #include "db/store.h"
 
+#include <ogr_spatialref.h>
+
 #include <algorithm>
 #include <atomic>
 #include <string>
@@ -32,6 +34,14 @@ Status CheckIsStore(Connection& db, const std::string& path) {
   auto app_id = db.ApplicationId();
   // Corruption: the file is not a database of the backend at all; other errors (I/O, permission)
   // say what they are.
+  // A database whose pages are damaged (cut short, overwritten) is said to be damaged, not to
+  // be something else: it may well be a tinbase store.
+  if (!app_id.ok() && app_id.status().code() == StatusCode::kCorruption &&
+      app_id.status().message().find("malformed") != std::string::npos)
+    return Status::Corruption(path +
+                              " is a damaged database (its pages are malformed, e.g. the file was "
+                              "cut short): restore it from a backup, or try `sqlite3 " +
+                              path + " .recover`");
   if (!app_id.ok() && app_id.status().code() == StatusCode::kCorruption)
     return Status::InvalidArgument(path + " is not a tinbase store (" + app_id.status().message() +
                                    ")");
@@ -73,10 +83,31 @@ Store::Store(std::unique_ptr<Connection> db, int version)
 
 void Store::SetMemoryMapLimit(int64_t bytes) { g_memory_map_bytes = std::max<int64_t>(bytes, 0); }
 
+namespace {
+
+// A store's x and y are a plane's or the Earth's surface's: a geocentric system (x, y, z through
+// the Earth's centre) or a vertical one alone has no such axes, and every DEM warped onto it
+// would come out empty.
+Status CheckStoreCrs(const Crs& crs) {
+  const OGRSpatialReference& srs = crs.ogr();
+  if (srs.IsGeocentric())
+    return Status::InvalidArgument(crs.Label() +
+                                   " is a geocentric CRS: a store needs a projected, geographic "
+                                   "or local one (with a vertical CRS or without)");
+  if (srs.IsVertical() && !srs.IsProjected() && !srs.IsGeographic() && !srs.IsLocal())
+    return Status::InvalidArgument(crs.Label() +
+                                   " is a vertical CRS alone: a store needs a projected, "
+                                   "geographic or local one (with a vertical CRS or without)");
+  return Status::Ok();
+}
+
+}  // namespace
+
 Result<std::unique_ptr<Store>> Store::Create(const std::string& path, const std::string& crs_text) {
   std::optional<Crs> crs;
   if (!crs_text.empty()) {
     TB_ASSIGN_OR_RETURN(crs, Crs::FromUserInput(crs_text));
+    TB_RETURN_IF_ERROR(CheckStoreCrs(*crs));
   }
   TB_ASSIGN_OR_RETURN(auto db, Connection::Open(path, Connection::Mode::kCreate));
   Status status = db->ConfigureForStore(Settings(/*create=*/true, Access::kReadWrite));
@@ -148,6 +179,7 @@ Result<std::optional<Crs>> Store::GetCrs() {
 }
 
 Status Store::SetCrs(const Crs& crs) {
+  TB_RETURN_IF_ERROR(CheckStoreCrs(crs));
   TB_RETURN_IF_ERROR(SetMeta("crs_wkt", crs.Wkt()));
   TB_RETURN_IF_ERROR(SetMeta("crs_label", crs.Label()));
   return SetMeta("units", crs.IsGeographic() ? "degree" : "metre");

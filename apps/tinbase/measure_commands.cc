@@ -13,6 +13,7 @@
 
 #include "apps/tinbase/command.h"
 #include "apps/tinbase/output.h"
+#include "core/base/number_text.h"
 #include "core/measure/contour_lines.h"
 #include "core/measure/measure_layers.h"
 #include "core/measure/plan_region.h"
@@ -60,14 +61,15 @@ Result<MeasureSource> Load(Store& store, const SelectionArgs& args) {
   return LoadMeasureSource(store, args.surface, filter);
 }
 
-// A number from option `option`: the whole text must be one (nan and inf parse, so that the
-// measure can reject them by name).
+// A number from option `option`: the whole text must be one decimal number of at most 1e15 in
+// magnitude (core/base/number_text.h); nan and inf parse, so that the measure can reject them
+// by name.
 Result<double> ParseNumber(const std::string& option, const std::string& text) {
-  char* end = nullptr;
-  const double value = std::strtod(text.c_str(), &end);
-  if (text.empty() || end != text.c_str() + text.size())
-    return Status::InvalidArgument(option + ": '" + text + "' is not a number");
-  return value;
+  const NumberText n = ParseNumberText(text);
+  if (n.problem && *n.problem != NumberProblem::kNotFinite)
+    return Status::InvalidArgument(option + ": '" + text + "' " +
+                                   DescribeNumberProblem(*n.problem));
+  return n.value;
 }
 
 // Shortest text that reads back as the same double.

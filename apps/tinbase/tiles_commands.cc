@@ -12,6 +12,7 @@
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 
 #include "apps/tinbase/command.h"
@@ -28,15 +29,15 @@ namespace {
 struct TilesArgs {
   std::string store;
   std::string surface;
-  int max_zoom = -1;
+  std::optional<int> max_zoom;  // unset: the surface's natural zoom
   std::string extensions;
   std::string water_tag;
   std::string output;
   bool gzip = false;
   bool json = false;
   bool verify = false;
-  int64_t window_triangles = -1;  // -1: the default
-  std::string tile;               // z/x/y
+  std::optional<int64_t> window_triangles;  // unset: the default
+  std::string tile;                         // z/x/y
   int repeat = 1;
 };
 
@@ -73,11 +74,12 @@ int RunBuild(const TilesArgs& args) {
   if (!extensions.ok()) return ReportError(extensions.status());
   TileBuildOptions options;
   options.extensions = *extensions;
-  if (args.max_zoom >= 0 || args.max_zoom < -1) options.max_zoom = args.max_zoom;
+  // Any value given is checked by the build (0..24), -1 included.
+  if (args.max_zoom) options.max_zoom = *args.max_zoom;
   if (!args.water_tag.empty()) options.water_tag = args.water_tag;
-  if (args.window_triangles != -1 && args.window_triangles < 1)
+  if (args.window_triangles && *args.window_triangles < 1)
     return ReportError(Status::InvalidArgument("--window-triangles must be positive"));
-  if (args.window_triangles != -1) options.window_triangles = args.window_triangles;
+  if (args.window_triangles) options.window_triangles = *args.window_triangles;
   auto store = Store::Open(args.store);
   if (!store.ok()) return ReportError(store.status());
   auto surface = FindSurface(**store, args.surface);

@@ -6,6 +6,8 @@
 #include <optional>
 #include <tuple>
 
+#include "core/base/number_text.h"
+
 namespace tinbase {
 
 namespace {
@@ -45,6 +47,11 @@ Status CheckRawRing(uint32_t r, const Ring& ring) {
     if (!std::isfinite(ring[v].x) || !std::isfinite(ring[v].y))
       return Status::InvalidArgument(RingVertex(r, v) + ": coordinate is not finite " +
                                      FormatPoint(ring[v]));
+    // Beyond 1e15 no CRS has room, and the orientation tests' products would overflow
+    // (core/base/number_text.h); a 1e300 vertex was once cut to the data area and accepted.
+    if (CheckNumber(ring[v].x) || CheckNumber(ring[v].y))
+      return Status::InvalidArgument(RingVertex(r, v) + ": coordinate " + FormatPoint(ring[v]) +
+                                     " is larger in magnitude than 1e15");
   }
   if (ring.size() < 2 || !SamePoint(ring.front(), ring.back())) {
     std::string msg = "ring " + std::to_string(r) + ": ring is not closed";

@@ -3,6 +3,7 @@
 #include <ogr_spatialref.h>
 
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <string>
 
@@ -24,10 +25,12 @@ Status ReprojectXy(const Crs& from, const Crs& to, std::vector<TinVertex>& verti
   transform->Transform(vertices.size(), x.data(), y.data(), nullptr, ok.data());
   for (size_t i = 0; i < vertices.size(); ++i) {
     if (!ok[i] || !std::isfinite(x[i]) || !std::isfinite(y[i])) {
-      return Status::InvalidArgument("point " + std::to_string(i) + " (" +
-                                     std::to_string(vertices[i].x) + ", " +
-                                     std::to_string(vertices[i].y) + ") does not transform from " +
-                                     from.Label() + " to " + to.Label());
+      // %g, not std::to_string: a huge coordinate would print as hundreds of digits.
+      char point[64];
+      std::snprintf(point, sizeof point, "(%.10g, %.10g)", vertices[i].x, vertices[i].y);
+      return Status::InvalidArgument("point " + std::to_string(i) + " " + point +
+                                     " does not transform from " + from.Label() + " to " +
+                                     to.Label());
     }
   }
   for (size_t i = 0; i < vertices.size(); ++i) {

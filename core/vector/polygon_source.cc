@@ -8,6 +8,8 @@
 #include <functional>
 #include <memory>
 
+#include "core/base/number_text.h"
+#include "core/base/object_name.h"
 #include "core/vector/gdal_session.h"
 
 namespace tinbase {
@@ -157,11 +159,33 @@ nlohmann::json Attributes(const OGRFeature& feature) {
   return out;
 }
 
+// Every coordinate a usable number (core/base/number_text.h): finite, and not beyond 1e15,
+// which no CRS has room for and which would overflow the geometry's products.
 Status CheckFinite(const std::vector<Point2>& points, const std::string& what) {
   for (size_t v = 0; v < points.size(); ++v) {
-    if (!std::isfinite(points[v].x) || !std::isfinite(points[v].y))
+    const auto problem =
+        CheckNumber(points[v].x) ? CheckNumber(points[v].x) : CheckNumber(points[v].y);
+    if (problem == NumberProblem::kNotFinite)
       return Status::InvalidArgument(what + ", vertex " + std::to_string(v) +
                                      ": coordinate is not finite " + FormatPoint(points[v]));
+    if (problem)
+      return Status::InvalidArgument(what + ", vertex " + std::to_string(v) + ": coordinate " +
+                                     FormatPoint(points[v]) + " " +
+                                     DescribeNumberProblem(*problem));
+  }
+  return Status::Ok();
+}
+
+// The attributes as JSON text would hold them: a field name or text value that is not valid
+// UTF-8 cannot be stored (or printed by `--json` later), so it is refused here, by name.
+Status CheckAttributes(const nlohmann::json& attributes, const std::string& label) {
+  for (const auto& [name, value] : attributes.items()) {
+    try {
+      (void)nlohmann::json{{name, value}}.dump();
+    } catch (const nlohmann::json::exception&) {
+      return Status::InvalidArgument(label + ", field '" + EscapedName(name) +
+                                     "': the name or value is not valid UTF-8");
+    }
   }
   return Status::Ok();
 }
@@ -250,13 +274,15 @@ Result<std::unique_ptr<OGRGeometry>> Repaired(const OGRGeometry& g, const std::s
 }
 
 template <typename Feature>
-void FillCommon(Feature& out, const OGRFeature& feature, int64_t fid, const std::string& label,
-                const OpenLayer& open) {
+Status FillCommon(Feature& out, const OGRFeature& feature, int64_t fid, const std::string& label,
+                  const OpenLayer& open) {
   out.fid = fid;
   out.label = label;
   out.attributes = Attributes(feature);
+  TB_RETURN_IF_ERROR(CheckAttributes(out.attributes, label));
   if (open.tag_index >= 0 && feature.IsFieldSetAndNotNull(open.tag_index))
     out.tag = feature.GetFieldAsString(open.tag_index);
+  return Status::Ok();
 }
 
 Result<Polygon> ReadPolygon(const OpenLayer& open, const OGRPolygon& polygon,
@@ -301,7 +327,7 @@ Result<std::vector<PolygonFeature>> ReadPolygonFeatures(const std::string& path,
                                            ", not a Polygon or MultiPolygon");
         }
         PolygonFeature out;
-        FillCommon(out, feature, fid, label, open);
+        TB_RETURN_IF_ERROR(FillCommon(out, feature, fid, label, open));
         for (size_t p = 0; p < parts.size(); ++p) {
           const std::string prefix =
               label + (parts.size() > 1 ? ", polygon " + std::to_string(p) : "") + ", ";
@@ -338,7 +364,7 @@ Result<std::vector<LineFeature>> ReadLineFeatures(const std::string& path,
                                            ", not a LineString or MultiLineString");
         }
         LineFeature out;
-        FillCommon(out, feature, fid, label, open);
+        TB_RETURN_IF_ERROR(FillCommon(out, feature, fid, label, open));
         out.has_z = !parts.empty();
         for (size_t k = 0; k < parts.size(); ++k) {
           const std::string what = label + ", line " + std::to_string(k);

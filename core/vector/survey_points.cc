@@ -9,6 +9,7 @@
 #include <memory>
 #include <set>
 
+#include "core/base/number_text.h"
 #include "core/geometry/reproject.h"
 #include "core/pointcloud/point_tin.h"
 #include "core/vector/gdal_session.h"
@@ -62,6 +63,9 @@ Status AddGeometry(const OGRGeometry* g, const std::string& label, SurveyPoints*
     if (p.IsEmpty()) return Status::InvalidArgument(name + ": an empty point");
     if (!std::isfinite(p.getX()) || !std::isfinite(p.getY()) || !std::isfinite(p.getZ()))
       return Status::InvalidArgument(name + ": a coordinate is not a finite number");
+    // The 1e15 rule of every number from outside (core/base/number_text.h).
+    if (CheckNumber(p.getX()) || CheckNumber(p.getY()) || CheckNumber(p.getZ()))
+      return Status::InvalidArgument(name + ": a coordinate is larger in magnitude than 1e15");
     out->points.push_back({p.getX(), p.getY(), p.getZ(), VertexKind::kUser});
     out->labels.push_back(name);
   }

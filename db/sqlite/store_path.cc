@@ -43,6 +43,16 @@ Status StatProblem(const std::string& path, int errnum, Connection::Mode mode) {
   }
 }
 
+// Why a store cannot be created in `dir`, from access(2)'s errno: the directory may be missing
+// or read-only rather than forbidden.
+Status CreateProblem(const std::string& path, const std::string& dir, int errnum) {
+  std::string why = "permission denied in its directory " + dir;
+  if (errnum == ENOENT) why = "there is no directory " + dir;
+  if (errnum == ENOTDIR) why = dir + " is not a directory";
+  if (errnum == EROFS) why = "its directory " + dir + " is on a read-only file system";
+  return Status::InvalidArgument(path + ": cannot create the store: " + why);
+}
+
 }  // namespace
 
 std::string DescribeSystemError(int errnum) {
@@ -80,11 +90,10 @@ Status StorePathProblem(const std::string& path, Connection::Mode mode) {
   }
   const std::string dir = DirectoryOf(path);
   const bool dir_writable = ::access(dir.c_str(), W_OK | X_OK) == 0;
+  const int dir_errno = dir_writable ? 0 : errno;
   switch (mode) {
     case Connection::Mode::kCreate:
-      if (!dir_writable)
-        return Status::InvalidArgument(path + ": cannot create the store: permission denied in " +
-                                       "its directory " + dir);
+      if (!dir_writable) return CreateProblem(path, dir, dir_errno);
       return Status::Ok();
     case Connection::Mode::kReadWrite:
       if (::access(path.c_str(), R_OK | W_OK) != 0)

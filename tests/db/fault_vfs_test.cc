@@ -27,6 +27,8 @@
 #include "db/polygon_editor.h"
 #include "db/store.h"
 #include "db/surface_builder.h"
+#include "db/surface_store.h"
+#include "db/tiles/tile_pyramid.h"
 #include "tests/support/polygon_files.h"
 #include "tests/support/test_support.h"
 #include "tests/support/tin_fixtures.h"
@@ -131,7 +133,9 @@ struct LoopReport {
 class FaultVfsTest : public ::testing::Test {
  protected:
   // Stores made once: "empty" (no DEM, the CRS set), "dem" (the Hamersley DEM), "surface"
-  // (with a greedy surface "terrain" at 10 m over it) and "feature" (with a fill polygon on it).
+  // (with a greedy surface "terrain" at 10 m over it), "feature" (with a fill polygon on it) and
+  // "coarse" (the DEM with a greedy surface "coarse" at 100 m, for the tile pyramid: the loop
+  // builds the pyramid once per I/O of it, so the surface is kept small).
   static void SetUpTestSuite() {
     bases_ = new TempDir();
     auto store = Store::Create(Base("empty"), "EPSG:28350");
@@ -151,6 +155,11 @@ class FaultVfsTest : public ::testing::Test {
     store = Store::Open(Base("feature"));
     ASSERT_TRUE(store.ok()) << store.status().ToString();
     ASSERT_TRUE(AddPolygon(**store, *bases_, false).ok());
+    store->reset();
+    std::filesystem::copy_file(Base("dem"), Base("coarse"));
+    store = Store::Open(Base("coarse"));
+    ASSERT_TRUE(store.ok()) << store.status().ToString();
+    ASSERT_TRUE(BuildSurface(**store, "coarse", 100).ok());
   }
   static void TearDownTestSuite() {
     delete bases_;
@@ -173,6 +182,26 @@ class FaultVfsTest : public ::testing::Test {
     o.surface = name;
     o.greedy.tolerance = tolerance;
     return BuildSurfaceFromDem(store, o).status();
+  }
+  // The tile pyramid of "coarse", six levels deep (a few hundred I/Os): the loop runs the build
+  // once per I/O of it.
+  static Status BuildTiles(Store& store, const TempDir&) {
+    auto surface = SurfaceStore(store).Find("coarse");
+    if (!surface.ok()) return surface.status();
+    TileBuildOptions o;
+    o.max_zoom = 5;
+    o.extensions.normals = true;
+    return BuildTilePyramid(store, *surface, o).status();
+  }
+  // Replaces the feature of "feature" by a polygon that overlaps it, as the file comment of
+  // UpdatePolygon says: one transaction that removes the old feature and adds the new one.
+  static Status UpdateLastPolygon(Store& store, const TempDir& dir) {
+    auto id = store.db().QueryInt("SELECT max(id) FROM features");
+    if (!id.ok()) return id.status();
+    PolygonAddOptions o;
+    o.file = testing::WritePolygons(dir, "moved.geojson",
+                                    {{testing::Ngon(kCx + 2 * kCell, kCy + kCell, 5 * kCell, 10)}});
+    return UpdatePolygon(store, *id, o).status();
   }
   // Adds fill polygons to "terrain" from a file of two: the first when `rings` has bit 1, the
   // second when it has bit 2 (an attribute filter picks them, so each keeps its attributes), one
@@ -344,6 +373,10 @@ TEST_F(FaultVfsTest, PolygonRemove) {
     return RemovePolygon(s, *id).status();
   });
 }
+
+TEST_F(FaultVfsTest, PolygonUpdate) { LoopEveryError("feature", UpdateLastPolygon); }
+
+TEST_F(FaultVfsTest, TilesBuild) { LoopEveryError("coarse", BuildTiles); }
 
 TEST_F(FaultVfsTest, TinBuild) { LoopEveryError("dem", BuildCoarse); }
 

@@ -4,6 +4,7 @@
 # tests/stress/crash_loop_test.cc (the test command runs 50 of them).
 #   tests/stress/crash_loop.sh [BUILD_DIR] [KILLS] [SEED]
 # BUILD_DIR defaults to build/test (configured with -DTINBASE_BUILD_TESTS=ON); SEED replays a run.
+# The rounds run a copy of the tinbase binary, so that a rebuild meanwhile does not disturb them.
 set -euo pipefail
 build=${1:-build/test}
 kills=${2:-1000}
@@ -13,5 +14,10 @@ if [[ ! -x "$binary" ]]; then
   exit 1
 fi
 export TINBASE_CRASH_KILLS="$kills"
+copy=$(mktemp -d)
+trap 'rm -rf "$copy"' EXIT
+cp "$build/apps/tinbase" "$copy/tinbase"
+cp "$binary" "$copy/crash_loop_test"
+export TINBASE_CRASH_CLI="$copy/tinbase"
 if [[ $# -ge 3 ]]; then export TINBASE_CRASH_SEED="$3"; fi
-exec "$binary" --gtest_brief=1
+"$copy/crash_loop_test" --gtest_brief=1

@@ -1,14 +1,17 @@
 // The crash loop (docs/reliability.md, "kill -9"): writing commands of the CLI killed with
-// SIGKILL at random moments, one after another on one store. Each round picks a command (polygon
-// add, add --each, remove and update, tin build, points import, dem import), starts it, kills it
-// after a random delay up to about its usual run time, and then demands:
-//   - `check --full` passes;
-//   - the store holds all or none of each of the command's transactions: the change log and the
-//     rows the command writes (features, surfaces, DEMs) moved together, by whole transactions;
+// SIGKILL at random moments, one after another on one store. Each round picks one of the commands
+// of tests/stress/crash_commands.h (every command that writes: polygon add, add --each, remove
+// and update, points add and remove, revert, tin build, points import of XYZ and of LAS, dem
+// import, tiles build and update), starts it, kills it after a random delay up to about its
+// usual run time, and then demands:
+//   - the full check (every invariant, as `check --full` runs it) passes;
+//   - the store holds all or none of each of the command's transactions (ExpectWhole);
 //   - a command that finished before the kill exited 0 and did all of its work.
 // The test command runs kKills rounds; TINBASE_CRASH_KILLS sets another count (the full run of
 // tests/stress/crash_loop.sh is 1000) and TINBASE_CRASH_SEED replays a run. The store starts
-// again from its first state every kRoundsPerStore rounds, so the checks stay as cheap.
+// again from its first state every kRoundsPerStore rounds, so the checks stay as cheap. The check
+// runs in this process (one store open per round, no second binary's start-up), and the counts
+// after a round are the counts before the next one.
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <signal.h>
@@ -28,6 +31,9 @@
 #include <thread>
 #include <vector>
 
+#include "db/integrity_check.h"
+#include "db/store.h"
+#include "tests/stress/crash_commands.h"
 #include "tests/support/cli_support.h"
 #include "tests/support/polygon_files.h"
 #include "tests/support/test_support.h"
@@ -36,46 +42,20 @@ namespace tinbase::testing {
 namespace {
 
 constexpr int kKills = 50;
-constexpr int kRoundsPerStore = 25;
+constexpr int kRoundsPerStore = 20;
 // Centre of the Hamersley DEM (EPSG:28350), and its cell size.
 constexpr double kCx = 539300, kCy = 7497340, kCell = 344.404386931320971;
 
-enum class Command { kAdd, kAddEach, kRemove, kUpdate, kBuild, kPoints, kDem, kCount };
-
-const char* Name(Command c) {
-  static const char* names[] = {"polygon add",    "polygon add --each", "polygon remove",
-                                "polygon update", "tin build",          "points import",
-                                "dem import"};
-  return names[static_cast<int>(c)];
-}
-
-// The rows a command's transactions write, counted.
-struct Counts {
-  int64_t changes = 0, features = 0, surfaces = 0, dems = 0, max_feature = 0;
-};
-
-Counts CountRows(const std::string& store) {
-  Counts c;
-  auto opened = Store::Open(store, Store::Access::kReadOnly);
-  EXPECT_TRUE(opened.ok()) << opened.status().ToString();
-  if (!opened.ok()) return c;
-  Connection& db = (*opened)->db();
-  auto count = [&db](const char* sql) {
-    auto n = db.QueryInt(sql);
-    EXPECT_TRUE(n.ok()) << sql << ": " << n.status().ToString();
-    return n.ok() ? *n : -1;
-  };
-  c.changes = count("SELECT count(*) FROM changes");
-  c.features = count("SELECT count(*) FROM features");
-  c.surfaces = count("SELECT count(*) FROM surfaces");
-  c.dems = count("SELECT count(*) FROM dems");
-  c.max_feature = count("SELECT coalesce(max(id), 0) FROM features");
-  return c;
+// The binary the rounds run: TINBASE_CRASH_CLI when set (a copy, so that a long run is not
+// disturbed by a rebuild of the tree's binary), else the tree's.
+const char* Cli() {
+  const char* cli = std::getenv("TINBASE_CRASH_CLI");
+  return cli != nullptr ? cli : TINBASE_CLI;
 }
 
 // Runs `args` (split on spaces; no argument holds one) as a child; returns its pid.
 pid_t Start(const std::string& args) {
-  std::vector<std::string> words = {TINBASE_CLI, "--quiet"};
+  std::vector<std::string> words = {Cli(), "--quiet"};
   size_t at = 0;
   while (at < args.size()) {
     const size_t space = std::min(args.find(' ', at), args.size());
@@ -91,7 +71,7 @@ pid_t Start(const std::string& args) {
     const int null = open("/dev/null", O_WRONLY);
     dup2(null, STDOUT_FILENO);
     dup2(null, STDERR_FILENO);
-    execv(TINBASE_CLI, argv.data());
+    execv(Cli(), argv.data());
     _exit(127);
   }
   return pid;
@@ -127,26 +107,43 @@ Outcome RunAndKill(const std::string& args, std::chrono::microseconds delay) {
   return outcome;
 }
 
+// Seconds a run spent in each part of its rounds, to see where a kill cycle's time goes.
+struct Spent {
+  double reset = 0, command = 0, check = 0;
+};
+
 class CrashLoop {
  public:
   CrashLoop(const TempDir& dir, uint32_t seed) : dir_(dir), random_(seed) {
     base_ = dir.Path("base.tinbase");
     store_ = dir.Path("s.tinbase");
-    RunWrite(base_, "init " + base_ + " --crs EPSG:28350");
-    RunWrite(base_, "dem import " + base_ + " " + DataPath("geology/hamersley/dtm_rp.tif"));
-    RunWrite(base_, "tin build " + base_ + " --surface terrain --tolerance 10");
+    for (const std::string& args :
+         {"init " + base_ + " --crs EPSG:28350",
+          "dem import " + base_ + " " + DataPath("geology/hamersley/dtm_rp.tif"),
+          "tin build " + base_ + " --surface terrain --tolerance 20"}) {
+      const Outcome setup = RunAndKill(args, std::chrono::hours(1));
+      EXPECT_TRUE(!setup.killed && setup.exit_code == 0) << args;
+    }
     WritePoints();
     for (double& s : usual_seconds_) s = -1;
   }
 
   // One round; returns false after a failure.
   bool Round(int round) {
-    if (round % kRoundsPerStore == 0) Reset();
-    const Counts before = CountRows(store_);
-    Command command = static_cast<Command>(random_() % static_cast<int>(Command::kCount));
-    if ((command == Command::kRemove || command == Command::kUpdate) && before.features == 0)
-      command = Command::kAdd;
+    auto at = std::chrono::steady_clock::now();
+    const auto lap = [&at](double& into) {
+      const auto now = std::chrono::steady_clock::now();
+      into += std::chrono::duration<double>(now - at).count();
+      at = now;
+    };
+    if (round % kRoundsPerStore == 0) {
+      Reset();
+      if (!Check(&counts_)) return false;
+    }
+    const Counts before = counts_;
+    const Command command = Pick(before);
     const std::string args = Args(command, round, before);
+    lap(spent_.reset);
     // The first run of each command goes unkilled, to learn how long it takes here; later ones
     // are killed at a uniform moment of up to 1.2 times the last time one took.
     const double usual = usual_seconds_[static_cast<int>(command)];
@@ -154,11 +151,13 @@ class CrashLoop {
         usual < 0 ? 3600 : std::uniform_real_distribution<double>(0, 1.2 * usual)(random_);
     const auto delay = std::chrono::microseconds(static_cast<int64_t>(delay_seconds * 1e6));
     const Outcome outcome = RunAndKill(args, delay);
+    lap(spent_.command);
     if (!outcome.killed) {
       usual_seconds_[static_cast<int>(command)] = outcome.seconds;
       ++finished_;
     } else {
       ++killed_;
+      ++kills_of_[static_cast<int>(command)];
     }
     std::ostringstream what;
     what << "round " << round << ", " << Name(command)
@@ -167,24 +166,54 @@ class CrashLoop {
     if (!outcome.killed) {
       EXPECT_EQ(outcome.exit_code, 0) << args;
     }
-    const CliResult check = RunCli("check --full " + Quote(store_));
-    EXPECT_EQ(check.exit_code, 0) << check.out << check.err;
-    const Counts after = CountRows(store_);
-    ExpectWhole(command, before, after, !outcome.killed);
+    Counts after;
+    if (Check(&after)) ExpectWhole(command, before, after, !outcome.killed);
+    lap(spent_.check);
     if (outcome.killed && (after.changes != before.changes || after.surfaces != before.surfaces ||
-                           after.dems != before.dems))
+                           after.dems != before.dems || !SameTiles(after, before)))
       ++killed_after_a_commit_;
+    counts_ = after;
     return !::testing::Test::HasFailure();
   }
 
   int killed() const { return killed_; }
   int finished() const { return finished_; }
   int killed_after_a_commit() const { return killed_after_a_commit_; }
+  int kills_of(Command c) const { return kills_of_[static_cast<int>(c)]; }
+  const Spent& spent() const { return spent_; }
 
  private:
   void Reset() {
     for (const char* suffix : {"", "-wal", "-shm"}) std::filesystem::remove(store_ + suffix);
     std::filesystem::copy_file(base_, store_);
+  }
+
+  // Opens the store as `check --full` does (read-only: this open is the one that meets a killed
+  // writer's WAL), runs the full check and counts the rows. False after a failure.
+  bool Check(Counts* counts) {
+    auto store = Store::Open(store_, Store::Access::kReadOnly);
+    EXPECT_TRUE(store.ok()) << store.status().ToString();
+    if (!store.ok()) return false;
+    CheckOptions options;
+    options.full = true;
+    auto problems = CheckStore(**store, options);
+    EXPECT_TRUE(problems.ok()) << problems.status().ToString();
+    if (!problems.ok()) return false;
+    EXPECT_TRUE(problems->empty())
+        << problems->front().message << " and " << problems->size() - 1 << " more";
+    *counts = CountRows((*store)->db());
+    return problems->empty();
+  }
+
+  // A command at random; one that needs something the store lacks becomes the one that makes it.
+  Command Pick(const Counts& c) {
+    Command command = static_cast<Command>(random_() % static_cast<int>(Command::kCount));
+    if ((command == Command::kRemove || command == Command::kUpdate) && c.max_polygon == 0)
+      return Command::kAdd;
+    if (command == Command::kRevert && c.last_edit_tx == 0) return Command::kAdd;
+    if (command == Command::kPointsRemove && c.max_points == 0) return Command::kPointsAdd;
+    if (command == Command::kTilesUpdate && c.pyramid_tx < 0) return Command::kTilesBuild;
+    return command;
   }
 
   void WritePoints() {
@@ -207,6 +236,18 @@ class CrashLoop {
     return WritePolygons(dir_, count == 1 ? "one.geojson" : "some.geojson", polygons);
   }
 
+  // Three survey points at random places of the DEM's middle, within its relief there.
+  std::string SurveyPoints() {
+    std::uniform_real_distribution<double> offset(-40 * kCell, 40 * kCell);
+    std::uniform_real_distribution<double> z(480, 620);
+    const std::string path = dir_.Path("shots.xyz");
+    std::ofstream out(path);
+    out.precision(17);
+    for (int k = 0; k < 3; ++k)
+      out << kCx + offset(random_) << " " << kCy + offset(random_) << " " << z(random_) << "\n";
+    return path;
+  }
+
   std::string Args(Command command, int round, const Counts& before) {
     const std::string n = std::to_string(round);
     switch (command) {
@@ -216,94 +257,43 @@ class CrashLoop {
         return "polygon add " + store_ + " " + Polygons(3) +
                " --surface terrain --mode fill --tag-field unit --each";
       case Command::kRemove:
-        return "polygon remove " + store_ + " " + std::to_string(before.max_feature);
+        return "polygon remove " + store_ + " " + std::to_string(before.max_polygon);
       case Command::kUpdate:
-        return "polygon update " + store_ + " " + std::to_string(before.max_feature) + " " +
+        return "polygon update " + store_ + " " + std::to_string(before.max_polygon) + " " +
                Polygons(1);
+      case Command::kPointsAdd:
+        return "points add " + store_ + " " + SurveyPoints() + " --surface terrain";
+      case Command::kPointsRemove:
+        return "points remove " + store_ + " --feature " + std::to_string(before.max_points);
+      case Command::kRevert:
+        return "revert " + store_ + " " + std::to_string(before.last_edit_tx);
       case Command::kBuild:
-        return "tin build " + store_ + " --surface b" + n + " --dem dtm_rp --tolerance 20";
+        return "tin build " + store_ + " --surface b" + n + " --dem dtm_rp --tolerance 40";
       case Command::kPoints:
         return "points import " + store_ + " " + dir_.Path("points.xyz") + " --surface p" + n;
+      case Command::kLas:
+        return "points import " + store_ + " " + DataPath("las/mvk-thin.las") + " --surface l" + n;
       case Command::kDem:
         return "dem import " + store_ + " " + DataPath("geology/hamersley/dtm_rp.tif") +
                " --name d" + n;
+      case Command::kTilesBuild:
+        return "tiles build " + store_ + " --surface terrain --max-zoom 7";
+      case Command::kTilesUpdate:
+        return "tiles update " + store_ + " --surface terrain";
       case Command::kCount:
         break;
     }
     return "";
   }
 
-  // All or none of each transaction: what the change log gained, the rows moved by.
-  void ExpectWhole(Command command, const Counts& b, const Counts& a, bool finished) {
-    const int64_t logged = a.changes - b.changes;
-    const int64_t features = a.features - b.features;
-    const int64_t surfaces = a.surfaces - b.surfaces;
-    const int64_t dems = a.dems - b.dems;
-    EXPECT_GE(logged, 0);
-    switch (command) {
-      case Command::kAdd:
-        EXPECT_LE(logged, 1);
-        EXPECT_EQ(features, logged);
-        if (finished) {
-          EXPECT_EQ(logged, 1);
-        }
-        break;
-      case Command::kAddEach:
-        EXPECT_LE(logged, 3);
-        EXPECT_EQ(features, logged);
-        break;
-      case Command::kRemove:
-        EXPECT_LE(logged, 1);
-        EXPECT_EQ(features, -logged);
-        if (finished) {
-          EXPECT_EQ(logged, 1);
-        }
-        break;
-      case Command::kUpdate:
-        EXPECT_LE(logged, 1);
-        EXPECT_EQ(features, 0);
-        EXPECT_EQ(a.max_feature > b.max_feature, logged == 1);
-        if (finished) {
-          EXPECT_EQ(logged, 1);
-        }
-        break;
-      case Command::kBuild:
-        EXPECT_LE(surfaces, 1);
-        EXPECT_GE(surfaces, 0);
-        EXPECT_EQ(logged, surfaces);
-        if (finished) {
-          EXPECT_EQ(surfaces, 1);
-        }
-        break;
-      case Command::kPoints:
-        EXPECT_LE(surfaces, 1);
-        EXPECT_GE(surfaces, 0);
-        EXPECT_EQ(features, 0);
-        if (finished) {
-          EXPECT_EQ(surfaces, 1);
-        }
-        break;
-      case Command::kDem:
-        EXPECT_LE(dems, 1);
-        EXPECT_GE(dems, 0);
-        EXPECT_EQ(logged, 0);
-        if (finished) {
-          EXPECT_EQ(dems, 1);
-        }
-        break;
-      case Command::kCount:
-        break;
-    }
-    const bool edits_features = command == Command::kAdd || command == Command::kAddEach ||
-                                command == Command::kRemove || command == Command::kUpdate;
-    EXPECT_TRUE(edits_features || features == 0) << "features moved by " << features;
-  }
-
   const TempDir& dir_;
   std::mt19937 random_;
   std::string base_, store_;
+  Counts counts_;
   double usual_seconds_[static_cast<int>(Command::kCount)];
+  int kills_of_[static_cast<int>(Command::kCount)] = {};
   int killed_ = 0, finished_ = 0, killed_after_a_commit_ = 0;
+  Spent spent_;
 };
 
 int KillsWanted() {
@@ -329,7 +319,14 @@ TEST(CrashLoopTest, KilledWritersLeaveWholeTransactionsAndAStoreThatChecksClean)
   }
   std::cout << "kills: " << loop.killed() << " (" << loop.killed_after_a_commit()
             << " after a commit of the command), commands that ended first: " << loop.finished()
-            << "\n";
+            << "\nkills per command:";
+  for (int c = 0; c < static_cast<int>(Command::kCount); ++c)
+    std::cout << (c == 0 ? " " : ", ") << Name(static_cast<Command>(c)) << " "
+              << loop.kills_of(static_cast<Command>(c));
+  const Spent& spent = loop.spent();
+  std::cout << "\nseconds in picking and resetting: " << spent.reset
+            << ", in the commands (to their kill or end): " << spent.command
+            << ", in the check and counts: " << spent.check << "\n";
   EXPECT_GE(loop.killed(), wanted);
 }
 
