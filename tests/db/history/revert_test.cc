@@ -288,5 +288,43 @@ TEST_F(RevertTest, PointsAddAndRemoveAreRevertedExactly) {
   testing::ExpectSameMesh(original, testing::SignatureOf(*store_), "after reverting the add");
 }
 
+// Points edits whose rows a later polygon replaced: the revert takes the points out, or puts them
+// back, through the points editor (their own z), says it is not exact, and keeps every invariant.
+TEST_F(RevertTest, PointsRevertsWhoseRowsChangedGoThroughThePointsEditor) {
+  PointsAddOptions o;
+  o.surface = "terrain";
+  o.points =
+      std::vector<TinVertex>{{kCx + 0.3 * kCell, kCy + 0.2 * kCell, 650.5, VertexKind::kUser},
+                             {kCx - 1.1 * kCell, kCy + 0.4 * kCell, 640.25, VertexKind::kUser}};
+  o.labels = {"p1", "p2"};
+  auto added = AddPoints(*store_, o);
+  ASSERT_TRUE(added.ok()) << added.status().ToString();
+  const auto user_vertices = [&] {
+    return *store_->db().QueryInt("SELECT count(*) FROM vertices WHERE kind = 'user'");
+  };
+  ASSERT_EQ(user_vertices(), 2);
+  Add("fill.geojson", Ngon(kCx, kCy, 3 * kCell, 11));
+  const RevertReport out = Revert(added->tx);
+  EXPECT_FALSE(out.exact);
+  EXPECT_EQ(out.removed_features, added->features_added);
+  EXPECT_EQ(user_vertices(), 0);
+
+  // Undoing that revert puts them back (exactly: the revert kept its own image); then removed,
+  // covered again, and the removal reverted: back through the points editor.
+  EXPECT_TRUE(Revert(out.transactions.at(0)).exact);
+  EXPECT_EQ(user_vertices(), 2);
+  PointsRemoveOptions remove;
+  remove.feature = added->features_added.at(0);
+  auto removed = RemovePoints(*store_, remove);
+  ASSERT_TRUE(removed.ok()) << removed.status().ToString();
+  Add("erase.geojson", Ngon(kCx, kCy, 2 * kCell, 9), FeatureMode::kErase);
+  const RevertReport back = Revert(removed->tx);
+  EXPECT_FALSE(back.exact);
+  EXPECT_EQ(back.restored_features, added->features_added);
+  EXPECT_EQ(user_vertices(), 2);
+  EXPECT_EQ(
+      *store_->db().QueryInt("SELECT count(*) FROM vertices WHERE kind = 'user' AND z = 650.5"), 1);
+}
+
 }  // namespace
 }  // namespace tinbase
