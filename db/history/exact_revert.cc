@@ -126,7 +126,8 @@ Result<ExactRevertOutcome> TryExactRevert(Store& store, const RevertPlan& plan,
   change.action = action;
   TB_ASSIGN_OR_RETURN(out.done.tx, AppendChange(store, change));
   TB_RETURN_IF_ERROR(RestoreFeatures(store, plan, out.done.tx));
-  TB_RETURN_IF_ERROR(WriteMeshRows(store.db(), plan.surface.id, *after));
+  // Rows the images leave as they are now (a repaint that came to nothing) are not rewritten.
+  TB_RETURN_IF_ERROR(WriteMeshRows(store.db(), plan.surface.id, after->DifferentFrom(now)));
   // Its own image: what it replaced, and how it left those rows (undoing it redoes exactly).
   TB_RETURN_IF_ERROR(StoreMeshImage(store, out.done.tx, {plan.surface.id, now, Digest(*after)}));
   TB_RETURN_IF_ERROR(RecordExactChange(store, out.done.tx, plan, now, *after));

@@ -194,6 +194,22 @@ MeshRowSet MeshRowSet::At(const MeshRowSet& keys) const {
   return out;
 }
 
+MeshRowSet MeshRowSet::DifferentFrom(const MeshRowSet& other) const {
+  const auto same_vertex = [](const std::optional<VertexRow>& a,
+                              const std::optional<VertexRow>& b) {
+    if (a.has_value() != b.has_value()) return false;
+    return !a || (a->x == b->x && a->y == b->y && a->z == b->z && a->kind == b->kind);
+  };
+  MeshRowSet out;
+  for (const auto& [id, t] : triangles)
+    if (other.triangles.at(id) != t) out.triangles.emplace(id, t);
+  for (const auto& [id, v] : vertices)
+    if (!same_vertex(other.vertices.at(id), v)) out.vertices.emplace(id, v);
+  for (const auto& [e, c] : constraints)
+    if (other.constraints.at(e) != c) out.constraints.emplace(e, c);
+  return out;
+}
+
 uint64_t Digest(const MeshRowSet& rows) {
   ByteWriter w;
   PutRows(w, rows);

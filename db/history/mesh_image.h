@@ -15,6 +15,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "core/base/status.h"
@@ -29,7 +30,9 @@ struct EdgeConstraint {
   bool soft = false;               // kind 'soft' (a softline), else 'hard'
 
   friend bool operator==(const EdgeConstraint&, const EdgeConstraint&) = default;
-  friend auto operator<=>(const EdgeConstraint&, const EdgeConstraint&) = default;
+  friend bool operator<(const EdgeConstraint& a, const EdgeConstraint& b) {
+    return std::tie(a.feature, a.soft) < std::tie(b.feature, b.soft);
+  }
 };
 
 // Mesh rows of one surface at a set of keys; nullopt (or no constraint row) where the key has
@@ -47,6 +50,9 @@ struct MeshRowSet {
   void Overwrite(const MeshRowSet& other);
   // This set's values at the keys of `keys` (a key this set lacks is a bug: asserted).
   MeshRowSet At(const MeshRowSet& keys) const;
+  // The keys whose value differs from `other`'s at the same key (REQUIRES: the same keys), with
+  // this set's values: what must be written to turn `other` into this.
+  MeshRowSet DifferentFrom(const MeshRowSet& other) const;
 };
 
 struct MeshImage {
