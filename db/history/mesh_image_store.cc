@@ -5,6 +5,8 @@
 #include <utility>
 #include <vector>
 
+#include "db/sql/bulk_write.h"
+
 namespace tinbase {
 
 namespace {
@@ -122,19 +124,19 @@ Status WriteTriangles(Connection& db, int64_t surface, const MeshRowSet& rows) {
                       db.Cached("DELETE FROM triangles WHERE id >= ? AND id <= ?"));
   for (const auto& [first, last] : IdRuns(rows.triangles))
     TB_RETURN_IF_ERROR(erase->Bind(1, first).Bind(2, last).Run());
-  TB_ASSIGN_OR_RETURN(Statement * insert,
-                      db.Cached("INSERT INTO triangles(id, surface, v0, v1, v2, n0, n1, n2, "
-                                "visible, tag, block) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)"));
-  for (const auto& [id, t] : rows.triangles) {
-    if (!t) continue;
-    insert->Bind(1, id).Bind(2, surface);
-    for (int k = 0; k < 3; ++k) insert->Bind(3 + k, t->v[k]);
-    for (int k = 0; k < 3; ++k) BindOptional(*insert, 6 + k, t->n[k]);
-    insert->Bind(9, static_cast<int64_t>(t->visible ? 1 : 0));
-    BindOptional(*insert, 10, t->tag);
-    TB_RETURN_IF_ERROR(insert->Bind(11, t->block).Run());
-  }
-  return Status::Ok();
+  std::vector<std::pair<int64_t, const TriangleRow*>> present;
+  for (const auto& [id, t] : rows.triangles)
+    if (t) present.emplace_back(id, &*t);
+  return InsertRows(db, "triangles(id, surface, v0, v1, v2, n0, n1, n2, visible, tag, block)", 11,
+                    present.size(), [&](Statement& row, int p, size_t k) {
+                      const auto& [id, t] = present[k];
+                      row.Bind(p, id).Bind(p + 1, surface);
+                      for (int c = 0; c < 3; ++c) row.Bind(p + 2 + c, t->v[c]);
+                      for (int c = 0; c < 3; ++c) BindOptional(row, p + 5 + c, t->n[c]);
+                      row.Bind(p + 8, static_cast<int64_t>(t->visible ? 1 : 0));
+                      BindOptional(row, p + 9, t->tag);
+                      row.Bind(p + 10, t->block);
+                    });
 }
 
 Status WriteVertices(Connection& db, int64_t surface, const MeshRowSet& rows) {
@@ -142,14 +144,15 @@ Status WriteVertices(Connection& db, int64_t surface, const MeshRowSet& rows) {
                       db.Cached("DELETE FROM vertices WHERE id >= ? AND id <= ?"));
   for (const auto& [first, last] : IdRuns(rows.vertices))
     TB_RETURN_IF_ERROR(erase->Bind(1, first).Bind(2, last).Run());
-  TB_ASSIGN_OR_RETURN(Statement * insert, db.Cached("INSERT INTO vertices(id, surface, x, y, z, "
-                                                    "kind) VALUES (?, ?, ?, ?, ?, ?)"));
-  for (const auto& [id, v] : rows.vertices) {
-    if (!v) continue;
-    insert->Bind(1, id).Bind(2, surface).Bind(3, v->x).Bind(4, v->y).Bind(5, v->z);
-    TB_RETURN_IF_ERROR(insert->BindStaticText(6, VertexKindName(v->kind)).Run());
-  }
-  return Status::Ok();
+  std::vector<std::pair<int64_t, const VertexRow*>> present;
+  for (const auto& [id, v] : rows.vertices)
+    if (v) present.emplace_back(id, &*v);
+  return InsertRows(db, "vertices(id, surface, x, y, z, kind)", 6, present.size(),
+                    [&](Statement& row, int p, size_t k) {
+                      const auto& [id, v] = present[k];
+                      row.Bind(p, id).Bind(p + 1, surface).Bind(p + 2, v->x).Bind(p + 3, v->y);
+                      row.Bind(p + 4, v->z).BindStaticText(p + 5, VertexKindName(v->kind));
+                    });
 }
 
 Status WriteConstraints(Connection& db, int64_t surface, const MeshRowSet& rows) {
