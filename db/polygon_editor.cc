@@ -19,6 +19,7 @@
 #include "db/edit/update_engine_test_hooks.h"
 #include "db/feature_store.h"
 #include "db/history/feature_versions.h"
+#include "db/history/mesh_image_store.h"
 #include "db/mesh/mesh_tables.h"
 #include "db/mesh_cache.h"
 #include "db/point_locator.h"
@@ -464,9 +465,12 @@ Result<PolygonAddReport> ApplyEditOnce(SurfaceSession& session, std::vector<NewF
   TB_RETURN_IF_ERROR(RecordFeatureVersions(store, report.tx, report.feature_ids, removed));
   UpdateEngine engine(store, session.surface, session.dems, session.dem);
   engine.set_mesh_cache(&session.mesh);
+  MeshImage image;
+  engine.set_mesh_image(&image);
   TB_ASSIGN_OR_RETURN(EditResult result, engine.Apply(edit));
   for (int64_t id : removed) TB_RETURN_IF_ERROR(DeleteFeature(store, id));
   TB_RETURN_IF_ERROR(RecordChange(store, report.tx, added, removed, result, edit.changed));
+  TB_RETURN_IF_ERROR(RecordMeshImage(store, report.tx, std::move(image)));
   if (session.before_commit) TB_RETURN_IF_ERROR(session.before_commit(store, report.tx));
   if (tx) TB_RETURN_IF_ERROR(tx->Commit());
   session.features = std::move(edit.features);

@@ -289,3 +289,10 @@ CREATE TABLE feature_versions(
   PRIMARY KEY (feature, tx)
 );
 CREATE INDEX feature_versions_tx ON feature_versions(tx);
+
+CREATE TABLE mesh_images(
+  tx      bigint PRIMARY KEY,
+  surface bigint NOT NULL REFERENCES surfaces(id) ON DELETE CASCADE
+          DEFERRABLE INITIALLY DEFERRED,
+  image   bytea NOT NULL
+);

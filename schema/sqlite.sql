@@ -379,3 +379,9 @@ CREATE TABLE feature_versions(
   PRIMARY KEY (feature, tx)
 ) WITHOUT ROWID;
 CREATE INDEX feature_versions_tx ON feature_versions(tx);
+
+CREATE TABLE mesh_images(
+  tx      INTEGER PRIMARY KEY,
+  surface INTEGER NOT NULL REFERENCES surfaces(id) ON DELETE CASCADE,
+  image   BLOB NOT NULL
+);

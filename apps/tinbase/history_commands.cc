@@ -9,6 +9,7 @@
 #include "apps/tinbase/output.h"
 #include "db/history/feature_versions.h"
 #include "db/history/revert.h"
+#include "db/tiles/tile_pyramid.h"
 
 namespace tinbase::cli {
 
@@ -17,7 +18,27 @@ namespace {
 struct RevertArgs : ReadArgs {
   int64_t tx = 0;
   bool cascade = false;
+  bool update_tiles = false;
 };
+
+// Tiles rewritten or deleted by one pyramid update: surface name, rewritten, deleted.
+struct TilesUpdated {
+  std::string surface;
+  int64_t rewritten = 0;
+  int64_t deleted = 0;
+};
+
+// --update-tiles: every pyramid brought up to date inside the revert's transaction, so the revert
+// and its tiles commit together (a failure rolls the revert back).
+BeforeCommit UpdateTilesWithRevert(std::vector<TilesUpdated>* out) {
+  return [out](Store& store, int64_t /*tx*/) -> Status {
+    auto updated = UpdateAllTilePyramids(store);
+    if (!updated.ok()) return updated.status().WithContext("updating the tiles of the revert");
+    for (const auto& [surface, r] : *updated)
+      out->push_back({surface.name, r.tiles_rewritten, r.tiles_deleted});
+    return Status::Ok();
+  };
+}
 
 std::string JoinIds(const std::vector<int64_t>& ids) {
   std::string out;
@@ -29,15 +50,27 @@ int RunRevert(const RevertArgs& args) {
   auto store = Store::Open(args.store);
   if (!store.ok()) return ReportError(store.status());
   Stopwatch watch;
-  auto report = RevertTransaction(**store, args.tx, {.cascade = args.cascade});
+  std::vector<TilesUpdated> tiles;
+  RevertOptions options;
+  options.cascade = args.cascade;
+  if (args.update_tiles) options.before_commit = UpdateTilesWithRevert(&tiles);
+  auto report = RevertTransaction(**store, args.tx, options);
   if (!report.ok()) return ReportError(report.status());
   if (args.json) {
-    const nlohmann::json j = {{"reverted", report->reverted},
-                              {"transactions", report->transactions},
-                              {"removed_features", report->removed_features},
-                              {"restored_features", report->restored_features},
-                              {"removed", report->removed},
-                              {"added", report->added}};
+    nlohmann::json j = {{"reverted", report->reverted},
+                        {"transactions", report->transactions},
+                        {"removed_features", report->removed_features},
+                        {"restored_features", report->restored_features},
+                        {"removed", report->removed},
+                        {"added", report->added},
+                        {"exact", report->exact}};
+    if (!report->exact) j["not_exact"] = report->not_exact;
+    if (args.update_tiles) {
+      j["tiles"] = nlohmann::json::array();
+      for (const TilesUpdated& t : tiles)
+        j["tiles"].push_back(
+            {{"surface", t.surface}, {"rewritten", t.rewritten}, {"deleted", t.deleted}});
+    }
     std::cout << j.dump(2) << "\n";
     return kExitOk;
   }
@@ -47,6 +80,15 @@ int RunRevert(const RevertArgs& args) {
                    JoinIds(report->restored_features) + "; "
             << report->removed << " triangles replaced by " << report->added << " in "
             << Num(watch.Seconds(), 3) << " s\n";
+  if (report->exact) {
+    std::cout << "the mesh is back exactly as it was (from the edits' mesh images)\n";
+  } else {
+    std::cout << "not the exact mesh: " << report->not_exact
+              << "; the region was re-triangulated and refined to the tolerance instead\n";
+  }
+  for (const TilesUpdated& t : tiles)
+    std::cout << "tiles of '" << t.surface << "': " << t.rewritten << " rewritten, " << t.deleted
+              << " deleted\n";
   return kExitOk;
 }
 
@@ -108,6 +150,8 @@ void RegisterHistoryCommands(CLI::App& app, int* exit_code) {
   r->add_option("tx", revert->tx, "The transaction to undo (see `changes`)")->required();
   r->add_flag("--cascade", revert->cascade,
               "Also undo the later edits of the same features (else they make it fail)");
+  r->add_flag("--update-tiles", revert->update_tiles,
+              "Bring every tile pyramid up to date in the revert's own transaction");
   r->add_flag("--json", revert->json, "Print JSON");
   r->callback([=] { *exit_code = RunRevert(*revert); });
 

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <memory>
 #include <set>
+#include <tuple>
 #include <utility>
 
 #include "core/geometry/polygon.h"
@@ -14,6 +15,8 @@
 #include "db/dem_store.h"
 #include "db/edit/point_screen.h"
 #include "db/edit/update_engine.h"
+#include "db/history/feature_versions.h"
+#include "db/history/mesh_image_store.h"
 #include "db/mesh_cache.h"
 #include "db/surface_store.h"
 
@@ -165,13 +168,18 @@ Result<PointsReport> AddPoints(Store& store, const PointsAddOptions& options) {
   std::sort(file_order.begin(), file_order.end());
   for (size_t i : file_order) feature.points.push_back(input.points[i]);
   TB_RETURN_IF_ERROR(WriteFeature(store, surface, tx.number, feature));
+  TB_RETURN_IF_ERROR(SettleFeatureId(store, 0, feature));
+  TB_RETURN_IF_ERROR(RecordFeatureVersions(store, tx.number, {feature.id}, {}));
 
   LocalEdit edit;
   for (size_t i : screened.kept) edit.add.push_back({{input.points[i]}, false, feature.id});
   UpdateEngine engine(store, session->surface, session->dems, session->dem);
   engine.set_mesh_cache(&mesh);
+  MeshImage image;
+  engine.set_mesh_image(&image);
   TB_ASSIGN_OR_RETURN(EditResult result, ApplyEdit(*session, engine, edit));
   TB_RETURN_IF_ERROR(RecordChange(store, tx.number, feature.id, result, screened.box));
+  TB_RETURN_IF_ERROR(RecordMeshImage(store, tx.number, std::move(image)));
   if (options.before_commit) TB_RETURN_IF_ERROR(options.before_commit(store, tx.number));
   TB_RETURN_IF_ERROR(tx.tx->Commit());
   report.inserted = static_cast<int64_t>(screened.kept.size());
@@ -233,6 +241,7 @@ Result<PointsReport> RemovePoints(Store& store, const PointsRemoveOptions& optio
     report.features_removed.push_back(f.id);
     if (rest.points.empty()) continue;
     TB_RETURN_IF_ERROR(WriteFeature(store, surface, tx.number, rest));
+    TB_RETURN_IF_ERROR(SettleFeatureId(store, 0, rest));
     report.features_added.push_back(rest.id);
   }
   if (going.empty())
@@ -248,12 +257,93 @@ Result<PointsReport> RemovePoints(Store& store, const PointsRemoveOptions& optio
                            edit.drop_vertices.end());
   UpdateEngine engine(store, session->surface, session->dems, session->dem);
   engine.set_mesh_cache(&mesh);
+  MeshImage image;
+  engine.set_mesh_image(&image);
   TB_ASSIGN_OR_RETURN(EditResult result, ApplyEdit(*session, engine, edit));
+  TB_RETURN_IF_ERROR(
+      RecordFeatureVersions(store, tx.number, report.features_added, report.features_removed));
   for (int64_t id : edit.remove) TB_RETURN_IF_ERROR(DeleteFeature(store, id));
   TB_RETURN_IF_ERROR(RecordChange(store, tx.number, report.features_removed.front(), result, box));
+  TB_RETURN_IF_ERROR(RecordMeshImage(store, tx.number, std::move(image)));
   if (options.before_commit) TB_RETURN_IF_ERROR(options.before_commit(store, tx.number));
   TB_RETURN_IF_ERROR(tx.tx->Commit());
   report.inserted = static_cast<int64_t>(edit.drop_vertices.size());
+  report.removed = result.removed;
+  report.added = result.added;
+  report.refinement_points = result.refinement_points;
+  return report;
+}
+
+namespace {
+
+// The points of `a` that are not in `b` (the same x, y and z), in a's order.
+std::vector<TinVertex> PointsNotIn(const std::vector<TinVertex>& a,
+                                   const std::vector<TinVertex>& b) {
+  const auto key = [](const TinVertex& p) { return std::tuple(p.x, p.y, p.z); };
+  std::set<std::tuple<double, double, double>> other;
+  for (const TinVertex& p : b) other.insert(key(p));
+  std::vector<TinVertex> out;
+  for (const TinVertex& p : a)
+    if (other.count(key(p)) == 0) out.push_back(p);
+  return out;
+}
+
+}  // namespace
+
+Result<PointsReport> ApplyPointsEdit(Store& store, const SurfaceInfo& surface,
+                                     std::vector<EditorFeature> restore,
+                                     const std::vector<int64_t>& remove,
+                                     const std::string& action) {
+  TB_ASSIGN_OR_RETURN(auto session, OpenSession(store, surface));
+  MeshCache mesh(store, surface);
+  Change change;
+  change.surface = surface.id;
+  change.action = action;
+  PointsReport report;
+  TB_ASSIGN_OR_RETURN(report.tx, AppendChange(store, change));
+  TB_RETURN_IF_ERROR(mesh.Begin(report.tx).status());
+  const EditContext ctx{store, surface, session->dems, session->dem, mesh};
+  std::vector<TinVertex> going, coming;
+  for (int64_t id : remove) {
+    TB_ASSIGN_OR_RETURN(EditorFeature f, LoadFeature(store, surface, id));
+    going.insert(going.end(), f.points.begin(), f.points.end());
+  }
+  LocalEdit edit;
+  edit.remove = remove;
+  Box box;
+  for (EditorFeature& f : restore) {
+    const int64_t wanted = f.id;
+    TB_RETURN_IF_ERROR(WriteFeature(store, surface, report.tx, f));
+    TB_RETURN_IF_ERROR(SettleFeatureId(store, wanted, f));
+    report.features_added.push_back(f.id);
+    box.Add(BoxOf(f));
+    const std::vector<TinVertex> back = PointsNotIn(f.points, going);
+    std::vector<std::string> labels(back.size(), f.label);
+    TB_ASSIGN_OR_RETURN(ScreenedPoints screened, ScreenPoints(ctx, back, labels));
+    for (size_t i : screened.kept) edit.add.push_back({{back[i]}, false, f.id});
+    coming.insert(coming.end(), f.points.begin(), f.points.end());
+  }
+  for (const TinVertex& p : PointsNotIn(going, coming)) {
+    TB_ASSIGN_OR_RETURN(const int64_t v, SurveyVertexAt(ctx, p));
+    if (v != 0) edit.drop_vertices.push_back(v);
+    box.Add(Point2{p.x, p.y});
+  }
+  std::sort(edit.drop_vertices.begin(), edit.drop_vertices.end());
+  edit.drop_vertices.erase(std::unique(edit.drop_vertices.begin(), edit.drop_vertices.end()),
+                           edit.drop_vertices.end());
+  UpdateEngine engine(store, session->surface, session->dems, session->dem);
+  engine.set_mesh_cache(&mesh);
+  MeshImage image;
+  engine.set_mesh_image(&image);
+  TB_ASSIGN_OR_RETURN(EditResult result, ApplyEdit(*session, engine, edit));
+  TB_RETURN_IF_ERROR(RecordFeatureVersions(store, report.tx, report.features_added, remove));
+  for (int64_t id : remove) TB_RETURN_IF_ERROR(DeleteFeature(store, id));
+  const int64_t first = !report.features_added.empty() ? report.features_added.front()
+                                                       : (remove.empty() ? 0 : remove.front());
+  TB_RETURN_IF_ERROR(RecordChange(store, report.tx, first, result, box));
+  TB_RETURN_IF_ERROR(RecordMeshImage(store, report.tx, std::move(image)));
+  report.features_removed = remove;
+  report.inserted = static_cast<int64_t>(edit.add.size());
   report.removed = result.removed;
   report.added = result.added;
   report.refinement_points = result.refinement_points;

@@ -72,4 +72,14 @@ Result<PointsReport> AddPoints(Store& store, const PointsAddOptions& options);
 // NotFound for an unknown feature or surface. The store is unchanged on every error.
 Result<PointsReport> RemovePoints(Store& store, const PointsRemoveOptions& options);
 
+// For db/history (revert, export --as-of; db/history/feature_inverse.h): one local edit of
+// `surface`, inside the caller's write transaction, that takes out the `points` features `remove`
+// and puts the `restore` ones back, each under its own id, with one `changes` row of `action`, its
+// feature versions and mesh image. Only the net change moves vertices: a point in both stays.
+// Restored points that now fall onto a vertex are left out (as AddPoints snaps them).
+// REQUIRES: inside a WriteTransaction the caller commits or drops. Errors as AddPoints.
+Result<PointsReport> ApplyPointsEdit(Store& store, const SurfaceInfo& surface,
+                                     std::vector<EditorFeature> restore,
+                                     const std::vector<int64_t>& remove, const std::string& action);
+
 }  // namespace tinbase

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "db/edit/constraint_kinds.h"
+#include "db/history/mesh_image_store.h"
 #include "db/mesh/mesh_tables.h"
 #include "db/sql/unchecked_foreign_keys.h"
 #include "db/surface_store.h"
@@ -133,8 +134,9 @@ Status WritePaint(MeshTables& tables, const MeshDelta& delta, const WriteStepHoo
 }  // namespace
 
 Result<int64_t> WriteMeshDelta(Connection& db, const SurfaceInfo& surface, const MeshDelta& delta,
-                               const WriteStepHook& step) {
+                               const WriteStepHook& step, MeshImage* image) {
   assert(delta.surface == surface.id);
+  if (image != nullptr) TB_RETURN_IF_ERROR(CaptureMeshBefore(db, delta, image));
   MeshTables tables(db, surface);
   TB_RETURN_IF_ERROR(WriteVertices(tables, delta, step));
   TB_RETURN_IF_ERROR(WriteNewTriangles(db, tables, delta, step));

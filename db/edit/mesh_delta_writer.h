@@ -16,6 +16,7 @@
 namespace tinbase {
 
 struct SurfaceInfo;  // db/surface_store.h
+struct MeshImage;    // db/history/mesh_image.h
 
 // Called before each of the seven write steps with its number; a non-OK Status stops the write
 // with it.
@@ -25,9 +26,11 @@ using WriteStepHook = std::function<Status(int step)>;
 // rows that did not have it already). Corruption when the rows deleted or numbered are not the
 // ones the delta names (another writer came between); any error of the store; the hook's Status.
 // On error some steps may have run: the caller's transaction rolls them back.
+// When `image` is given, the rows the delta changes are added to its before-image first, as they
+// are stored (db/history/mesh_image_store.h CaptureMeshBefore), for an exact revert.
 // REQUIRES: inside a write transaction; the delta built in it from the rows as stored;
 // delta.surface == surface.id.
 Result<int64_t> WriteMeshDelta(Connection& db, const SurfaceInfo& surface, const MeshDelta& delta,
-                               const WriteStepHook& step);
+                               const WriteStepHook& step, MeshImage* image = nullptr);
 
 }  // namespace tinbase

@@ -79,7 +79,7 @@ Result<EditResult> UpdateEngine::Apply(const LocalEdit& edit) {
   TB_RETURN_IF_ERROR(rules.status());
   // 5. The one writer, then the cache from the same delta.
   TB_ASSIGN_OR_RETURN(const int64_t repainted,
-                      WriteMeshDelta(store_.db(), surface_, delta, TEST_FaultStep));
+                      WriteMeshDelta(store_.db(), surface_, delta, TEST_FaultStep, mesh_image_));
   mesh->Apply(delta);
   return Summarize(region, patch, delta, repainted);
 }

@@ -36,6 +36,8 @@
 
 namespace tinbase {
 
+struct MeshImage;  // db/history/mesh_image.h
+
 class UpdateEngine {
  public:
   // REQUIRES: `surface` has a DEM (`dem`); both outlive the engine.
@@ -46,6 +48,10 @@ class UpdateEngine {
   // each Apply, and applies there every change it writes. The caller keeps the cache current:
   // Begin before Apply, Committed after the commit, Clear after any failure.
   void set_mesh_cache(MeshCache* cache) { mesh_cache_ = cache; }
+
+  // Adds the before-image of every row an Apply changes to `image` (db/history/mesh_image.h),
+  // which the caller stores with its transaction (RecordMeshImage) for an exact revert.
+  void set_mesh_image(MeshImage* image) { mesh_image_ = image; }
 
   // Applies `edit`. InvalidArgument naming the feature and point when a new point lies outside
   // the surface; Corruption when stored rows are inconsistent.
@@ -59,6 +65,7 @@ class UpdateEngine {
   const DemInfo& dem_;
   MeshCache* mesh_cache_ = nullptr;
   std::unique_ptr<LargeWriteHint> page_cache_;
+  MeshImage* mesh_image_ = nullptr;
 };
 
 }  // namespace tinbase

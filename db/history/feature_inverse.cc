@@ -2,6 +2,7 @@
 
 #include <utility>
 
+#include "db/edit/mass_points.h"
 #include "db/polygon_editor.h"
 
 namespace tinbase {
@@ -23,6 +24,19 @@ Result<InverseResult> ApplyEditorInverse(Store& store, const SurfaceInfo& surfac
   return InverseResult{report.tx, report.removed, report.added};
 }
 
+// Mass points: their points go out and come back with their own z, through the points editor.
+Result<InverseResult> ApplyPointsInverse(Store& store, const SurfaceInfo& surface,
+                                         const FeatureInverse& inverse, const std::string& action) {
+  std::vector<EditorFeature> restore;
+  for (const FeatureVersion& v : inverse.restore) {
+    TB_ASSIGN_OR_RETURN(EditorFeature f, EditorFeatureOf(v));
+    restore.push_back(std::move(f));
+  }
+  TB_ASSIGN_OR_RETURN(PointsReport report,
+                      ApplyPointsEdit(store, surface, std::move(restore), inverse.remove, action));
+  return InverseResult{report.tx, report.removed, report.added};
+}
+
 }  // namespace
 
 std::string_view InverseFamily(std::string_view mode) {
@@ -31,8 +45,7 @@ std::string_view InverseFamily(std::string_view mode) {
 
 Result<InverseApplier> InverseFor(std::string_view family) {
   if (family == "editor") return &ApplyEditorInverse;
-  // Mass points (mode 'points') plug in here with their editor's applier: it takes the points of
-  // `remove` out and puts those of `restore` back with their own z.
+  if (family == "points") return &ApplyPointsInverse;
   return Status::InvalidArgument("reverting edits of " + std::string(family) +
                                  " features is not supported by this build");
 }

@@ -5,6 +5,7 @@
 #include "core/tin/feature_mode.h"
 #include "core/vector/feature_wkb.h"
 #include "core/vector/line_z_wkb.h"
+#include "core/vector/point_wkb.h"
 
 namespace tinbase {
 
@@ -202,7 +203,11 @@ Result<EditorFeature> EditorFeatureOf(const FeatureVersion& version) {
   auto z_from = ParseZFrom(version.z_from);
   if (!z_from.ok()) return Status::Corruption(f.label + ": " + z_from.status().message());
   f.z_from = *z_from;
-  if (IsLineMode(f.mode) && f.z_from == ZFrom::kFeature) {
+  if (f.mode == FeatureMode::kPoints) {
+    auto points = PointsFromWkb(version.geometry);
+    if (!points.ok()) return Status::Corruption(f.label + ": " + points.status().message());
+    f.points = std::move(*points);
+  } else if (IsLineMode(f.mode) && f.z_from == ZFrom::kFeature) {
     TB_RETURN_IF_ERROR(LinesZFromWkb(version.geometry, &f.lines, &f.line_z).WithContext(f.label));
   } else if (IsLineMode(f.mode)) {
     auto lines = LinesFromWkb(version.geometry);

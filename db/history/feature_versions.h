@@ -66,10 +66,9 @@ Result<std::vector<int64_t>> LaterVersions(Store& store, int64_t feature, int64_
 // The features of surface `surface` with a version after transaction `tx`, in id order.
 Result<std::vector<int64_t>> FeaturesChangedAfter(Store& store, int64_t surface, int64_t tx);
 
-// The editor's feature of a polygon or line version (its geometry decoded by mode), labelled with
-// its stored name (which the editor writes back as it was). InvalidArgument for a mode the editor
-// does not draw (the mass points' own revert decodes those); Corruption when its geometry does not
-// parse.
+// The editor's feature of a version (its geometry decoded by mode: polygons, lines, or the points
+// of a `points` feature), labelled with its stored name (which WriteFeature writes back as it
+// was). InvalidArgument for an unknown mode; Corruption when its geometry does not parse.
 Result<EditorFeature> EditorFeatureOf(const FeatureVersion& version);
 
 }  // namespace tinbase

@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "db/change_log.h"
+#include "db/history/exact_revert.h"
 
 namespace tinbase {
 
@@ -132,6 +133,7 @@ Result<RevertPlan> PlanRevert(Store& store, int64_t tx, const RevertOptions& opt
   RevertPlan plan;
   TB_ASSIGN_OR_RETURN(plan.surface, SurfaceOf(store, change));
   plan.transactions.assign(transactions.begin(), transactions.end());
+  plan.image_transactions = plan.transactions;
   // Each feature goes back to before the first undone transaction that touched it: every later
   // version of it is undone too (with --cascade the closure holds every transaction after tx that
   // touched it; without, the check made sure the later ones came to nothing).
@@ -161,6 +163,9 @@ Result<RevertPlan> PlanAsOf(Store& store, const SurfaceInfo& surface, int64_t tx
                                    "versions cannot take it back");
   RevertPlan plan;
   plan.surface = surface;
+  TB_ASSIGN_OR_RETURN(std::vector<Change> later, ChangesSince(store, tx));
+  for (const Change& c : later)
+    if (c.surface == surface.id) plan.image_transactions.push_back(c.tx);
   TB_ASSIGN_OR_RETURN(std::vector<int64_t> features, FeaturesChangedAfter(store, surface.id, tx));
   for (int64_t f : features) TB_RETURN_IF_ERROR(PlanFeature(store, f, tx + 1, &plan));
   return plan;
@@ -172,6 +177,15 @@ Result<RevertReport> ApplyRevertPlan(Store& store, const RevertPlan& plan,
   report.reverted = plan.transactions;
   for (const FeatureVersion& v : plan.remove) report.removed_features.push_back(v.feature);
   for (const FeatureVersion& v : plan.restore) report.restored_features.push_back(v.feature);
+  TB_ASSIGN_OR_RETURN(ExactRevertOutcome exact, TryExactRevert(store, plan, action));
+  if (exact.exact) {
+    report.exact = true;
+    report.transactions.push_back(exact.done.tx);
+    report.removed = exact.done.removed;
+    report.added = exact.done.added;
+    return report;
+  }
+  report.not_exact = exact.not_exact;
   std::set<std::string_view> families;
   for (const FeatureVersion& v : plan.remove) families.insert(InverseFamily(v.mode));
   for (const FeatureVersion& v : plan.restore) families.insert(InverseFamily(v.mode));
@@ -195,6 +209,8 @@ Result<RevertReport> RevertTransaction(Store& store, int64_t tx, const RevertOpt
   std::string action = "revert";
   for (int64_t t : plan.transactions) action += std::string(" ") + std::to_string(t);
   TB_ASSIGN_OR_RETURN(RevertReport report, ApplyRevertPlan(store, plan, action));
+  if (options.before_commit && !report.transactions.empty())
+    TB_RETURN_IF_ERROR(options.before_commit(store, report.transactions.back()));
   TB_RETURN_IF_ERROR(write->Commit());
   return report;
 }

@@ -15,6 +15,7 @@
 
 #include "core/base/status.h"
 #include "db/history/feature_inverse.h"
+#include "db/polygon_editor.h"
 #include "db/store.h"
 #include "db/surface_store.h"
 
@@ -27,12 +28,20 @@ struct RevertPlan {
   // in place (present at both, under one id) is in both lists.
   std::vector<FeatureVersion> remove;   // their current versions
   std::vector<FeatureVersion> restore;  // the versions that come back
+  // The transactions whose mesh images take the surface back (db/history/exact_revert.h),
+  // oldest first: the undone ones, or for an as-of plan every change of the surface after it.
+  std::vector<int64_t> image_transactions;
 };
 
 struct RevertOptions {
   // Also revert every later transaction that touched a feature of the reverted ones (and so on),
   // all in the one new transaction.
   bool cascade = false;
+  // Called inside the revert's write transaction once everything is written, just before the
+  // commit, with the revert's (last) transaction (PolygonAddOptions::before_commit: `revert
+  // --update-tiles` brings the tile pyramids up to date there, in the same transaction). An error
+  // rolls the revert back and is its error. Empty: not called.
+  BeforeCommit before_commit;
 };
 
 struct RevertReport {
@@ -42,6 +51,10 @@ struct RevertReport {
   std::vector<int64_t> restored_features;
   int64_t removed = 0;  // triangles
   int64_t added = 0;
+  // Whether the exact mesh came back from the mesh images; when not, not_exact says why and the
+  // features were put back by re-refining their regions locally.
+  bool exact = false;
+  std::string not_exact;
 };
 
 // The plan that undoes transaction `tx`. NotFound "no transaction 12"; InvalidArgument when tx
@@ -61,8 +74,9 @@ Result<RevertPlan> PlanAsOf(Store& store, const SurfaceInfo& surface, int64_t tx
 Result<RevertReport> ApplyRevertPlan(Store& store, const RevertPlan& plan,
                                      const std::string& action);
 
-// Plans and applies the revert of `tx` in one write transaction and commits it; the store is
-// unchanged on every error (those of PlanRevert, and the editor's).
+// Plans and applies the revert of `tx` in one write transaction and commits it (after
+// options.before_commit); the store is unchanged on every error (those of PlanRevert, the
+// editor's and before_commit's).
 Result<RevertReport> RevertTransaction(Store& store, int64_t tx, const RevertOptions& options);
 
 }  // namespace tinbase

@@ -1,11 +1,12 @@
 // `revert`, `history` and `export --as-of` on a PostgreSQL store (the throwaway server of
 // scripts/pg-server.sh; tests/support/postgres_support.h): the versions, the id kept by a
-// restored feature, the conflict and the cascade behave as on SQLite, and the store passes the
-// full check after each write.
+// restored feature, the conflict and the cascade behave as on SQLite, the reverts give the exact
+// mesh back (an OBJ export byte for byte), and the store passes the full check after each write.
 #include <gtest/gtest.h>
 
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "tests/support/cli_support.h"
 #include "tests/support/postgres_support.h"
@@ -33,6 +34,13 @@ std::string Square(const TempDir& dir, const std::string& name, double x, double
   return path;
 }
 
+std::string ReadFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
 TEST(HistoryPostgresCliTest, RevertHistoryAndAsOfOnPostgres) {
   const std::string store = testing::FreshPostgresStore("history");
   ASSERT_FALSE(store.empty());
@@ -42,6 +50,12 @@ TEST(HistoryPostgresCliTest, RevertHistoryAndAsOfOnPostgres) {
            "dem import " + Quote(store) + " " + Quote(DataPath("geology/hamersley/dtm_rp.tif")));
   RunWrite(store, "tin build " + Quote(store) + " --surface terrain --tolerance 10");
   constexpr double kCx = 539300, kCy = 7497340;
+  const auto export_obj = [&](const std::string& name) {
+    RunCli("export " + Quote(store) + " --surface terrain -o " + Quote(dir.Path(name)));
+    return ReadFile(dir.Path(name));
+  };
+  const std::string original = export_obj("original.obj");
+  ASSERT_FALSE(original.empty());
   RunWrite(store, "polygon add " + Quote(store) + " " +
                       Quote(Square(dir, "a.geojson", kCx, kCy, 2000)) +
                       " --surface terrain --mode fill --tag a");
@@ -67,11 +81,15 @@ TEST(HistoryPostgresCliTest, RevertHistoryAndAsOfOnPostgres) {
   const nlohmann::json reverted =
       Json(RunWrite(store, "revert " + Quote(store) + " " + std::to_string(tx_b) + " --json"));
   EXPECT_EQ(reverted["restored_features"], nlohmann::json::array({fa}));
+  EXPECT_EQ(reverted["exact"], true) << reverted.dump();
   const nlohmann::json history =
       Json(RunCli("history " + Quote(store) + " --feature " + std::to_string(fa) + " --json"));
   ASSERT_EQ(history["versions"].size(), 3u) << history.dump();
   EXPECT_EQ(history["versions"][2]["state"], "restored");
-  RunWrite(store, "revert " + Quote(store) + " " + std::to_string(tx_a));
+  const nlohmann::json last =
+      Json(RunWrite(store, "revert " + Quote(store) + " " + std::to_string(tx_a) + " --json"));
+  EXPECT_EQ(last["exact"], true) << last.dump();
+  EXPECT_TRUE(export_obj("back.obj") == original) << "the mesh is not the one built";
   const nlohmann::json info = Json(RunCli("info --json " + Quote(store)));
   EXPECT_EQ(info["surfaces"][0]["features"], 0) << "reverting the add took the feature out";
 }

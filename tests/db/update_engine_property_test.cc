@@ -24,6 +24,7 @@
 #include "db/polygon_editor.h"
 #include "db/surface_builder.h"
 #include "db/surface_store.h"
+#include "tests/support/edit_property_fixture.h"
 #include "tests/support/polygon_files.h"
 #include "tests/support/store_target.h"
 #include "tests/support/test_support.h"
@@ -32,7 +33,6 @@ namespace tinbase {
 namespace {
 
 using testing::PointList;
-using testing::StoreTarget;
 using testing::TempDir;
 
 // RapidCheck reads RC_PARAMS on first use; a user's setting wins.
@@ -41,38 +41,9 @@ const bool kDefaultParams = [] {
   return true;
 }();
 
-constexpr double kCx = 539300, kCy = 7497340, kCell = 344.404386931320971;
-
-// The Hamersley store with its greedy surface, built once and copied for each case.
-const std::string& BaseStore() {
-  static TempDir dir;
-  static const std::string path = [] {
-    const std::string p = StoreTarget(dir, "base.tinbase");
-    auto store = Store::Create(p, "");
-    EXPECT_TRUE(store.ok());
-    DemStore dems(**store);
-    EXPECT_TRUE(dems.Import({testing::DataPath("geology/hamersley/dtm_rp.tif")}, {}).ok());
-    SurfaceBuildOptions o;
-    o.surface = "terrain";
-    o.greedy.tolerance = 5;
-    EXPECT_TRUE(BuildSurfaceFromDem(**store, o).ok());
-    return p;
-  }();
-  return path;
-}
-
-// A star-shaped (so simple) ring around a point near the DEM's centre.
-PointList StarRing(double x, double y, double radius, int n) {
-  PointList ring;
-  const double phase = *rc::gen::inRange(0, 628) / 100.0;
-  for (int k = 0; k < n; ++k) {
-    const double r = radius * *rc::gen::inRange(60, 101) / 100.0;
-    const double a = phase + 2 * M_PI * k / n;
-    ring.push_back({x + r * std::cos(a), y + r * std::sin(a)});
-  }
-  ring.push_back(ring.front());
-  return ring;
-}
+using testing::kPropertyCell;
+using testing::OpenCopyOfBaseStore;
+using testing::StarRing;
 
 // A new polygon: a star, maybe with a hole, or (when there is an earlier ring) that ring again,
 // or one that takes three consecutive vertices of it and closes with an apex outside.
@@ -91,45 +62,15 @@ std::vector<PointList> RandomPolygon(const std::vector<PointList>& earlier) {
     const double dx = mid.first - cx, dy = mid.second - cy;
     return {{old[i], old[i + 1], old[i + 2], {cx + 2.5 * dx, cy + 2.5 * dy}, old[i]}};
   }
-  const double x = kCx + *rc::gen::inRange(-12, 13) * kCell * 0.77;
-  const double y = kCy + *rc::gen::inRange(-12, 13) * kCell * 0.77;
-  const double radius = *rc::gen::inRange(2, 11) * kCell;
+  const auto [x, y] = testing::RandomCentre();
+  const double radius = *rc::gen::inRange(2, 11) * kPropertyCell;
   std::vector<PointList> rings{StarRing(x, y, radius, *rc::gen::inRange(4, 25))};
   if (*rc::gen::inRange(0, 3) == 0)
     rings.push_back(testing::Ngon(x, y, 0.35 * radius, *rc::gen::inRange(3, 9)));
   return rings;
 }
 
-FeatureMode RandomMode() {
-  switch (*rc::gen::inRange(0, 8)) {
-    case 0:
-      return FeatureMode::kErase;
-    case 1:
-      return FeatureMode::kClip;
-    case 2:
-      return FeatureMode::kReplace;
-    default:
-      return FeatureMode::kFill;
-  }
-}
-
-// A private copy of the base store in `dir`, opened: each case edits its own.
-std::unique_ptr<Store> OpenCopyOfBaseStore(const TempDir& dir) {
-  const std::string path = StoreTarget(dir, "p.tinbase");
-  std::filesystem::copy_file(BaseStore(), path);
-  auto opened = Store::Open(path);
-  RC_ASSERT(opened.ok());
-  return std::move(*opened);
-}
-
-// Fails the property with the first problem of the full check.
-void AssertIntact(Store& store, const std::string& after) {
-  auto problems = CheckStore(store, {.surface = {}, .full = true});
-  RC_ASSERT(problems.ok());
-  if (!problems->empty())
-    RC_FAIL(after + ": " + std::to_string(problems->size()) + " problems, first " +
-            problems->front().code + ": " + problems->front().message);
-}
+FeatureMode RandomMode() { return testing::RandomPaintMode(8); }
 
 // The stored surface has exactly as many triangles as a from-scratch CDT of its vertices and
 // constraints (with the full check's invariants 4 and 5 this makes it that CDT).
@@ -193,7 +134,7 @@ RC_GTEST_PROP(UpdateEngineProperty, RandomEditSequencesKeepEveryInvariant, ()) {
     if (!report.ok() && report.status().code() != StatusCode::kInvalidArgument)
       RC_FAIL(what + ": " + report.status().ToString());
     if (report.ok() && op != 4) rings.push_back(polygon.front());  // later polygons share it
-    AssertIntact(store, what);
+    testing::AssertIntact(store, what);
     AssertSameAsFromScratch(store);
   }
 }
@@ -241,7 +182,7 @@ RC_GTEST_PROP(UpdateEngineProperty, LoadsFeatureByFeatureKeepOnlyCurrentRows, ()
       RC_ASSERT(failure.find("cached") == std::string::npos);
     RC_CLASSIFY(report->mesh_kept > 0, "rows kept");
   }
-  AssertIntact(store, what);
+  testing::AssertIntact(store, what);
   AssertSameAsFromScratch(store);
 }
 

@@ -1,8 +1,9 @@
 // Feature versions, revert and as-of on the Hamersley surface: each edit writes the versions of
-// the features it touched; a revert puts the features back as they were (tests/db/history/
-// surface_signature.h) with every invariant of the full check, and refuses unknown transactions,
-// builds and conflicts with the store unchanged; --as-of reads the past without changing the
-// store.
+// the features it touched; a revert puts the features and the exact mesh back as they were
+// (tests/db/history/surface_signature.h) with every invariant of the full check, falls back to
+// re-refining (and says so) when a later edit replaced the rows, reverts points edits, and
+// refuses unknown transactions, builds and conflicts with the store unchanged; --as-of reads the
+// exact past without changing the store.
 #include "db/history/revert.h"
 
 #include <gtest/gtest.h>
@@ -12,6 +13,7 @@
 
 #include "db/change_log.h"
 #include "db/dem_store.h"
+#include "db/edit/mass_points.h"
 #include "db/history/as_of.h"
 #include "db/history/feature_versions.h"
 #include "db/polygon_editor.h"
@@ -68,7 +70,9 @@ class RevertTest : public ::testing::Test {
   }
 
   RevertReport Revert(int64_t tx, bool cascade = false) {
-    auto report = RevertTransaction(*store_, tx, {.cascade = cascade});
+    RevertOptions options;
+    options.cascade = cascade;
+    auto report = RevertTransaction(*store_, tx, options);
     EXPECT_TRUE(report.ok()) << report.status().ToString();
     testing::ExpectStoreIntact(*store_, /*full=*/true);
     return report.ok() ? *report : RevertReport{};
@@ -135,7 +139,8 @@ TEST_F(RevertTest, RevertOfAnAddTakesTheSurfaceBack) {
   const RevertReport r = Revert(a.tx);
   EXPECT_EQ(r.reverted, std::vector<int64_t>{a.tx});
   EXPECT_EQ(r.removed_features, std::vector<int64_t>{a.first_feature_id});
-  testing::ExpectSameFeatures(original, testing::SignatureOf(*store_), "after the revert");
+  EXPECT_TRUE(r.exact) << r.not_exact;
+  testing::ExpectSameMesh(original, testing::SignatureOf(*store_), "after the revert");
   // Nothing of the replace polygon is left: no constraint, ring or crossing vertex, level or tag.
   const auto count = [&](const std::string& sql) { return *store_->db().QueryInt(sql); };
   EXPECT_EQ(count("SELECT count(*) FROM constraints"), 0);
@@ -153,15 +158,18 @@ TEST_F(RevertTest, RevertOfARemoveOrUpdatePutsTheFeatureBackUnderItsId) {
   const testing::SurfaceSignature with_a = testing::SignatureOf(*store_);
   auto removed = RemovePolygon(*store_, a.first_feature_id);
   ASSERT_TRUE(removed.ok());
-  Revert(removed->tx);
-  testing::ExpectSameFeatures(with_a, testing::SignatureOf(*store_), "after reverting the remove");
+  EXPECT_TRUE(Revert(removed->tx).exact);
+  testing::ExpectSameMesh(with_a, testing::SignatureOf(*store_), "after reverting the remove");
 
   const PolygonAddReport b = Update(a.first_feature_id, "b.geojson", Ngon(kCx, kCy, 4 * kCell, 9));
+  const testing::SurfaceSignature with_b = testing::SignatureOf(*store_);
   const RevertReport r = Revert(b.tx);
   EXPECT_EQ(r.restored_features, std::vector<int64_t>{a.first_feature_id});
-  testing::ExpectSameFeatures(with_a, testing::SignatureOf(*store_), "after reverting the update");
-  // A revert is an edit like the others: reverting it redoes the update.
-  Revert(r.transactions.at(0));
+  EXPECT_TRUE(r.exact) << r.not_exact;
+  testing::ExpectSameMesh(with_a, testing::SignatureOf(*store_), "after reverting the update");
+  // A revert is an edit like the others: reverting it redoes the update, exactly.
+  EXPECT_TRUE(Revert(r.transactions.at(0)).exact);
+  testing::ExpectSameMesh(with_b, testing::SignatureOf(*store_), "after reverting the revert");
   auto features = store_->db().QueryInt("SELECT count(*) FROM features WHERE id = " +
                                         std::to_string(b.first_feature_id));
   EXPECT_EQ(*features, 1);
@@ -191,7 +199,8 @@ TEST_F(RevertTest, RefusesUnknownTransactionsBuildsAndConflictsLeavingTheStoreUn
   const RevertReport both = Revert(a.tx, /*cascade=*/true);
   EXPECT_EQ(both.reverted, (std::vector<int64_t>{a.tx, b.tx}));
   EXPECT_EQ(both.transactions.size(), 1u) << "a cascade is one transaction";
-  testing::ExpectSameFeatures(original, testing::SignatureOf(*store_), "after the cascade");
+  EXPECT_TRUE(both.exact) << both.not_exact;
+  testing::ExpectSameMesh(original, testing::SignatureOf(*store_), "after the cascade");
 }
 
 // Reverts in reverse order need no --cascade: a later edit that was itself reverted left the
@@ -200,10 +209,11 @@ TEST_F(RevertTest, RevertsInReverseOrderAreNoConflict) {
   const testing::SurfaceSignature original = testing::SignatureOf(*store_);
   const PolygonAddReport a = Add("a.geojson", Ngon(kCx, kCy, 8 * kCell, 24));
   const PolygonAddReport b = Update(a.first_feature_id, "b.geojson", Ngon(kCx, kCy, 6 * kCell, 17));
-  Revert(b.tx);
+  EXPECT_TRUE(Revert(b.tx).exact);
   const RevertReport r = Revert(a.tx);
   EXPECT_EQ(r.reverted, std::vector<int64_t>{a.tx});
-  testing::ExpectSameFeatures(original, testing::SignatureOf(*store_), "after both reverts");
+  EXPECT_TRUE(r.exact) << r.not_exact;
+  testing::ExpectSameMesh(original, testing::SignatureOf(*store_), "after both reverts");
 }
 
 TEST_F(RevertTest, AsOfReadsThePastAndLeavesTheStoreUnchanged) {
@@ -217,7 +227,7 @@ TEST_F(RevertTest, AsOfReadsThePastAndLeavesTheStoreUnchanged) {
   {
     auto past = BeginAsOf(*store_, *surface, a.tx);
     ASSERT_TRUE(past.ok()) << past.status().ToString();
-    testing::ExpectSameFeatures(after_a, testing::SignatureOf(*store_), "as of the first add");
+    testing::ExpectSameMesh(after_a, testing::SignatureOf(*store_), "as of the first add");
   }
   EXPECT_EQ(Checksums(), before);
 
@@ -225,6 +235,95 @@ TEST_F(RevertTest, AsOfReadsThePastAndLeavesTheStoreUnchanged) {
   EXPECT_EQ(future.status().code(), StatusCode::kInvalidArgument);
   EXPECT_NE(future.status().message().find("in the future"), std::string::npos);
   EXPECT_EQ(Checksums(), before);
+}
+
+// A later edit of another feature that re-triangulated the rows the first edit wrote: the images
+// no longer fit, so the revert re-refines the region, says why, and still gives back the features
+// with every invariant.
+TEST_F(RevertTest, ALaterEditOfTheSameRowsMakesTheRevertReRefine) {
+  const PolygonAddReport a = Add("a.geojson", Ngon(kCx, kCy, 8 * kCell, 24));
+  const PolygonAddReport b = Add("b.geojson", Ngon(kCx + 4 * kCell, kCy, 6 * kCell, 15));
+  const RevertReport r = Revert(a.tx);
+  EXPECT_FALSE(r.exact);
+  EXPECT_NE(r.not_exact.find("transaction " + std::to_string(a.tx) +
+                             " wrote were changed since by another edit"),
+            std::string::npos)
+      << r.not_exact;
+  EXPECT_EQ(*store_->db().QueryInt("SELECT count(*) FROM features"), 1);
+  EXPECT_EQ(*store_->db().QueryInt("SELECT id FROM features"), b.first_feature_id);
+}
+
+// Points edits write feature versions and mesh images like polygon edits: an add and a remove are
+// each reverted to the exact mesh before them.
+TEST_F(RevertTest, PointsAddAndRemoveAreRevertedExactly) {
+  const testing::SurfaceSignature original = testing::SignatureOf(*store_);
+  PointsAddOptions o;
+  o.surface = "terrain";
+  o.points =
+      std::vector<TinVertex>{{kCx + 0.3 * kCell, kCy + 0.2 * kCell, 650.5, VertexKind::kUser},
+                             {kCx - 2.1 * kCell, kCy + 1.4 * kCell, 640.25, VertexKind::kUser},
+                             {kCx + 1.7 * kCell, kCy - 2.6 * kCell, 660.75, VertexKind::kUser}};
+  o.labels = {"p1", "p2", "p3"};
+  auto added = AddPoints(*store_, o);
+  ASSERT_TRUE(added.ok()) << added.status().ToString();
+  const testing::SurfaceSignature with_points = testing::SignatureOf(*store_);
+  auto versions = VersionsOfFeature(*store_, added->features_added.at(0));
+  ASSERT_TRUE(versions.ok());
+  ASSERT_EQ(versions->size(), 1u);
+  EXPECT_EQ(versions->front().mode, "points");
+
+  PointsRemoveOptions remove;
+  remove.feature = added->features_added.at(0);
+  auto removed = RemovePoints(*store_, remove);
+  ASSERT_TRUE(removed.ok()) << removed.status().ToString();
+  const RevertReport back = Revert(removed->tx);
+  EXPECT_TRUE(back.exact) << back.not_exact;
+  EXPECT_EQ(back.restored_features, added->features_added);
+  testing::ExpectSameMesh(with_points, testing::SignatureOf(*store_), "after reverting the remove");
+
+  auto undo_add = RevertTransaction(*store_, added->tx, {});
+  ASSERT_TRUE(undo_add.ok()) << undo_add.status().ToString();
+  EXPECT_TRUE(undo_add->exact) << undo_add->not_exact;
+  testing::ExpectStoreIntact(*store_, /*full=*/true);
+  testing::ExpectSameMesh(original, testing::SignatureOf(*store_), "after reverting the add");
+}
+
+// Points edits whose rows a later polygon replaced: the revert takes the points out, or puts them
+// back, through the points editor (their own z), says it is not exact, and keeps every invariant.
+TEST_F(RevertTest, PointsRevertsWhoseRowsChangedGoThroughThePointsEditor) {
+  PointsAddOptions o;
+  o.surface = "terrain";
+  o.points =
+      std::vector<TinVertex>{{kCx + 0.3 * kCell, kCy + 0.2 * kCell, 650.5, VertexKind::kUser},
+                             {kCx - 1.1 * kCell, kCy + 0.4 * kCell, 640.25, VertexKind::kUser}};
+  o.labels = {"p1", "p2"};
+  auto added = AddPoints(*store_, o);
+  ASSERT_TRUE(added.ok()) << added.status().ToString();
+  const auto user_vertices = [&] {
+    return *store_->db().QueryInt("SELECT count(*) FROM vertices WHERE kind = 'user'");
+  };
+  ASSERT_EQ(user_vertices(), 2);
+  Add("fill.geojson", Ngon(kCx, kCy, 3 * kCell, 11));
+  const RevertReport out = Revert(added->tx);
+  EXPECT_FALSE(out.exact);
+  EXPECT_EQ(out.removed_features, added->features_added);
+  EXPECT_EQ(user_vertices(), 0);
+
+  // Undoing that revert puts them back (exactly: the revert kept its own image); then removed,
+  // covered again, and the removal reverted: back through the points editor.
+  EXPECT_TRUE(Revert(out.transactions.at(0)).exact);
+  EXPECT_EQ(user_vertices(), 2);
+  PointsRemoveOptions remove;
+  remove.feature = added->features_added.at(0);
+  auto removed = RemovePoints(*store_, remove);
+  ASSERT_TRUE(removed.ok()) << removed.status().ToString();
+  Add("erase.geojson", Ngon(kCx, kCy, 2 * kCell, 9), FeatureMode::kErase);
+  const RevertReport back = Revert(removed->tx);
+  EXPECT_FALSE(back.exact);
+  EXPECT_EQ(back.restored_features, added->features_added);
+  EXPECT_EQ(user_vertices(), 2);
+  EXPECT_EQ(
+      *store_->db().QueryInt("SELECT count(*) FROM vertices WHERE kind = 'user' AND z = 650.5"), 1);
 }
 
 }  // namespace
