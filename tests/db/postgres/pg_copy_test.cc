@@ -107,7 +107,9 @@ TEST_F(PgCopyTest, EveryValueComesBackAsItWentIn) {
     const double x = s.ColumnDouble(1);
     EXPECT_EQ(std::memcmp(&x, &want.x, sizeof x), 0) << want.x << " came back as " << x;
     EXPECT_EQ(s.ColumnIsNull(2), want.null_text);
-    if (!want.null_text) EXPECT_EQ(s.ColumnText(2), want.text);
+    if (!want.null_text) {
+      EXPECT_EQ(s.ColumnText(2), want.text);
+    }
     size_t size = 0;
     const uint8_t* bytes = s.ColumnBlob(3, &size);
     EXPECT_EQ(std::vector<uint8_t>(bytes, bytes + size), want.bytes);
