@@ -133,9 +133,8 @@ double BulkWrite(const Backend& b, const LoadedSurface& loaded, const SurfaceInf
   return seconds;
 }
 
-// Points per second located by LocatePointsBy(`path`) over `points`; `checksum` gets the sum of
-// the triangle ids, which must agree between the backends' copies of one surface only in count
-// (ids differ), so the count of points inside is compared instead.
+// Points per second located by LocatePointsBy(`path`) over `points`; *inside gets how many were
+// on the surface, printed per backend so a run shows both answered alike.
 double Locate(Store& store, const std::vector<Point2>& points, LocatePath path, int64_t* inside) {
   const SurfaceInfo surface = Check(SurfaceStore(store).Find(kSurface), "surface");
   *inside = 0;
