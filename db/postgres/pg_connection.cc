@@ -7,6 +7,8 @@
 #include <cstring>
 #include <functional>
 
+#include "db/postgres/pg_copy.h"
+
 namespace tinbase {
 
 namespace {
@@ -89,6 +91,18 @@ std::string PostgresParameters(std::string_view sql) {
   return out;
 }
 
+std::string PostgresFloatText(double value) {
+  // The shortest text that reads back as the same double (std::to_chars), so a round trip
+  // through the server changes no bit of a coordinate.
+  char buffer[32];
+  const auto [end, error] = std::to_chars(buffer, buffer + sizeof buffer, value);
+  std::string text = error == std::errc() ? std::string(buffer, end) : std::string("NaN");
+  if (text == "inf") text = "Infinity";
+  if (text == "-inf") text = "-Infinity";
+  if (text == "nan" || text == "-nan") text = "NaN";
+  return text;
+}
+
 // ---- PgStatement -------------------------------------------------------------------------------
 
 PgStatement::PgStatement(pg_conn* conn, std::string name, std::string sql, int64_t* changes)
@@ -108,15 +122,7 @@ PgStatement& PgStatement::Bind(int index, int64_t value) {
 }
 
 PgStatement& PgStatement::Bind(int index, double value) {
-  // The shortest text that reads back as the same double (std::to_chars), so a round trip
-  // through the server changes no bit of a coordinate.
-  char buffer[32];
-  const auto [end, error] = std::to_chars(buffer, buffer + sizeof buffer, value);
-  std::string text = error == std::errc() ? std::string(buffer, end) : std::string("NaN");
-  if (text == "inf") text = "Infinity";
-  if (text == "-inf") text = "-Infinity";
-  if (text == "nan" || text == "-nan") text = "NaN";
-  At(index) = {std::move(text), false};
+  At(index) = {PostgresFloatText(value), false};
   return *this;
 }
 
@@ -360,5 +366,12 @@ Status PgConnection::SetSchemaVersion(int64_t version) {
 Status PgConnection::ConfigureForStore(const StoreSettings& /*settings*/) { return Status::Ok(); }
 
 Result<bool> PgConnection::SetForeignKeys(bool /*on*/) { return true; }
+
+Result<std::unique_ptr<RowStream>> PgConnection::BeginRowStream(std::string_view table_and_columns,
+                                                                int columns) {
+  TB_ASSIGN_OR_RETURN(std::unique_ptr<PgRowStream> stream,
+                      PgRowStream::Begin(conn_, table_and_columns, columns));
+  return std::unique_ptr<RowStream>(std::move(stream));
+}
 
 }  // namespace tinbase

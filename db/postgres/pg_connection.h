@@ -39,6 +39,10 @@ Status StatusFromPg(const pg_result* result, const pg_conn* conn, std::string_vi
 // a reserved word there. Quoted text, quoted names and comments are left alone.
 std::string PostgresParameters(std::string_view sql);
 
+// `value` as PostgreSQL reads a double back bit for bit: the shortest round-trip text
+// (std::to_chars), and Infinity, -Infinity, NaN in its words.
+std::string PostgresFloatText(double value);
+
 class PgStatement final : public Statement {
  public:
   PgStatement(pg_conn* conn, std::string name, std::string sql, int64_t* changes);
@@ -124,6 +128,9 @@ class PgConnection final : public Connection {
   std::string_view BulkInsertHead() const override { return "INSERT INTO "; }
   Backend backend() const override { return Backend::kPostgres; }
   const std::string& path() const override { return label_; }
+  // COPY ... FROM STDIN (db/postgres/pg_copy.h).
+  Result<std::unique_ptr<RowStream>> BeginRowStream(std::string_view table_and_columns,
+                                                    int columns) override;
 
  private:
   PgConnection(pg_conn* conn, std::string schema, std::string label);

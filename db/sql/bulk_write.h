@@ -13,7 +13,9 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <memory>
 #include <string>
+#include <string_view>
 #include <unordered_map>
 #include <vector>
 
@@ -62,13 +64,34 @@ inline std::string ParameterRows(int columns, size_t rows) {
   return text;
 }
 
+// The backend's row stream (Connection::BeginRowStream) for a write of `rows` rows when it has one
+// and the write is large; null otherwise. A stream's start and end cost a round trip or two, more
+// than one small batch.
+inline Result<std::unique_ptr<RowStream>> StreamFor(Connection& db, std::string_view table,
+                                                    int columns, size_t rows) {
+  static constexpr size_t kStreamRows = 512;
+  if (rows < kStreamRows) return std::unique_ptr<RowStream>();
+  return db.BeginRowStream(table, columns);
+}
+
+// Streams `rows` rows, `bind(stream, r)` binding row r's values, then ends the stream.
+template <typename Bind>
+Status StreamRows(RowStream& stream, size_t rows, Bind bind) {
+  for (size_t r = 0; r < rows; ++r) {
+    bind(stream, r);
+    TB_RETURN_IF_ERROR(stream.Run());
+  }
+  return stream.Finish();
+}
+
 }  // namespace bulk_internal
 
 // Writes `rows` rows into `table_and_columns` ("table(a, b)") in batches (InBatches above).
 // `bind_row(stmt, first, r)` binds row r's values to parameters first, first + 1, ... in the
 // order of `columns`.
 //
-// The statements begin with the connection's BulkInsertHead(), in SQLite INSERT OR FAIL: a row that
+// Many rows go through the backend's row stream when it has one (COPY on PostgreSQL). Otherwise
+// the statements begin with the connection's BulkInsertHead(), in SQLite INSERT OR FAIL: a row that
 // breaks a constraint stops the statement with the error but leaves its earlier rows, which is no
 // different here, as every caller returns the error and its WriteTransaction rolls the whole write
 // back. What it saves: with the default ABORT a multi-row statement must be undoable by itself,
@@ -77,6 +100,11 @@ inline std::string ParameterRows(int columns, size_t rows) {
 template <typename BindRow>
 Status InsertRows(Connection& db, const char* table_and_columns, int columns, size_t rows,
                   BindRow bind_row) {
+  TB_ASSIGN_OR_RETURN(std::unique_ptr<RowStream> stream,
+                      bulk_internal::StreamFor(db, table_and_columns, columns, rows));
+  if (stream != nullptr)
+    return bulk_internal::StreamRows(*stream, rows,
+                                     [&](Statement& row, size_t r) { bind_row(row, 1, r); });
   const std::string head = std::string(db.BulkInsertHead()) + table_and_columns + " VALUES ";
   return bulk_internal::InBatches(
       db, head, rows,
@@ -123,13 +151,26 @@ Status RunOverIds(Connection& db, const std::string& statement_head,
 // for an id that is given and without its parameter, a good part of a bulk row's cost. Corruption,
 // after the rows are written, when the last row did not get the id it was meant to (another row was
 // inserted between NextId and these); the caller's transaction then rolls back.
+//
+// Streamed rows (PostgreSQL's COPY) carry their ids instead: the schema's id trigger then has no
+// largest id to look up for each row, most of a streamed row's cost.
 template <typename BindRow>
 Status InsertNumberedRows(Connection& db, const char* table_and_columns, int columns, size_t rows,
                           int64_t first_id, BindRow bind_row) {
-  TB_RETURN_IF_ERROR(InsertRows(db, table_and_columns, columns, rows, bind_row));
+  const std::string table(table_and_columns, std::strcspn(table_and_columns, "("));
+  const std::string with_id = table + "(id, " + (table_and_columns + table.size() + 1);
+  TB_ASSIGN_OR_RETURN(std::unique_ptr<RowStream> stream,
+                      bulk_internal::StreamFor(db, with_id, columns + 1, rows));
+  if (stream != nullptr) {
+    TB_RETURN_IF_ERROR(bulk_internal::StreamRows(*stream, rows, [&](Statement& row, size_t r) {
+      row.Bind(1, first_id + static_cast<int64_t>(r));
+      bind_row(row, 2, r);
+    }));
+  } else {
+    TB_RETURN_IF_ERROR(InsertRows(db, table_and_columns, columns, rows, bind_row));
+  }
   if (rows == 0) return Status::Ok();
   const int64_t last = first_id + static_cast<int64_t>(rows) - 1;
-  const std::string table(table_and_columns, std::strcspn(table_and_columns, "("));
   TB_ASSIGN_OR_RETURN(int64_t largest, db.QueryInt("SELECT max(id) FROM " + table));
   if (largest != last)
     return Status::Corruption(std::string(table_and_columns) + ": rows numbered up to " +

@@ -75,6 +75,31 @@ class Statement {
   std::string sql_;
 };
 
+// Rows streamed into one table for a bulk write: bind a row's values as a statement's
+// parameters (1-based, one per column), then Run() (or Step()) ends the row; Finish() ends the
+// stream and gives the first error of any row. Made by Connection::BeginRowStream; until it is
+// finished or destroyed the connection runs no other statement (PostgreSQL's COPY holds it).
+// Destroying an unfinished stream abandons it: its rows are not written, and the caller's
+// transaction fails. db/sql/bulk_write.h is the only user.
+class RowStream : public Statement {
+ public:
+  virtual Status Finish() = 0;
+
+  int ColumnCount() const override { return 0; }
+  int64_t ColumnInt(int /*index*/) const override { return 0; }
+  double ColumnDouble(int /*index*/) const override { return 0; }
+  std::string ColumnText(int /*index*/) const override { return {}; }
+  bool ColumnIsNull(int /*index*/) const override { return true; }
+  const uint8_t* ColumnBlob(int /*index*/, size_t* size) const override {
+    *size = 0;
+    return nullptr;
+  }
+  void Reset() override {}
+
+ protected:
+  using Statement::Statement;
+};
+
 // Runs `insert`, an INSERT (or UPDATE) ending in "RETURNING id", and gives the id of its row;
 // then resets it. Both backends speak RETURNING, where a last-insert id is SQLite's alone.
 Result<int64_t> RunReturningId(Statement& insert);
@@ -179,6 +204,15 @@ class Connection {
   // before it (every caller rolls its transaction back on error), e.g. "INSERT INTO ". Used by
   // db/sql/bulk_write.h.
   virtual std::string_view BulkInsertHead() const = 0;
+
+  // A stream of rows into `table_and_columns` ("table(a, b)", `columns` names) inside the open
+  // write transaction, for a backend that has a faster way to write many rows than multi-row
+  // INSERTs (PostgreSQL's COPY); null when it has none, and the caller inserts. Rows go through
+  // the table's triggers and constraints as inserted ones do.
+  virtual Result<std::unique_ptr<RowStream>> BeginRowStream(std::string_view /*table_and_columns*/,
+                                                            int /*columns*/) {
+    return std::unique_ptr<RowStream>();
+  }
 
   // Which list of migrations this store takes (db/migrations.h).
   virtual Backend backend() const = 0;
