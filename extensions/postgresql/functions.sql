@@ -4,12 +4,10 @@
 -- Each pins search_path to the store's schema and PostGIS's (SET search_path FROM CURRENT: the
 -- path CREATE EXTENSION ran the script with), so they answer the same from any search_path.
 --
--- Point location is the walk of tinbase's PointLocator (docs/format.md, "Block index of
--- triangles"): start from a triangle of the query point's block, cross the first edge the point
--- lies strictly outside of. The orientation tests are in double precision, not CGAL's exact
--- predicates, so a point within rounding of an edge may be given either triangle; a walk that
--- meets the boundary (the point is outside, or the surface has holes) or runs past 100000 steps
--- (a cycle among constrained triangles) ends with a scan instead.
+-- tinbase_locate, tinbase_z, tinbase_add_polygon and tinbase_remove_feature are C++ in the module
+-- tinbase.so (extensions/postgresql/*.cc): the engine itself, run through an SPI connection in the
+-- caller's transaction. tinbase_neighbours, tinbase_profile and tinbase_check are still SQL and
+-- plpgsql: their orientation tests are in double precision, not CGAL's exact predicates.
 
 -- The functions of the migrations (the id triggers, tinbase_srid of the PostGIS views) name the
 -- store's tables unqualified, for the CLI's search_path; pinned here too, the views and the
@@ -45,90 +43,47 @@ BEGIN
   RETURN found_surface;
 END $$;
 
--- The triangle of `surface_name` that holds (px, py), by a scan: the walk's fallback.
-CREATE FUNCTION tinbase_locate_by_scan(surface_id bigint, px double precision,
-                                       py double precision)
-RETURNS bigint LANGUAGE sql STABLE STRICT SET search_path FROM CURRENT AS $$
-  SELECT t.id
-  FROM triangles t
-    JOIN vertices a ON a.id = t.v0 JOIN vertices b ON b.id = t.v1 JOIN vertices c ON c.id = t.v2
-  WHERE t.surface = surface_id
-    AND px BETWEEN least(a.x, b.x, c.x) AND greatest(a.x, b.x, c.x)
-    AND py BETWEEN least(a.y, b.y, c.y) AND greatest(a.y, b.y, c.y)
-    AND tinbase_orient(b.x, b.y, c.x, c.y, px, py) >= 0
-    AND tinbase_orient(c.x, c.y, a.x, a.y, px, py) >= 0
-    AND tinbase_orient(a.x, a.y, b.x, b.y, px, py) >= 0
-  ORDER BY t.id
-  LIMIT 1
-$$;
+-- The path CREATE EXTENSION ran with (SET search_path FROM CURRENT gives it back): the C++
+-- functions of the module set it for their own queries, as the SQL ones pin it.
+CREATE FUNCTION tinbase_search_path() RETURNS text
+LANGUAGE sql STABLE SET search_path FROM CURRENT AS $$ SELECT current_setting('search_path') $$;
 
 -- The id of the triangle of surface `surface_name` that holds (px, py), visible or not; NULL
--- outside the surface. An error when the surface does not exist.
+-- outside the surface. An error when the surface does not exist. C++ (point_functions.cc): the
+-- walk of tinbase's bulk location over the surface held in memory, exact as the CLI's.
 CREATE FUNCTION tinbase_locate(surface_name text, px double precision, py double precision)
-RETURNS bigint LANGUAGE plpgsql STABLE STRICT SET search_path FROM CURRENT AS $$
-DECLARE
-  s surfaces := tinbase_surface(surface_name);
-  cell_x bigint := least(greatest(floor((px - s.block_origin_x) / s.block_size), 0), 16777215);
-  cell_y bigint := least(greatest(floor((py - s.block_origin_y) / s.block_size), 0), 16777215);
-  here bigint;
-  next bigint;
-  t record;
-  steps integer := 0;
-BEGIN
-  SELECT id INTO here FROM triangles
-  WHERE surface = s.id AND block = cell_y * 16777216 + cell_x LIMIT 1;
-  IF here IS NULL THEN
-    SELECT id INTO here FROM triangles WHERE surface = s.id LIMIT 1;
-    IF here IS NULL THEN RETURN NULL; END IF;
-  END IF;
-  LOOP
-    SELECT tr.n0, tr.n1, tr.n2, a.x AS ax, a.y AS ay, b.x AS bx, b.y AS by_, c.x AS cx, c.y AS cy
-      INTO t
-    FROM triangles tr
-      JOIN vertices a ON a.id = tr.v0 JOIN vertices b ON b.id = tr.v1
-      JOIN vertices c ON c.id = tr.v2
-    WHERE tr.id = here;
-    -- n_i is across the edge opposite v_i.
-    IF tinbase_orient(t.bx, t.by_, t.cx, t.cy, px, py) < 0 THEN
-      next := t.n0;
-    ELSIF tinbase_orient(t.cx, t.cy, t.ax, t.ay, px, py) < 0 THEN
-      next := t.n1;
-    ELSIF tinbase_orient(t.ax, t.ay, t.bx, t.by_, px, py) < 0 THEN
-      next := t.n2;
-    ELSE
-      RETURN here;
-    END IF;
-    steps := steps + 1;
-    IF next IS NULL OR steps > 100000 THEN
-      RETURN tinbase_locate_by_scan(s.id, px, py);
-    END IF;
-    here := next;
-  END LOOP;
-END $$;
+RETURNS bigint LANGUAGE c STABLE STRICT AS 'MODULE_PATHNAME', 'tinbase_locate_c';
+
+-- The height of surface `surface_name` at (px, py): the plane of the triangle that holds the
+-- point, visible or not (as `tinbase locate`); NULL outside the surface. C++, as tinbase_locate.
+CREATE FUNCTION tinbase_z(surface_name text, px double precision, py double precision)
+RETURNS double precision LANGUAGE c STABLE STRICT AS 'MODULE_PATHNAME', 'tinbase_z_c';
+
+-- Adds `geom` (a Polygon or MultiPolygon for clip, erase, fill, replace; a LineString or
+-- MultiLineString for breakline, softline; in the store's CRS, or SRID 0) to surface
+-- `surface_name` as `tinbase polygon add --mode MODE --tag TAG` does: one local edit, in the
+-- caller's transaction (a ROLLBACK undoes it), with its `changes` row. Returns the feature's id.
+-- `tag` may be NULL. Bad input (unknown surface or mode, an invalid polygon, a coordinate that is
+-- not a number) is an error naming the argument, ring and vertex; nothing is written then.
+CREATE FUNCTION tinbase_add_polygon_wkb(surface_name text, wkb bytea, srid integer, mode text,
+                                        tag text)
+RETURNS bigint LANGUAGE c VOLATILE AS 'MODULE_PATHNAME', 'tinbase_add_polygon_wkb';
+CREATE FUNCTION tinbase_add_polygon(surface_name text, geom geometry, mode text,
+                                    tag text DEFAULT NULL)
+RETURNS bigint LANGUAGE sql VOLATILE SET search_path FROM CURRENT AS $$
+  SELECT tinbase_add_polygon_wkb(surface_name, ST_AsBinary(geom), ST_SRID(geom), mode, tag)
+$$;
+
+-- Removes feature `feature` of surface `surface_name` as `tinbase polygon remove` does, in the
+-- caller's transaction. Returns the number of the edit's `changes` row. An error when the surface
+-- has no such feature.
+CREATE FUNCTION tinbase_remove_feature(surface_name text, feature bigint)
+RETURNS bigint LANGUAGE c VOLATILE STRICT AS 'MODULE_PATHNAME', 'tinbase_remove_feature';
 
 CREATE FUNCTION tinbase_locate(surface_name text, point geometry)
 RETURNS bigint LANGUAGE sql STABLE STRICT SET search_path FROM CURRENT AS $$
   SELECT tinbase_locate(surface_name, ST_X(point), ST_Y(point))
 $$;
-
--- The height of surface `surface_name` at (px, py): the plane of the triangle that holds the
--- point, visible or not (as `tinbase locate`); NULL outside the surface.
-CREATE FUNCTION tinbase_z(surface_name text, px double precision, py double precision)
-RETURNS double precision LANGUAGE plpgsql STABLE STRICT SET search_path FROM CURRENT AS $$
-DECLARE
-  here bigint := tinbase_locate(surface_name, px, py);
-  z double precision;
-BEGIN
-  SELECT (tinbase_orient(b.x, b.y, c.x, c.y, px, py) * a.z +
-          tinbase_orient(c.x, c.y, a.x, a.y, px, py) * b.z +
-          tinbase_orient(a.x, a.y, b.x, b.y, px, py) * c.z) /
-         tinbase_orient(a.x, a.y, b.x, b.y, c.x, c.y)
-    INTO z
-  FROM triangles t
-    JOIN vertices a ON a.id = t.v0 JOIN vertices b ON b.id = t.v1 JOIN vertices c ON c.id = t.v2
-  WHERE t.id = here;
-  RETURN z;
-END $$;
 
 -- The triangles across the edges of `triangle` (of surface `surface_name`), in edge order; none
 -- on the boundary. An error when the triangle is not one of the surface's.

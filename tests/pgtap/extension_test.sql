@@ -80,7 +80,7 @@ SELECT throws_ok($$SELECT * FROM terrain.tinbase_check('nowhere')$$, '22023',
 
 -- Bad input is refused with an error naming it, and changes nothing.
 SELECT throws_ok($$SELECT terrain.tinbase_z('nowhere', 0, 0)$$, '22023',
-                 'tinbase: no surface named ''nowhere''', 'an unknown surface is named');
+                 'tinbase_z: no surface named ''nowhere''', 'an unknown surface is named');
 SELECT throws_ok($$SELECT terrain.tinbase_z('x''); DROP TABLE terrain.triangles; --', 0, 0)$$,
                  '22023', NULL, 'a surface name is a value, never SQL');
 SELECT has_table('terrain', 'triangles', 'triangles is still there');
