@@ -5,7 +5,7 @@
 -- the CLI and against the CLI's own edit, is committed_edit/committed_edit_test.sql.
 BEGIN;
 SET search_path TO public;
-SELECT plan(19);
+SELECT plan(22);
 
 -- Every table of the store with the md5 of its rows in a fixed order.
 CREATE FUNCTION pg_temp.store_sums() RETURNS TABLE(name text, sum text) LANGUAGE plpgsql AS $$
@@ -86,8 +86,27 @@ SELECT throws_ok($$SELECT terrain.tinbase_z('terrain', 'NaN', 7490000)$$, '22023
 SELECT throws_ok($$SELECT terrain.tinbase_add_polygon('terrain', NULL, 'fill')$$, '22004',
                  'tinbase_add_polygon: surface, geometry and mode must not be NULL',
                  'a NULL geometry is refused');
+
+-- A server error in the middle of the edit (a trigger that refuses a triangle row): raised as the
+-- function's error, nothing of the edit kept, and the next edit of the transaction works.
+CREATE FUNCTION public.refuse_row() RETURNS trigger LANGUAGE plpgsql AS $$
+BEGIN
+  RAISE EXCEPTION 'refused by a test trigger';
+END $$;
+CREATE TRIGGER refuse BEFORE INSERT ON terrain.triangles
+  FOR EACH ROW EXECUTE FUNCTION public.refuse_row();
+SELECT throws_like($$SELECT terrain.tinbase_add_polygon('terrain', g, 'fill') FROM square$$,
+                   'tinbase_add_polygon: %refused by a test trigger',
+                   'a server error inside the edit is the function''s error');
+DROP TRIGGER refuse ON terrain.triangles;
 SELECT results_eq('SELECT * FROM pg_temp.store_sums() ORDER BY 1', 'SELECT * FROM before ORDER BY 1',
                   'the refused calls changed nothing');
+SAVEPOINT again;
+SELECT cmp_ok(terrain.tinbase_add_polygon('terrain', g, 'fill'), '>', 0::bigint,
+              'an edit after the failed one works') FROM square;
+ROLLBACK TO SAVEPOINT again;
+SELECT results_eq('SELECT * FROM pg_temp.store_sums() ORDER BY 1', 'SELECT * FROM before ORDER BY 1',
+                  'and its rollback leaves the store as it was');
 
 SELECT * FROM finish();
 ROLLBACK;
