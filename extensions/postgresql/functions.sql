@@ -4,10 +4,10 @@
 -- Each pins search_path to the store's schema and PostGIS's (SET search_path FROM CURRENT: the
 -- path CREATE EXTENSION ran the script with), so they answer the same from any search_path.
 --
--- tinbase_locate, tinbase_z, tinbase_add_polygon and tinbase_remove_feature are C++ in the module
--- tinbase.so (extensions/postgresql/*.cc): the engine itself, run through an SPI connection in the
--- caller's transaction. tinbase_neighbours, tinbase_profile and tinbase_check are still SQL and
--- plpgsql: their orientation tests are in double precision, not CGAL's exact predicates.
+-- tinbase_locate, tinbase_z, tinbase_neighbours, tinbase_check, tinbase_add_polygon and
+-- tinbase_remove_feature are C++ in the module tinbase.so (extensions/postgresql/*.cc): the
+-- engine itself, run through an SPI connection in the caller's transaction. tinbase_profile is
+-- still plpgsql: its orientation tests are in double precision, not CGAL's exact predicates.
 
 -- The functions of the migrations (the id triggers, tinbase_srid of the PostGIS views) name the
 -- store's tables unqualified, for the CLI's search_path; pinned here too, the views and the
@@ -86,20 +86,10 @@ RETURNS bigint LANGUAGE sql STABLE STRICT SET search_path FROM CURRENT AS $$
 $$;
 
 -- The triangles across the edges of `triangle` (of surface `surface_name`), in edge order; none
--- on the boundary. An error when the triangle is not one of the surface's.
+-- on the boundary. An error when the triangle is not one of the surface's. C++
+-- (set_functions.cc): the library's NeighboursOf.
 CREATE FUNCTION tinbase_neighbours(surface_name text, triangle bigint)
-RETURNS SETOF bigint LANGUAGE plpgsql STABLE STRICT SET search_path FROM CURRENT AS $$
-DECLARE
-  s surfaces := tinbase_surface(surface_name);
-  t triangles;
-BEGIN
-  SELECT * INTO t FROM triangles WHERE id = triangle AND surface = s.id;
-  IF NOT FOUND THEN
-    RAISE EXCEPTION 'tinbase: surface % has no triangle %', quote_literal(surface_name), triangle
-      USING ERRCODE = 'invalid_parameter_value';
-  END IF;
-  RETURN QUERY SELECT n FROM unnest(ARRAY[t.n0, t.n1, t.n2]) n WHERE n IS NOT NULL;
-END $$;
+RETURNS SETOF bigint LANGUAGE c STABLE STRICT ROWS 3 AS 'MODULE_PATHNAME', 'tinbase_neighbours_c';
 
 -- The surface along `line` (a LineString in the store's CRS), as `tinbase profile` gives it: one
 -- row per station (`start`, every `edge` crossing, each `bend`, `end`) with its plan distance along
@@ -205,62 +195,13 @@ BEGIN
   END LOOP;
 END $$;
 
--- The problems `tinbase check` would report on the triangles of surface `surface_name` for its
--- invariant 1 (vertices of the surface, counter-clockwise: `vertex-missing`,
--- `clockwise-triangle`, `degenerate-triangle`), 2 (`missing-neighbour`, `bad-neighbour`,
--- `neighbour-edge-mismatch`, `asymmetric-neighbour`) and the tag rule (`unknown-tag`), with the
--- same codes and wording; none for a sound surface. The orientation is computed in double
--- precision, not exactly. The other invariants (Delaunay, blocks, constraints, paint) are the
--- CLI's: `tinbase check --full`.
+-- The problems `tinbase check --surface surface_name` reports (every invariant but those of
+-- --full), with its codes and words: the code, the triangle (NULL for a problem of no one
+-- triangle) and the words after "surface 'name', triangle N: ". None for a sound surface. C++
+-- (set_functions.cc): the library's CheckStore, exact as the CLI's.
 CREATE FUNCTION tinbase_check(surface_name text)
 RETURNS TABLE(problem text, triangle_id bigint, detail text)
-LANGUAGE plpgsql STABLE STRICT SET search_path FROM CURRENT AS $$
-DECLARE
-  s surfaces := tinbase_surface(surface_name);
-BEGIN
-  RETURN QUERY
-  WITH tri AS (SELECT * FROM triangles WHERE surface = s.id),
-  -- Each triangle's edge i (opposite v_i) as the directed edge (a, b), with its neighbour link.
-  edge AS (
-    SELECT t.id, e.i, e.a, e.b, e.n FROM tri t,
-      LATERAL (VALUES (0, t.v1, t.v2, t.n0), (1, t.v2, t.v0, t.n1), (2, t.v0, t.v1, t.n2))
-        AS e(i, a, b, n)),
-  corner AS (
-    SELECT t.id, c.v FROM tri t, LATERAL (VALUES (t.v0), (t.v1), (t.v2)) AS c(v)),
-  shape AS (
-    SELECT t.id, tinbase_orient(a.x, a.y, b.x, b.y, c.x, c.y) AS o FROM tri t
-      JOIN vertices a ON a.id = t.v0 JOIN vertices b ON b.id = t.v1
-      JOIN vertices c ON c.id = t.v2)
-  SELECT 'vertex-missing', k.id, 'vertex ' || k.v || ' is not in the surface'
-  FROM corner k
-  WHERE NOT EXISTS (SELECT 1 FROM vertices v WHERE v.id = k.v AND v.surface = s.id)
-  UNION ALL
-  SELECT CASE WHEN h.o < 0 THEN 'clockwise-triangle' ELSE 'degenerate-triangle' END, h.id,
-         CASE WHEN h.o < 0 THEN 'vertices are clockwise' ELSE 'vertices are collinear' END
-  FROM shape h WHERE h.o <= 0
-  UNION ALL
-  SELECT 'unknown-tag', t.id, 'tag ' || t.tag || ' is not a row of tags'
-  FROM tri t WHERE t.tag IS NOT NULL AND NOT EXISTS (SELECT 1 FROM tags g WHERE g.id = t.tag)
-  UNION ALL
-  SELECT 'missing-neighbour', e.id, 'edge (' || e.a || ', ' || e.b || ') is shared with triangle '
-         || twin.id || ' but has no neighbour'
-  FROM edge e JOIN edge twin ON twin.a = e.b AND twin.b = e.a
-  WHERE e.n IS NULL
-  UNION ALL
-  SELECT CASE WHEN u.id IS NULL THEN 'bad-neighbour'
-              WHEN back.id IS NULL THEN 'neighbour-edge-mismatch'
-              ELSE 'asymmetric-neighbour' END,
-         e.id,
-         'neighbour ' || e.n || ' across edge (' || e.a || ', ' || e.b || ') ' ||
-         CASE WHEN u.id IS NULL THEN 'is not a triangle of the surface'
-              WHEN back.id IS NULL THEN 'does not have that edge'
-              ELSE 'does not name this triangle back' END
-  FROM edge e
-    LEFT JOIN tri u ON u.id = e.n
-    LEFT JOIN edge back ON back.id = e.n AND back.a = e.b AND back.b = e.a
-  WHERE e.n IS NOT NULL AND (u.id IS NULL OR back.id IS NULL OR back.n IS DISTINCT FROM e.id)
-  ORDER BY 2, 1, 3;
-END $$;
+LANGUAGE c STABLE STRICT AS 'MODULE_PATHNAME', 'tinbase_check_c';
 
 -- pg_dump keeps the rows of a store made by the extension: its tables belong to the extension,
 -- whose objects pg_dump otherwise leaves to CREATE EXTENSION. Every table of the script is
