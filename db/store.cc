@@ -148,6 +148,18 @@ Result<std::unique_ptr<Store>> Store::Open(const std::string& path, Access acces
   return std::unique_ptr<Store>(new Store(std::move(db), LatestSchemaVersion()));
 }
 
+Result<std::unique_ptr<Store>> Store::Adopt(std::unique_ptr<Connection> db) {
+  const std::string label = db->path();
+  TB_RETURN_IF_ERROR(CheckIsStore(*db, label));
+  TB_ASSIGN_OR_RETURN(int64_t version, db->SchemaVersion());
+  if (version != LatestSchemaVersion())
+    return Status::InvalidArgument(label + " has schema version " + std::to_string(version) +
+                                   " where this tinbase needs " +
+                                   std::to_string(LatestSchemaVersion()) +
+                                   ": ALTER EXTENSION tinbase UPDATE, or migrate it with the CLI");
+  return std::unique_ptr<Store>(new Store(std::move(db), LatestSchemaVersion()));
+}
+
 Result<std::unique_ptr<WriteTransaction>> Store::BeginWrite() {
   TB_ASSIGN_OR_RETURN(Transaction tx, Transaction::Begin(*db_));
   return std::make_unique<WriteTransaction>(this, std::move(tx));

@@ -34,6 +34,10 @@ class Store {
   // Opens an existing store; migrates an older schema forward (needs kReadWrite).
   static Result<std::unique_ptr<Store>> Open(const std::string& path,
                                              Access access = Access::kReadWrite);
+  // A Store over a connection opened elsewhere (the PostgreSQL extension's, inside its caller's
+  // transaction; extensions/postgresql/spi_connection.h): checks that it is a tinbase store of
+  // exactly this tinbase's schema version (InvalidArgument otherwise) and never migrates.
+  static Result<std::unique_ptr<Store>> Adopt(std::unique_ptr<Connection> db);
 
   // How much of a store file each connection opened after this call reads through a memory map
   // (StoreSettings::memory_map_bytes; default kDefaultMemoryMapBytes, 0 = none). The map saves a

@@ -11,6 +11,7 @@ PACKAGES=(
   libsqlite3-dev sqlite3 libblosc-dev libzstd-dev zlib1g-dev
   libpq-dev postgresql-15 postgresql-15-postgis-3
   postgresql-15-pgtap libtap-parser-sourcehandler-pgtap-perl
+  postgresql-server-dev-15
   nlohmann-json3-dev libcli11-dev
   libtbb-dev
   libtinygltf-dev libmeshoptimizer-dev libcpp-httplib-dev

@@ -6,7 +6,8 @@
 # test makes one, must log in with its password.
 #   scripts/pg-server.sh start DIR [--extension-dir EXT] [-c NAME=VALUE ...]
 #       starts it; prints its URL, also written to DIR/url. --extension-dir adds the extension
-#       files of EXT (the build's extensions/postgresql/extension: CREATE EXTENSION tinbase);
+#       files of EXT (the build's extensions/postgresql/extension: CREATE EXTENSION tinbase), its
+#       modules (*.so) to the server's $libdir;
 #       -c sets a server setting.
 #   scripts/pg-server.sh stop DIR    stops it and removes DIR
 # Needs Debian's postgresql-15 and postgresql-15-postgis-3 (scripts/install-deps.sh).
@@ -17,7 +18,8 @@
 # directory it was built with: DIR/root/lib/postgresql/15/bin/postgres (a hard link to Debian's,
 # a copy when the link cannot be made) finds DIR/root/share/postgresql/15, whose entries are
 # links to Debian's but for extension/, which holds links to every system extension file and to
-# the files of EXT. initdb refuses to run as root, so as root the server runs as the postgres user.
+# the files of EXT; DIR/root/lib/postgresql/15/lib ($libdir) likewise links Debian's modules and
+# those of EXT. initdb refuses to run as root, so as root the server runs as the postgres user.
 set -euo pipefail
 action=${1:-}
 dir=${2:-}
@@ -35,8 +37,9 @@ make_root() {
   mkdir -p "$root/lib/postgresql/15/bin" "$root/share/postgresql/15/extension"
   ln "$pgbin/postgres" "$root/lib/postgresql/15/bin/postgres" 2>/dev/null ||
     cp "$pgbin/postgres" "$root/lib/postgresql/15/bin/postgres"
-  ln -s /usr/lib/postgresql/15/lib "$root/lib/postgresql/15/lib"
   local entry
+  mkdir -p "$root/lib/postgresql/15/lib"
+  for entry in /usr/lib/postgresql/15/lib/*; do ln -s "$entry" "$root/lib/postgresql/15/lib/"; done
   for entry in "$pgshare"/*; do
     [ "$(basename "$entry")" = extension ] || ln -s "$entry" "$root/share/postgresql/15/"
   done
@@ -44,7 +47,12 @@ make_root() {
   if [ -n "$ext" ]; then
     ls "$ext"/*.control >/dev/null 2>&1 ||
       { echo "pg-server: no extension (.control file) in $ext" >&2; return 1; }
-    for entry in "$ext"/*; do ln -sf "$(realpath "$entry")" "$root/share/postgresql/15/extension/"; done
+    for entry in "$ext"/*; do
+      case "$entry" in
+        *.so) ln -sf "$(realpath "$entry")" "$root/lib/postgresql/15/lib/" ;;
+        *) ln -sf "$(realpath "$entry")" "$root/share/postgresql/15/extension/" ;;
+      esac
+    done
   fi
 }
 

@@ -4,12 +4,9 @@
 -- Each pins search_path to the store's schema and PostGIS's (SET search_path FROM CURRENT: the
 -- path CREATE EXTENSION ran the script with), so they answer the same from any search_path.
 --
--- Point location is the walk of tinbase's PointLocator (docs/format.md, "Block index of
--- triangles"): start from a triangle of the query point's block, cross the first edge the point
--- lies strictly outside of. The orientation tests are in double precision, not CGAL's exact
--- predicates, so a point within rounding of an edge may be given either triangle; a walk that
--- meets the boundary (the point is outside, or the surface has holes) or runs past 100000 steps
--- (a cycle among constrained triangles) ends with a scan instead.
+-- Every tinbase_* function but the small SQL helpers is C++ in the module tinbase.so
+-- (extensions/postgresql/*.cc): the engine itself, run through an SPI connection in the caller's
+-- transaction, with CGAL's exact predicates, giving the CLI's answers.
 
 -- The functions of the migrations (the id triggers, tinbase_srid of the PostGIS views) name the
 -- store's tables unqualified, for the CLI's search_path; pinned here too, the views and the
@@ -24,288 +21,78 @@ BEGIN
   END LOOP;
 END $$;
 
--- Twice the signed area of (a, b, p): positive when p lies left of a->b.
-CREATE FUNCTION tinbase_orient(ax double precision, ay double precision, bx double precision,
-                               by_ double precision, px double precision, py double precision)
-RETURNS double precision LANGUAGE sql IMMUTABLE STRICT PARALLEL SAFE AS $$
-  SELECT (bx - ax) * (py - ay) - (by_ - ay) * (px - ax)
-$$;
-
--- The surface row of `surface_name`; an error naming it when there is none.
-CREATE FUNCTION tinbase_surface(surface_name text) RETURNS surfaces
-LANGUAGE plpgsql STABLE STRICT SET search_path FROM CURRENT AS $$
-DECLARE
-  found_surface surfaces;
-BEGIN
-  SELECT * INTO found_surface FROM surfaces WHERE name = surface_name;
-  IF NOT FOUND THEN
-    RAISE EXCEPTION 'tinbase: no surface named %', quote_literal(surface_name)
-      USING ERRCODE = 'invalid_parameter_value';
-  END IF;
-  RETURN found_surface;
-END $$;
-
--- The triangle of `surface_name` that holds (px, py), by a scan: the walk's fallback.
-CREATE FUNCTION tinbase_locate_by_scan(surface_id bigint, px double precision,
-                                       py double precision)
-RETURNS bigint LANGUAGE sql STABLE STRICT SET search_path FROM CURRENT AS $$
-  SELECT t.id
-  FROM triangles t
-    JOIN vertices a ON a.id = t.v0 JOIN vertices b ON b.id = t.v1 JOIN vertices c ON c.id = t.v2
-  WHERE t.surface = surface_id
-    AND px BETWEEN least(a.x, b.x, c.x) AND greatest(a.x, b.x, c.x)
-    AND py BETWEEN least(a.y, b.y, c.y) AND greatest(a.y, b.y, c.y)
-    AND tinbase_orient(b.x, b.y, c.x, c.y, px, py) >= 0
-    AND tinbase_orient(c.x, c.y, a.x, a.y, px, py) >= 0
-    AND tinbase_orient(a.x, a.y, b.x, b.y, px, py) >= 0
-  ORDER BY t.id
-  LIMIT 1
-$$;
+-- The path CREATE EXTENSION ran with (SET search_path FROM CURRENT gives it back): the C++
+-- functions of the module set it for their own queries, as the SQL ones pin it.
+CREATE FUNCTION tinbase_search_path() RETURNS text
+LANGUAGE sql STABLE SET search_path FROM CURRENT AS $$ SELECT current_setting('search_path') $$;
 
 -- The id of the triangle of surface `surface_name` that holds (px, py), visible or not; NULL
--- outside the surface. An error when the surface does not exist.
+-- outside the surface. An error when the surface does not exist. C++ (point_functions.cc): the
+-- walk of tinbase's bulk location over the surface held in memory, exact as the CLI's.
 CREATE FUNCTION tinbase_locate(surface_name text, px double precision, py double precision)
-RETURNS bigint LANGUAGE plpgsql STABLE STRICT SET search_path FROM CURRENT AS $$
-DECLARE
-  s surfaces := tinbase_surface(surface_name);
-  cell_x bigint := least(greatest(floor((px - s.block_origin_x) / s.block_size), 0), 16777215);
-  cell_y bigint := least(greatest(floor((py - s.block_origin_y) / s.block_size), 0), 16777215);
-  here bigint;
-  next bigint;
-  t record;
-  steps integer := 0;
-BEGIN
-  SELECT id INTO here FROM triangles
-  WHERE surface = s.id AND block = cell_y * 16777216 + cell_x LIMIT 1;
-  IF here IS NULL THEN
-    SELECT id INTO here FROM triangles WHERE surface = s.id LIMIT 1;
-    IF here IS NULL THEN RETURN NULL; END IF;
-  END IF;
-  LOOP
-    SELECT tr.n0, tr.n1, tr.n2, a.x AS ax, a.y AS ay, b.x AS bx, b.y AS by_, c.x AS cx, c.y AS cy
-      INTO t
-    FROM triangles tr
-      JOIN vertices a ON a.id = tr.v0 JOIN vertices b ON b.id = tr.v1
-      JOIN vertices c ON c.id = tr.v2
-    WHERE tr.id = here;
-    -- n_i is across the edge opposite v_i.
-    IF tinbase_orient(t.bx, t.by_, t.cx, t.cy, px, py) < 0 THEN
-      next := t.n0;
-    ELSIF tinbase_orient(t.cx, t.cy, t.ax, t.ay, px, py) < 0 THEN
-      next := t.n1;
-    ELSIF tinbase_orient(t.ax, t.ay, t.bx, t.by_, px, py) < 0 THEN
-      next := t.n2;
-    ELSE
-      RETURN here;
-    END IF;
-    steps := steps + 1;
-    IF next IS NULL OR steps > 100000 THEN
-      RETURN tinbase_locate_by_scan(s.id, px, py);
-    END IF;
-    here := next;
-  END LOOP;
-END $$;
+RETURNS bigint LANGUAGE c STABLE STRICT AS 'MODULE_PATHNAME', 'tinbase_locate_c';
+
+-- The height of surface `surface_name` at (px, py): the plane of the triangle that holds the
+-- point, visible or not (as `tinbase locate`); NULL outside the surface. C++, as tinbase_locate.
+CREATE FUNCTION tinbase_z(surface_name text, px double precision, py double precision)
+RETURNS double precision LANGUAGE c STABLE STRICT AS 'MODULE_PATHNAME', 'tinbase_z_c';
+
+-- Adds `geom` (a Polygon or MultiPolygon for clip, erase, fill, replace; a LineString or
+-- MultiLineString for breakline, softline; in the store's CRS, or SRID 0) to surface
+-- `surface_name` as `tinbase polygon add --mode MODE --tag TAG` does: one local edit, in the
+-- caller's transaction (a ROLLBACK undoes it), with its `changes` row. Returns the feature's id.
+-- `tag` may be NULL. Bad input (unknown surface or mode, an invalid polygon, a coordinate that is
+-- not a number) is an error naming the argument, ring and vertex; nothing is written then.
+CREATE FUNCTION tinbase_add_polygon_wkb(surface_name text, wkb bytea, srid integer, mode text,
+                                        tag text)
+RETURNS bigint LANGUAGE c VOLATILE AS 'MODULE_PATHNAME', 'tinbase_add_polygon_wkb';
+CREATE FUNCTION tinbase_add_polygon(surface_name text, geom geometry, mode text,
+                                    tag text DEFAULT NULL)
+RETURNS bigint LANGUAGE sql VOLATILE SET search_path FROM CURRENT AS $$
+  SELECT tinbase_add_polygon_wkb(surface_name, ST_AsBinary(geom), ST_SRID(geom), mode, tag)
+$$;
+
+-- Removes feature `feature` of surface `surface_name` as `tinbase polygon remove` does, in the
+-- caller's transaction. Returns the number of the edit's `changes` row. An error when the surface
+-- has no such feature.
+CREATE FUNCTION tinbase_remove_feature(surface_name text, feature bigint)
+RETURNS bigint LANGUAGE c VOLATILE STRICT AS 'MODULE_PATHNAME', 'tinbase_remove_feature';
 
 CREATE FUNCTION tinbase_locate(surface_name text, point geometry)
 RETURNS bigint LANGUAGE sql STABLE STRICT SET search_path FROM CURRENT AS $$
   SELECT tinbase_locate(surface_name, ST_X(point), ST_Y(point))
 $$;
 
--- The height of surface `surface_name` at (px, py): the plane of the triangle that holds the
--- point, visible or not (as `tinbase locate`); NULL outside the surface.
-CREATE FUNCTION tinbase_z(surface_name text, px double precision, py double precision)
-RETURNS double precision LANGUAGE plpgsql STABLE STRICT SET search_path FROM CURRENT AS $$
-DECLARE
-  here bigint := tinbase_locate(surface_name, px, py);
-  z double precision;
-BEGIN
-  SELECT (tinbase_orient(b.x, b.y, c.x, c.y, px, py) * a.z +
-          tinbase_orient(c.x, c.y, a.x, a.y, px, py) * b.z +
-          tinbase_orient(a.x, a.y, b.x, b.y, px, py) * c.z) /
-         tinbase_orient(a.x, a.y, b.x, b.y, c.x, c.y)
-    INTO z
-  FROM triangles t
-    JOIN vertices a ON a.id = t.v0 JOIN vertices b ON b.id = t.v1 JOIN vertices c ON c.id = t.v2
-  WHERE t.id = here;
-  RETURN z;
-END $$;
-
 -- The triangles across the edges of `triangle` (of surface `surface_name`), in edge order; none
--- on the boundary. An error when the triangle is not one of the surface's.
+-- on the boundary. An error when the triangle is not one of the surface's. C++
+-- (set_functions.cc): the library's NeighboursOf.
 CREATE FUNCTION tinbase_neighbours(surface_name text, triangle bigint)
-RETURNS SETOF bigint LANGUAGE plpgsql STABLE STRICT SET search_path FROM CURRENT AS $$
-DECLARE
-  s surfaces := tinbase_surface(surface_name);
-  t triangles;
-BEGIN
-  SELECT * INTO t FROM triangles WHERE id = triangle AND surface = s.id;
-  IF NOT FOUND THEN
-    RAISE EXCEPTION 'tinbase: surface % has no triangle %', quote_literal(surface_name), triangle
-      USING ERRCODE = 'invalid_parameter_value';
-  END IF;
-  RETURN QUERY SELECT n FROM unnest(ARRAY[t.n0, t.n1, t.n2]) n WHERE n IS NOT NULL;
-END $$;
+RETURNS SETOF bigint LANGUAGE c STABLE STRICT ROWS 3 AS 'MODULE_PATHNAME', 'tinbase_neighbours_c';
 
 -- The surface along `line` (a LineString in the store's CRS), as `tinbase profile` gives it: one
--- row per station (`start`, every `edge` crossing, each `bend`, `end`) with its plan distance along
--- the line, x, y and z, and the triangle, visibility and tag of the stretch that begins there
--- (none at the end). The walk crosses triangles by their neighbour links; a line that leaves the
--- surface, or whose first point is outside it, is refused naming the place, as by the CLI. The
--- tests are in double precision: a line through a vertex or along an edge may be followed
--- either way there (the CLI's exact walk reports `vertex` stations; this one does not).
+-- row per station (`start`, every `edge` crossing, each `vertex` passed, each `bend`, `end`) with
+-- its plan distance along the line, x, y and z, and the triangle, visibility and tag of the
+-- stretch that begins there (none at the end). A line that leaves the surface, or whose first
+-- point is outside it, is refused naming the place, as by the CLI. C++ (set_functions.cc): the
+-- library's ProfileAlong, exact as the CLI's.
+CREATE FUNCTION tinbase_profile_wkb(surface_name text, line bytea)
+RETURNS TABLE(distance double precision, x double precision, y double precision,
+              z double precision, kind text, triangle bigint, visible boolean, tag text)
+LANGUAGE c STABLE STRICT AS 'MODULE_PATHNAME', 'tinbase_profile_wkb';
 CREATE FUNCTION tinbase_profile(surface_name text, line geometry)
 RETURNS TABLE(distance double precision, x double precision, y double precision,
               z double precision, kind text, triangle bigint, visible boolean, tag text)
-LANGUAGE plpgsql STABLE STRICT SET search_path FROM CURRENT AS $$
-#variable_conflict use_column
-DECLARE
-  s surfaces := tinbase_surface(surface_name);
-  n integer := ST_NPoints(line);
-  here bigint;
-  t record;
-  k integer;
-  px double precision; py double precision; qx double precision; qy double precision;
-  length double precision;
-  base double precision := 0;
-  ea bigint; eb bigint; en bigint;
-  fa double precision; fb double precision; fp double precision; fq double precision;
-  crossing double precision;
-  guard integer;
-BEGIN
-  IF GeometryType(line) <> 'LINESTRING' OR n < 2 THEN
-    RAISE EXCEPTION 'tinbase_profile: the line must be a LineString of at least two points'
-      USING ERRCODE = 'invalid_parameter_value';
-  END IF;
-  px := ST_X(ST_PointN(line, 1));
-  py := ST_Y(ST_PointN(line, 1));
-  here := tinbase_locate(surface_name, px, py);
-  IF here IS NULL THEN
-    RAISE EXCEPTION 'tinbase_profile: point 1 (%, %) is outside surface %', px, py,
-      quote_literal(surface_name) USING ERRCODE = 'invalid_parameter_value';
-  END IF;
-  FOR k IN 2 .. n LOOP
-    qx := ST_X(ST_PointN(line, k));
-    qy := ST_Y(ST_PointN(line, k));
-    length := sqrt((qx - px) ^ 2 + (qy - py) ^ 2);
-    guard := 0;
-    LOOP
-      SELECT tr.id, tr.visible = 1 AS shown, g.value AS tag_value,
-             ARRAY[tr.v0, tr.v1, tr.v2] AS v, ARRAY[tr.n0, tr.n1, tr.n2] AS nb,
-             ARRAY[a.x, b.x, c.x] AS vx, ARRAY[a.y, b.y, c.y] AS vy, ARRAY[a.z, b.z, c.z] AS vz
-        INTO t
-      FROM triangles tr
-        JOIN vertices a ON a.id = tr.v0 JOIN vertices b ON b.id = tr.v1
-        JOIN vertices c ON c.id = tr.v2 LEFT JOIN tags g ON g.id = tr.tag
-      WHERE tr.id = here;
-      IF k = 2 AND guard = 0 THEN  -- the start, in its triangle
-        RETURN QUERY SELECT 0::double precision, px, py,
-          (tinbase_orient(t.vx[2], t.vy[2], t.vx[3], t.vy[3], px, py) * t.vz[1] +
-           tinbase_orient(t.vx[3], t.vy[3], t.vx[1], t.vy[1], px, py) * t.vz[2] +
-           tinbase_orient(t.vx[1], t.vy[1], t.vx[2], t.vy[2], px, py) * t.vz[3]) /
-          tinbase_orient(t.vx[1], t.vy[1], t.vx[2], t.vy[2], t.vx[3], t.vy[3]),
-          'start'::text, t.id, t.shown, t.tag_value;
-      END IF;
-      guard := guard + 1;
-      -- The edge i (from v[i+1] to v[i+2], across from v[i]) the line leaves by: q beyond it,
-      -- its start right of the line and its end left of it.
-      en := NULL;
-      FOR i IN 1 .. 3 LOOP
-        ea := i % 3 + 1;
-        eb := (i + 1) % 3 + 1;
-        fq := tinbase_orient(t.vx[ea], t.vy[ea], t.vx[eb], t.vy[eb], qx, qy);
-        fa := tinbase_orient(px, py, qx, qy, t.vx[ea], t.vy[ea]);
-        fb := tinbase_orient(px, py, qx, qy, t.vx[eb], t.vy[eb]);
-        IF fq < 0 AND fa <= 0 AND fb >= 0 THEN
-          en := i;
-          EXIT;
-        END IF;
-      END LOOP;
-      EXIT WHEN en IS NULL;  -- q is in this triangle
-      fp := tinbase_orient(t.vx[ea], t.vy[ea], t.vx[eb], t.vy[eb], px, py);
-      crossing := fp / (fp - fq);
-      IF t.nb[en] IS NULL OR guard > 1000000 THEN
-        RAISE EXCEPTION 'tinbase_profile: the line leaves the surface at (%, %) on its way to point %',
-          px + crossing * (qx - px), py + crossing * (qy - py), k
-          USING ERRCODE = 'invalid_parameter_value';
-      END IF;
-      here := t.nb[en];
-      SELECT tr.visible = 1, g.value INTO t.shown, t.tag_value
-      FROM triangles tr LEFT JOIN tags g ON g.id = tr.tag WHERE tr.id = here;
-      RETURN QUERY SELECT base + crossing * length, px + crossing * (qx - px),
-        py + crossing * (qy - py),
-        t.vz[ea] + fa / (fa - fb) * (t.vz[eb] - t.vz[ea]), 'edge'::text, here, t.shown, t.tag_value;
-    END LOOP;
-    base := base + length;
-    RETURN QUERY SELECT base, qx, qy,
-      (tinbase_orient(t.vx[2], t.vy[2], t.vx[3], t.vy[3], qx, qy) * t.vz[1] +
-       tinbase_orient(t.vx[3], t.vy[3], t.vx[1], t.vy[1], qx, qy) * t.vz[2] +
-       tinbase_orient(t.vx[1], t.vy[1], t.vx[2], t.vy[2], qx, qy) * t.vz[3]) /
-      tinbase_orient(t.vx[1], t.vy[1], t.vx[2], t.vy[2], t.vx[3], t.vy[3]),
-      CASE WHEN k = n THEN 'end' ELSE 'bend' END,
-      CASE WHEN k = n THEN NULL ELSE t.id END,
-      CASE WHEN k = n THEN NULL ELSE t.shown END,
-      CASE WHEN k = n THEN NULL ELSE t.tag_value END;
-    px := qx;
-    py := qy;
-  END LOOP;
-END $$;
+LANGUAGE sql STABLE STRICT SET search_path FROM CURRENT AS $$
+  SELECT * FROM tinbase_profile_wkb(surface_name, ST_AsBinary(line))
+$$;
 
--- The problems `tinbase check` would report on the triangles of surface `surface_name` for its
--- invariant 1 (vertices of the surface, counter-clockwise: `vertex-missing`,
--- `clockwise-triangle`, `degenerate-triangle`), 2 (`missing-neighbour`, `bad-neighbour`,
--- `neighbour-edge-mismatch`, `asymmetric-neighbour`) and the tag rule (`unknown-tag`), with the
--- same codes and wording; none for a sound surface. The orientation is computed in double
--- precision, not exactly. The other invariants (Delaunay, blocks, constraints, paint) are the
--- CLI's: `tinbase check --full`.
+-- The problems `tinbase check --surface surface_name` reports (every invariant but those of
+-- --full), with its codes and words: the code, the triangle (NULL for a problem of no one
+-- triangle) and the words after "surface 'name', triangle N: ". None for a sound surface. C++
+-- (set_functions.cc): the library's CheckStore, exact as the CLI's.
 CREATE FUNCTION tinbase_check(surface_name text)
 RETURNS TABLE(problem text, triangle_id bigint, detail text)
-LANGUAGE plpgsql STABLE STRICT SET search_path FROM CURRENT AS $$
-DECLARE
-  s surfaces := tinbase_surface(surface_name);
-BEGIN
-  RETURN QUERY
-  WITH tri AS (SELECT * FROM triangles WHERE surface = s.id),
-  -- Each triangle's edge i (opposite v_i) as the directed edge (a, b), with its neighbour link.
-  edge AS (
-    SELECT t.id, e.i, e.a, e.b, e.n FROM tri t,
-      LATERAL (VALUES (0, t.v1, t.v2, t.n0), (1, t.v2, t.v0, t.n1), (2, t.v0, t.v1, t.n2))
-        AS e(i, a, b, n)),
-  corner AS (
-    SELECT t.id, c.v FROM tri t, LATERAL (VALUES (t.v0), (t.v1), (t.v2)) AS c(v)),
-  shape AS (
-    SELECT t.id, tinbase_orient(a.x, a.y, b.x, b.y, c.x, c.y) AS o FROM tri t
-      JOIN vertices a ON a.id = t.v0 JOIN vertices b ON b.id = t.v1
-      JOIN vertices c ON c.id = t.v2)
-  SELECT 'vertex-missing', k.id, 'vertex ' || k.v || ' is not in the surface'
-  FROM corner k
-  WHERE NOT EXISTS (SELECT 1 FROM vertices v WHERE v.id = k.v AND v.surface = s.id)
-  UNION ALL
-  SELECT CASE WHEN h.o < 0 THEN 'clockwise-triangle' ELSE 'degenerate-triangle' END, h.id,
-         CASE WHEN h.o < 0 THEN 'vertices are clockwise' ELSE 'vertices are collinear' END
-  FROM shape h WHERE h.o <= 0
-  UNION ALL
-  SELECT 'unknown-tag', t.id, 'tag ' || t.tag || ' is not a row of tags'
-  FROM tri t WHERE t.tag IS NOT NULL AND NOT EXISTS (SELECT 1 FROM tags g WHERE g.id = t.tag)
-  UNION ALL
-  SELECT 'missing-neighbour', e.id, 'edge (' || e.a || ', ' || e.b || ') is shared with triangle '
-         || twin.id || ' but has no neighbour'
-  FROM edge e JOIN edge twin ON twin.a = e.b AND twin.b = e.a
-  WHERE e.n IS NULL
-  UNION ALL
-  SELECT CASE WHEN u.id IS NULL THEN 'bad-neighbour'
-              WHEN back.id IS NULL THEN 'neighbour-edge-mismatch'
-              ELSE 'asymmetric-neighbour' END,
-         e.id,
-         'neighbour ' || e.n || ' across edge (' || e.a || ', ' || e.b || ') ' ||
-         CASE WHEN u.id IS NULL THEN 'is not a triangle of the surface'
-              WHEN back.id IS NULL THEN 'does not have that edge'
-              ELSE 'does not name this triangle back' END
-  FROM edge e
-    LEFT JOIN tri u ON u.id = e.n
-    LEFT JOIN edge back ON back.id = e.n AND back.a = e.b AND back.b = e.a
-  WHERE e.n IS NOT NULL AND (u.id IS NULL OR back.id IS NULL OR back.n IS DISTINCT FROM e.id)
-  ORDER BY 2, 1, 3;
-END $$;
+LANGUAGE c STABLE STRICT AS 'MODULE_PATHNAME', 'tinbase_check_c';
 
 -- pg_dump keeps the rows of a store made by the extension: its tables belong to the extension,
 -- whose objects pg_dump otherwise leaves to CREATE EXTENSION. Every table of the script is

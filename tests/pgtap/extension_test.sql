@@ -4,7 +4,7 @@
 -- without the store on it: they find their tables themselves.
 BEGIN;
 SET search_path TO public;
-SELECT plan(30);
+SELECT plan(31);
 
 -- The extension makes a store, as `tinbase init` does.
 SELECT has_extension('tinbase');
@@ -76,16 +76,18 @@ SELECT cmp_ok((SELECT count(*) FROM cli_problems), '>=', 5::bigint,
 SELECT bag_eq('SELECT * FROM sql_problems', 'SELECT * FROM cli_problems',
               'tinbase_check reported the CLI''s problems on the damaged surface');
 SELECT throws_ok($$SELECT * FROM terrain.tinbase_check('nowhere')$$, '22023',
-                 'tinbase: no surface named ''nowhere''', 'tinbase_check names an unknown surface');
+                 'tinbase_check: no surface named ''nowhere''', 'tinbase_check names an unknown surface');
 
 -- Bad input is refused with an error naming it, and changes nothing.
 SELECT throws_ok($$SELECT terrain.tinbase_z('nowhere', 0, 0)$$, '22023',
-                 'tinbase: no surface named ''nowhere''', 'an unknown surface is named');
+                 'tinbase_z: no surface named ''nowhere''', 'an unknown surface is named');
 SELECT throws_ok($$SELECT terrain.tinbase_z('x''); DROP TABLE terrain.triangles; --', 0, 0)$$,
                  '22023', NULL, 'a surface name is a value, never SQL');
 SELECT has_table('terrain', 'triangles', 'triangles is still there');
 SELECT throws_ok($$SELECT terrain.tinbase_neighbours('terrain', -5)$$, '22023',
-                 'tinbase: surface ''terrain'' has no triangle -5', 'an unknown triangle is named');
+                 NULL, 'an unknown triangle is refused');
+SELECT throws_like($$SELECT terrain.tinbase_neighbours('terrain', -5)$$,
+                   'tinbase_neighbours: %triangle -5%', 'an unknown triangle is named');
 
 -- The functions read in the caller's transaction: they see its own uncommitted edit, and a
 -- rollback takes it away again.
