@@ -116,7 +116,7 @@ FeatureMode RandomMode() {
 // A private copy of the base store in `dir`, opened: each case edits its own.
 std::unique_ptr<Store> OpenCopyOfBaseStore(const TempDir& dir) {
   const std::string path = StoreTarget(dir, "p.tinbase");
-  std::filesystem::copy_file(BaseStore(), path);
+  testing::CopyStore(BaseStore(), path);
   auto opened = Store::Open(path);
   RC_ASSERT(opened.ok());
   return std::move(*opened);

@@ -12,6 +12,7 @@
 #include "db/feature_store.h"
 #include "db/surface_store.h"
 #include "tests/support/service_support.h"
+#include "tests/support/store_target.h"
 
 namespace tinbase::testing {
 namespace {
@@ -22,7 +23,7 @@ const char* const kPost = "/surfaces/t/features?crs=EPSG:4326";
 class EditRoutesTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    store_ = dir_.Path("s.tinbase");
+    store_ = StoreTarget(dir_, "s.tinbase");
     CopyDemoStore(store_);
   }
   void Serve(service::ServiceOptions options = {}) {

@@ -16,6 +16,7 @@
 
 #include "db/mesh_cache.h"
 #include "db/surface_store.h"
+#include "tests/support/store_target.h"
 #include "tests/support/test_support.h"
 #include "tests/support/tin_fixtures.h"
 
@@ -66,7 +67,7 @@ std::vector<ConstraintRow> ReadAll(Result<ConstraintCursor> cursor) {
 class MeshTablesTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    auto store = Store::Create(dir_.Path("s.tinbase"), "EPSG:32632");
+    auto store = Store::Create(testing::StoreTarget(dir_, "s.tinbase"), "EPSG:32632");
     ASSERT_TRUE(store.ok()) << store.status().ToString();
     store_ = std::move(*store);
     // A surface with paint, tags and constraints (the ring), and a second one written after it.

@@ -1,0 +1,25 @@
+# Which tests (or which of their cases) run on SQLite only, and why (tests/CMakeLists.txt runs
+# every other test that takes its stores from tests/support/store_target.h on both backends).
+# Each entry is about SQLite by nature: its files, its SQL dialect in the test's own statements,
+# its data_version, its file-level faults.
+
+# Whole test binaries.
+set(TINBASE_SQLITE_ONLY_TESTS
+  # A PostgreSQL test already: it compares a PostgreSQL store with an SQLite file.
+  softline_postgres_test
+)
+
+# Test cases, by GoogleTest pattern, per binary.
+set(TINBASE_SQLITE_ONLY_dem_store_test
+  # Damages a block's bytes in the file, and fakes a schema-2 file store.
+  "DemStore.DamagedBlock*" "DemStore.Migration0003*")
+set(TINBASE_SQLITE_ONLY_dem_mosaic_test
+  # Reads SQLite's data_version between sheets.
+  "Mosaic.SheetsAddedOneByOne*")
+set(TINBASE_SQLITE_ONLY_surface_store_test
+  # Breaks references with SQLite's foreign-key pragma off.
+  "*LoadNamesBrokenReferences*")
+set(TINBASE_SQLITE_ONLY_update_engine_test
+  # Count row reads through SQLite's page cache, and a second writer seen by data_version.
+  "*EachLoadOverMuchOfTheSurfaceReadsItOnce" "*EachDropsTheMeshRowsWhenAnotherWriterCommits"
+  "*ManyFeaturesOverMostOfTheSurfaceReplaceItWhole")
