@@ -23,3 +23,11 @@ set(TINBASE_SQLITE_ONLY_update_engine_test
   # Count row reads through SQLite's page cache, and a second writer seen by data_version.
   "*EachLoadOverMuchOfTheSurfaceReadsItOnce" "*EachDropsTheMeshRowsWhenAnotherWriterCommits"
   "*ManyFeaturesOverMostOfTheSurfaceReplaceItWhole")
+set(TINBASE_SQLITE_ONLY_hostile_cli_test
+  # File permissions on the store file and its folder, and SQLite's user_version.
+  "*StoreInUnreadableDirectoryIsPermissionDenied" "*ReadOnlyStoreAndReadOnlyDirectorySayPermission"
+  "*BrokenUserVersionIsReportedAsDamageNotAsMigrationSql")
+set(TINBASE_SQLITE_ONLY_gpkg_cli_test
+  # An SQLite store file is itself a GeoPackage; the other two make SQLite files of their own.
+  "*TheStoreOpensAsAGeoPackageByItsOwnName" "*AnOlderStoreOpensAsAGeoPackageOnceMigrated"
+  "*AnotherProgramsGeoPackageIsNotAStore")
