@@ -36,7 +36,8 @@ Tin PaintedPlane() {
 class ProfileTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    auto stored = testing::StoreSurface(testing::StoreTarget(dir_, "p.tinbase"), "plane", PaintedPlane());
+    auto stored =
+        testing::StoreSurface(testing::StoreTarget(dir_, "p.tinbase"), "plane", PaintedPlane());
     ASSERT_TRUE(stored.ok()) << stored.status().ToString();
     s_ = std::move(*stored);
   }

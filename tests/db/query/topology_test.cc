@@ -148,8 +148,8 @@ TEST(Topology, StarsOfARandomTinAgreeWithBruteForce) {
   testing::RandomTinOptions options;
   options.points = 300;
   options.seed = 11;
-  auto stored =
-      testing::StoreSurface(testing::StoreTarget(dir, "r.tinbase"), "r", testing::RandomDelaunayTin(options));
+  auto stored = testing::StoreSurface(testing::StoreTarget(dir, "r.tinbase"), "r",
+                                      testing::RandomDelaunayTin(options));
   ASSERT_TRUE(stored.ok()) << stored.status().ToString();
   const LoadedSurface& s = stored->loaded;
   std::map<int64_t, std::set<int64_t>> around;
