@@ -572,7 +572,7 @@ Result<ConstraintCursor> MeshTables::Constraints() {
 Result<VertexCursor> MeshTables::VerticesInIdRange(int64_t first, int64_t last) {
   TB_ASSIGN_OR_RETURN(Statement * stmt,
                       db_.Cached("SELECT x, y, z, kind, id, surface FROM vertices "
-                                 "WHERE id BETWEEN ? AND ?"));
+                                 "WHERE id BETWEEN ? AND ? ORDER BY id"));
   stmt->Bind(1, first).Bind(2, last);
   return VertexCursor(stmt, kVertexIdColumn + 1, surface_.id);
 }
