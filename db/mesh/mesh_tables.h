@@ -151,8 +151,7 @@ class MeshTables {
 
   // The surface's vertices with ids in [first, last], ascending. Selected by rowid alone: with
   // the surface in the WHERE clause SQLite may pick the surface index and scan every vertex of
-  // the surface; the rows of other surfaces in the range are skipped here instead. The order is
-  // asked for: SQLite's rowid scan gives it anyway, PostgreSQL's heap order does not.
+  // the surface; the rows of other surfaces in the range are skipped here instead.
   Result<VertexCursor> VerticesInIdRange(int64_t first, int64_t last);
   // The constraint rows whose smaller vertex va lies in [first, last].
   Result<ConstraintCursor> ConstraintsFrom(int64_t first, int64_t last);
