@@ -14,7 +14,6 @@
 #include "db/store.h"
 #include "tests/support/cli_support.h"
 #include "tests/support/gdal_tools.h"
-#include "tests/support/store_target.h"
 #include "tests/support/test_support.h"
 
 namespace tinbase {
@@ -27,7 +26,6 @@ using testing::Json;
 using testing::Quote;
 using testing::RunCli;
 using testing::RunTool;
-using testing::StoreTarget;
 using testing::TempDir;
 using testing::ValueAfter;
 
@@ -38,7 +36,7 @@ class GpkgCliTest : public ::testing::Test {
     const CliResult demo =
         RunCli("demo --workdir " + Quote(dir_->dir()) + " --data " + Quote(TINBASE_TEST_DATA_DIR));
     ASSERT_EQ(demo.exit_code, 0) << demo.err;
-    store_ = StoreTarget(*dir_, "demo.tinbase");
+    store_ = dir_->Path("demo.tinbase");
   }
   static void TearDownTestSuite() {
     delete dir_;
