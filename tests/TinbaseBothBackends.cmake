@@ -1,7 +1,7 @@
 # Which tests (or which of their cases) run on SQLite only, and why (tests/CMakeLists.txt runs
 # every other test that takes its stores from tests/support/store_target.h on both backends).
-# Each entry is about SQLite by nature: its files, its SQL dialect in the test's own statements,
-# its data_version, its file-level faults.
+# Each entry says why; nearly all are about SQLite by nature: its files, its SQL dialect in the
+# test's own statements, its data_version, its file permissions.
 
 # Whole test binaries.
 set(TINBASE_SQLITE_ONLY_TESTS
