@@ -11,6 +11,8 @@ set(TINBASE_SQLITE_ONLY_TESTS
   # only (the GeoPackage export on PostgreSQL is tested by gpkg_export_test and
   # store_geopackage_test). It takes no StoreTarget, so it is listed here for the record.
   gpkg_cli_test
+  # The SQLite store file is itself a GeoPackage, read by GDAL (no StoreTarget; for the record).
+  store_geopackage_test
 )
 
 # Test cases, by GoogleTest pattern, per binary.

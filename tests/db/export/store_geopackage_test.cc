@@ -12,7 +12,6 @@
 #include "db/store.h"
 #include "db/surface_store.h"
 #include "tests/support/gdal_tools.h"
-#include "tests/support/store_target.h"
 #include "tests/support/test_support.h"
 #include "tests/support/tin_fixtures.h"
 
@@ -43,7 +42,7 @@ class StoreGeoPackageTest : public ::testing::Test {
  protected:
   void SetUp() override {
     ASSERT_TRUE(HaveTool("ogrinfo"));
-    path_ = testing::StoreTarget(dir_, "s.tinbase");
+    path_ = dir_.Path("s.tinbase");
     auto store = Store::Create(path_, "EPSG:32632");
     ASSERT_TRUE(store.ok()) << store.status().ToString();
     store_ = std::move(*store);
@@ -214,7 +213,7 @@ TEST_F(StoreGeoPackageTest, LayersFollowEveryWrite) {
 
 // Before a CRS is set the layers are in GeoPackage's "undefined cartesian" system (-1).
 TEST_F(StoreGeoPackageTest, AStoreWithoutCrsIsUndefinedCartesian) {
-  const std::string bare = testing::StoreTarget(dir_, "bare.tinbase");
+  const std::string bare = dir_.Path("bare.tinbase");
   {
     auto store = Store::Create(bare, "");
     ASSERT_TRUE(store.ok());
