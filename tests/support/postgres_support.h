@@ -32,8 +32,8 @@ inline std::string FreshPostgresStore(const std::string& label) {
   static const unsigned nonce = std::random_device{}() % 1000000;
   const std::string url = PostgresUrl();
   if (url.empty()) return "";
-  return url + "?schema=t_" + label + "_" + std::to_string(getpid()) + "_" +
-         std::to_string(nonce) + "_" + std::to_string(counter++);
+  return url + "?schema=t_" + label + "_" + std::to_string(getpid()) + "_" + std::to_string(nonce) +
+         "_" + std::to_string(counter++);
 }
 
 }  // namespace tinbase::testing
