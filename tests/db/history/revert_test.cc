@@ -18,7 +18,6 @@
 #include "db/surface_builder.h"
 #include "tests/db/history/surface_signature.h"
 #include "tests/support/polygon_files.h"
-#include "tests/support/store_target.h"
 #include "tests/support/test_support.h"
 #include "tests/support/tin_fixtures.h"
 
@@ -45,7 +44,7 @@ class RevertTest : public ::testing::Test {
     ASSERT_TRUE(built.ok()) << built.status().ToString();
   }
 
-  std::string Path() const { return testing::StoreTarget(dir_, "s.tinbase"); }
+  std::string Path() const { return dir_.Path("s.tinbase"); }
 
   PolygonAddReport Add(const std::string& name, const testing::PointList& ring,
                        FeatureMode mode = FeatureMode::kFill) {
