@@ -307,6 +307,10 @@ Result<SurfaceInfo> SurfaceStore::FindWhere(const char* where,
 }
 
 Result<SurfaceInfo> SurfaceStore::Find(const std::string& name) {
+  // A name that could never be stored names no surface. Asked as it is, PostgreSQL would cut
+  // it at a NUL byte (and find "t" for "t\0evil") or refuse bytes that are not UTF-8.
+  if (!CheckObjectName("surface", name).ok())
+    return Status::NotFound("no surface named " + Quoted(name));
   return FindWhere(
       "WHERE name = ?", [&](Statement& s) { s.Bind(1, name); }, "no surface named " + Quoted(name));
 }

@@ -570,9 +570,11 @@ Result<ConstraintCursor> MeshTables::Constraints() {
 // ---- Reads by id range
 
 Result<VertexCursor> MeshTables::VerticesInIdRange(int64_t first, int64_t last) {
+  // The order is asked for: SQLite's rowid scan gives it anyway, PostgreSQL's heap order (an
+  // updated row moves to the table's end) does not.
   TB_ASSIGN_OR_RETURN(Statement * stmt,
                       db_.Cached("SELECT x, y, z, kind, id, surface FROM vertices "
-                                 "WHERE id BETWEEN ? AND ?"));
+                                 "WHERE id BETWEEN ? AND ? ORDER BY id"));
   stmt->Bind(1, first).Bind(2, last);
   return VertexCursor(stmt, kVertexIdColumn + 1, surface_.id);
 }

@@ -10,25 +10,28 @@
 
 #include "db/sql/connection.h"
 #include "tests/support/cli_support.h"
+#include "tests/support/store_target.h"
 #include "tests/support/test_support.h"
 
 namespace tinbase {
 namespace {
 
 using testing::CliResult;
+using testing::CopyStore;
 using testing::DataPath;
 using testing::ExpectRejected;
 using testing::Json;
 using testing::Quote;
 using testing::RunCli;
 using testing::RunWrite;
+using testing::StoreTarget;
 using testing::TableChecksums;
 using testing::TempDir;
 
 class CliTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    store_ = dir_.Path("s.tinbase");
+    store_ = StoreTarget(dir_, "s.tinbase");
     RunWrite(store_, "init " + Quote(store_));
     RunWrite(store_,
              "dem import " + Quote(store_) + " " + Quote(DataPath("geology/hamersley/dtm_rp.tif")));
@@ -290,11 +293,11 @@ TEST_F(CliTest, CheckNamesTheFirstBrokenTriangle) {
       {"UPDATE triangles SET block = block + 1 WHERE id = (SELECT min(id) + 7 FROM triangles)",
        "wrong-block"},
   };
+  int index = 0;
   for (const auto& c : cases) {
-    const std::string copy = dir_.Path("corrupt.tinbase");
-    std::filesystem::remove(copy);
+    const std::string copy = StoreTarget(dir_, "corrupt" + std::to_string(index++) + ".tinbase");
     ASSERT_EQ(RunCli("check " + Quote(store_)).exit_code, 0);
-    std::filesystem::copy_file(store_, copy);
+    CopyStore(store_, copy);
     {
       auto db = Connection::Open(copy, Connection::Mode::kReadWrite);
       ASSERT_TRUE(db.ok());
@@ -314,7 +317,7 @@ TEST_F(CliTest, CheckNamesTheFirstBrokenTriangle) {
 
 TEST(CliStandalone, RasterWithoutCrsIsRejected) {
   TempDir dir;
-  const std::string store = dir.Path("s.tinbase");
+  const std::string store = StoreTarget(dir, "s.tinbase");
   ASSERT_EQ(RunCli("init " + Quote(store)).exit_code, 0);
   // An ASCII grid has a geotransform but no CRS.
   const std::string asc = dir.Path("nocrs.asc");
@@ -327,7 +330,7 @@ TEST(CliStandalone, RasterWithoutCrsIsRejected) {
 // aborted.
 TEST(CliStandalone, InfoOfAStoreWithNoCrsSaysNull) {
   TempDir dir;
-  const std::string store = dir.Path("s.tinbase");
+  const std::string store = StoreTarget(dir, "s.tinbase");
   ASSERT_EQ(RunCli("init " + Quote(store)).exit_code, 0);
   CliResult r = RunCli("info --json " + Quote(store));
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -337,7 +340,7 @@ TEST(CliStandalone, InfoOfAStoreWithNoCrsSaysNull) {
 
 TEST(CliStandalone, InitWithCrsAndRefusalToOverwrite) {
   TempDir dir;
-  const std::string store = dir.Path("s.tinbase");
+  const std::string store = StoreTarget(dir, "s.tinbase");
   ASSERT_EQ(RunCli("init " + Quote(store) + " --crs EPSG:32632").exit_code, 0);
   auto j = Json(RunCli("info --json " + Quote(store)));
   EXPECT_EQ(j["crs"], "EPSG:32632");
@@ -348,7 +351,7 @@ TEST(CliStandalone, InitWithCrsAndRefusalToOverwrite) {
 
 TEST(CliStandalone, SrtmTileIsWarpedToUtmAndBuilt) {
   TempDir dir;
-  const std::string store = dir.Path("s.tinbase");
+  const std::string store = StoreTarget(dir, "s.tinbase");
   RunWrite(store, "init " + Quote(store));
   RunWrite(store, "dem import " + Quote(store) + " " + Quote(DataPath("dem/N43E007.hgt")));
   auto j = Json(RunCli("info --json " + Quote(store)));

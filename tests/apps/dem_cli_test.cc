@@ -13,6 +13,7 @@
 
 #include "db/dem_store.h"
 #include "tests/support/cli_support.h"
+#include "tests/support/store_target.h"
 #include "tests/support/test_support.h"
 
 namespace tinbase {
@@ -25,13 +26,14 @@ using testing::Json;
 using testing::Quote;
 using testing::RunCli;
 using testing::RunWrite;
+using testing::StoreTarget;
 using testing::TempDir;
 
 class DemCliTest : public ::testing::Test {
  protected:
   void SetUp() override {
     GDALAllRegister();
-    store_ = dir_.Path("d.tinbase");
+    store_ = StoreTarget(dir_, "d.tinbase");
     RunWrite(store_, "init " + Quote(store_));
     RunWrite(store_, "dem import " + Quote(store_) + " " + Quote(DataPath("dem/N43E007.hgt")) +
                          " --block-size 128");

@@ -15,6 +15,7 @@
 #include "db/surface_builder.h"
 #include "tests/support/cli_support.h"
 #include "tests/support/polygon_files.h"
+#include "tests/support/store_target.h"
 #include "tests/support/test_support.h"
 
 namespace tinbase {
@@ -26,12 +27,13 @@ using testing::ExpectRejected;
 using testing::Quote;
 using testing::RunCli;
 using testing::RunWrite;
+using testing::StoreTarget;
 using testing::TempDir;
 
 class DemCorruptionTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    store_ = dir_.Path("s.tinbase");
+    store_ = StoreTarget(dir_, "s.tinbase");
     RunWrite(store_, "init " + Quote(store_));
     RunWrite(store_, "dem import " + Quote(store_) + " " +
                          Quote(DataPath("geology/hamersley/dtm_rp.tif")) + " --block-size 64");

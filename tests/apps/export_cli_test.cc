@@ -13,6 +13,7 @@
 
 #include "tests/core/export/gltf_check.h"
 #include "tests/support/cli_support.h"
+#include "tests/support/store_target.h"
 #include "tests/support/test_support.h"
 
 namespace tinbase {
@@ -25,12 +26,13 @@ using testing::Json;
 using testing::Quote;
 using testing::RunCli;
 using testing::RunWrite;
+using testing::StoreTarget;
 using testing::TempDir;
 
 class ExportCliTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    store_ = dir_.Path("s.tinbase");
+    store_ = StoreTarget(dir_, "s.tinbase");
     out_ = dir_.Path("out");
     std::filesystem::create_directory(out_);
     RunWrite(store_, "init " + Quote(store_));

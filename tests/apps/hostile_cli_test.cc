@@ -18,6 +18,7 @@
 #include "core/raster/gdal_raster.h"
 #include "db/sql/connection.h"
 #include "tests/support/cli_support.h"
+#include "tests/support/store_target.h"
 #include "tests/support/test_support.h"
 
 namespace tinbase {
@@ -30,6 +31,7 @@ using testing::Json;
 using testing::Quote;
 using testing::RunCli;
 using testing::RunWrite;
+using testing::StoreTarget;
 using testing::TempDir;
 
 // A command that must fail with one line naming `expected`, when there is no store to compare.
@@ -114,7 +116,7 @@ void WriteLyingGeoTiff(const std::string& path, uint32_t width, uint32_t height)
 class HostileCliTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    store_ = dir_.Path("s.tinbase");
+    store_ = StoreTarget(dir_, "s.tinbase");
     RunWrite(store_, "init " + Quote(store_));
     RunWrite(store_, "dem import " + Quote(store_) + " " +
                          Quote(DataPath("geology/hamersley/dtm_rp.tif")) + " --name ground");
@@ -164,7 +166,7 @@ TEST_F(HostileCliTest, GeoTiffClaiming2To31SquaredCellsIsRefusedBeforeAllocating
 }
 
 TEST_F(HostileCliTest, InfoOnAStoreWithoutCrsPrintsNotSet) {
-  const std::string bare = dir_.Path("bare.tinbase");
+  const std::string bare = StoreTarget(dir_, "bare.tinbase");
   const std::string xyz = dir_.Path("a.xyz");
   WriteText(xyz, "0 0 1\n10 0 2\n0 10 3\n10 10 4\n5 5 5\n");
   RunWrite(bare, "init " + Quote(bare));

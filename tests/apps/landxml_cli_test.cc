@@ -23,6 +23,7 @@
 #include "db/surface_store.h"
 #include "tests/support/cli_support.h"
 #include "tests/support/polygon_files.h"
+#include "tests/support/store_target.h"
 #include "tests/support/test_support.h"
 
 namespace tinbase {
@@ -35,6 +36,7 @@ using testing::Json;
 using testing::Quote;
 using testing::RunCli;
 using testing::RunWrite;
+using testing::StoreTarget;
 using testing::TableChecksums;
 using testing::TempDir;
 
@@ -181,7 +183,7 @@ class LandXmlCliTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     suite_dir_ = new TempDir;
-    const std::string store = suite_dir_->Path("s.tinbase");
+    const std::string store = StoreTarget(*suite_dir_, "s.tinbase");
     RunWrite(store, "init " + Quote(store));
     RunWrite(store, "dem import " + Quote(store) + " " + Quote(Dem()));
     RunWrite(store, "tin build " + Quote(store) + " --surface t --method greedy --tolerance 20");
@@ -209,11 +211,8 @@ class LandXmlCliTest : public ::testing::Test {
     suite_dir_ = nullptr;
   }
   void SetUp() override {
-    store_ = dir_.Path("s.tinbase");
-    for (const char* suffix : {"", "-wal", "-shm"}) {
-      const std::string from = suite_dir_->Path(std::string("s.tinbase") + suffix);
-      if (std::filesystem::exists(from)) std::filesystem::copy_file(from, store_ + suffix);
-    }
+    store_ = StoreTarget(dir_, "s.tinbase");
+    testing::CopyStore(StoreTarget(*suite_dir_, "s.tinbase"), store_);
     xml_ = dir_.Path("t.xml");
     RunWrite(store_, "export " + Quote(store_) + " --surface t --format landxml -o " + Quote(xml_));
   }
@@ -267,7 +266,7 @@ TEST_F(LandXmlCliTest, RoundTripGivesAnIdenticalCheckedSurface) {
 // attributes. It becomes a `free` surface that passes the full check.
 TEST(LandXmlForeignCliTest, ImportsAnotherProgramsTin) {
   TempDir dir;
-  const std::string store = dir.Path("s.tinbase"), xml = dir.Path("foreign.xml");
+  const std::string store = StoreTarget(dir, "s.tinbase"), xml = dir.Path("foreign.xml");
   RunWrite(store, "init " + Quote(store));
   std::ostringstream text;
   text << "<?xml version=\"1.0\"?>\n<LandXML xmlns=\"http://www.landxml.org/schema/LandXML-1.2\" "
@@ -298,7 +297,7 @@ TEST(LandXmlForeignCliTest, ImportsAnotherProgramsTin) {
 }
 
 TEST_F(LandXmlCliTest, ImportIntoAnotherStoreNeedsTheDemThatHidTriangles) {
-  const std::string other = dir_.Path("other.tinbase");
+  const std::string other = StoreTarget(dir_, "other.tinbase");
   RunWrite(other, "init " + Quote(other));
   // Two triangles of t are hidden by DEM nodata alone: without the DEM they have no reason.
   ExpectRejected(other, "import landxml " + Quote(other) + " " + Quote(xml_),

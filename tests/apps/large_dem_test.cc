@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "tests/support/cli_support.h"
+#include "tests/support/store_target.h"
 
 namespace tinbase {
 namespace {
@@ -18,6 +19,7 @@ namespace {
 using testing::CliResult;
 using testing::Quote;
 using testing::RunCli;
+using testing::StoreTarget;
 using testing::TempDir;
 
 constexpr int kSide = 20000;   // cells
@@ -57,7 +59,7 @@ void WriteSheet(const std::string& path, int col0, int row0) {
 
 TEST(LargeDemTest, GreedyStreamsADemLargerThanItsMemory) {
   TempDir dir;
-  const std::string store = dir.Path("big.tinbase");
+  const std::string store = StoreTarget(dir, "big.tinbase");
   ASSERT_EQ(RunCli("init " + Quote(store)).exit_code, 0);
   for (int row0 = 0; row0 < kSide; row0 += kSheet) {
     for (int col0 = 0; col0 < kSide; col0 += kSheet) {

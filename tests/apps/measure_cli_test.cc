@@ -20,6 +20,7 @@
 #include "tests/core/measure/analytic_tins.h"
 #include "tests/support/cli_support.h"
 #include "tests/support/polygon_files.h"
+#include "tests/support/store_target.h"
 #include "tests/support/test_support.h"
 
 namespace tinbase {
@@ -32,6 +33,7 @@ using testing::Json;
 using testing::Quote;
 using testing::RunCli;
 using testing::RunWrite;
+using testing::StoreTarget;
 using testing::TempDir;
 
 constexpr double kX = 600000, kY = 5100000;
@@ -65,7 +67,7 @@ std::string Square(const TempDir& dir, const std::string& name, double x0, doubl
 class MeasureCliTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    store_ = dir_.Path("m.tinbase");
+    store_ = StoreTarget(dir_, "m.tinbase");
     {
       auto store = Store::Create(store_, "EPSG:32632");
       ASSERT_TRUE(store.ok()) << store.status().ToString();
@@ -295,7 +297,7 @@ TEST_F(MeasureCliTest, ContoursBadInputLeavesNoFile) {
 // per 100 m northwards has slope atan(0.01) facing south.
 TEST(MeasureCliGeographicTest, AreasAreGeodesic) {
   TempDir dir;
-  const std::string store = dir.Path("g.tinbase");
+  const std::string store = StoreTarget(dir, "g.tinbase");
   const int n = 4;
   const double lon0 = 10, lat0 = 45, step = 0.0025;
   const double metres_per_degree_lat = 111132.0;  // near 45 N; the slope is checked loosely
@@ -335,7 +337,7 @@ TEST(MeasureCliGeographicTest, AreasAreGeodesic) {
 // inside it equals cut/fill inside the same polygon read from its file.
 TEST(MeasureCliDemTest, StoredFeatureMeasuresAsItsFile) {
   TempDir dir;
-  const std::string store = dir.Path("d.tinbase");
+  const std::string store = StoreTarget(dir, "d.tinbase");
   const std::string s = Quote(store);
   RunWrite(store, "init " + s);
   RunWrite(store, "dem import " + s + " " + Quote(DataPath("geology/hamersley/dtm_rp.tif")));

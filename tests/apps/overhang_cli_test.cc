@@ -9,6 +9,7 @@
 #include <string>
 
 #include "tests/support/cli_support.h"
+#include "tests/support/store_target.h"
 #include "tests/support/test_support.h"
 
 namespace tinbase {
@@ -20,12 +21,13 @@ using testing::ExpectRejected;
 using testing::Quote;
 using testing::RunCli;
 using testing::RunWrite;
+using testing::StoreTarget;
 using testing::TempDir;
 
 class OverhangCliTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    store_ = dir_.Path("s.tinbase");
+    store_ = StoreTarget(dir_, "s.tinbase");
     RunWrite(store_, "init " + Quote(store_));
     RunWrite(store_, "dem import " + Quote(store_) + " " + Quote(DataPath("dem/elev.tif")));
     RunWrite(store_, "tin build " + Quote(store_) + " --surface t --tolerance 5");

@@ -11,6 +11,7 @@
 
 #include "core/raster/gdal_raster.h"
 #include "tests/support/cli_support.h"
+#include "tests/support/store_target.h"
 #include "tests/support/test_support.h"
 
 namespace tinbase {
@@ -23,12 +24,13 @@ using testing::Json;
 using testing::Quote;
 using testing::RunCli;
 using testing::RunWrite;
+using testing::StoreTarget;
 using testing::TempDir;
 
 class ResurveyCliTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    store_ = dir_.Path("s.tinbase");
+    store_ = StoreTarget(dir_, "s.tinbase");
     RunWrite(store_, "init " + Quote(store_));
     RunWrite(store_,
              "dem import " + Quote(store_) + " " + Quote(DataPath("geology/hamersley/dtm_rp.tif")));

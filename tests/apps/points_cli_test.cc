@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "tests/support/cli_support.h"
+#include "tests/support/store_target.h"
 #include "tests/support/test_support.h"
 
 namespace tinbase {
@@ -14,6 +15,7 @@ namespace {
 using testing::DataPath;
 using testing::Quote;
 using testing::RunCli;
+using testing::StoreTarget;
 using testing::TableChecksums;
 using testing::TempDir;
 
@@ -29,7 +31,7 @@ nlohmann::json SurfaceNamed(const std::string& store, const std::string& name) {
 
 TEST(PointsCli, LasBecomesACheckedSurfaceAndThinningKeepsFewerPoints) {
   TempDir dir;
-  const std::string store = dir.Path("p.tinbase");
+  const std::string store = StoreTarget(dir, "p.tinbase");
   ASSERT_EQ(RunCli("init " + Quote(store)).exit_code, 0);
   const std::string las = Quote(DataPath("las/autzen_trim.las"));
   auto full = RunCli("points import " + Quote(store) + " " + las + " --surface full");
@@ -47,7 +49,7 @@ TEST(PointsCli, LasBecomesACheckedSurfaceAndThinningKeepsFewerPoints) {
 
 TEST(PointsCli, DensityWindowThinsAndBadWindowsAreRefusedUnchanged) {
   TempDir dir;
-  const std::string store = dir.Path("p.tinbase");
+  const std::string store = StoreTarget(dir, "p.tinbase");
   ASSERT_EQ(RunCli("init " + Quote(store)).exit_code, 0);
   const std::string las = Quote(DataPath("las/autzen_trim.las"));
   auto thin = RunCli("points import " + Quote(store) + " " + las +
@@ -78,7 +80,7 @@ TEST(PointsCli, DensityWindowThinsAndBadWindowsAreRefusedUnchanged) {
 
 TEST(PointsCli, LazAndBrokenFilesAreRefusedUnchanged) {
   TempDir dir;
-  const std::string store = dir.Path("p.tinbase");
+  const std::string store = StoreTarget(dir, "p.tinbase");
   ASSERT_EQ(RunCli("init " + Quote(store)).exit_code, 0);
   // A LAS header whose point format has the compression bit set, as LAZ writers mark it.
   std::ifstream in(DataPath("las/mvk-thin.las"), std::ios::binary);

@@ -10,6 +10,7 @@
 
 #include "db/store.h"
 #include "tests/support/cli_support.h"
+#include "tests/support/store_target.h"
 #include "tests/support/test_support.h"
 
 namespace tinbase {
@@ -21,6 +22,7 @@ using testing::Json;
 using testing::Quote;
 using testing::RunCli;
 using testing::RunWrite;
+using testing::StoreTarget;
 using testing::TempDir;
 
 // The Hamersley DEM's centre (EPSG:28350) and cell size.
@@ -29,7 +31,7 @@ constexpr double kCx = 539300, kCy = 7497340, kCell = 344.404386931320971;
 class PointsEditCli : public ::testing::Test {
  protected:
   void SetUp() override {
-    store_ = dir_.Path("s.tinbase");
+    store_ = StoreTarget(dir_, "s.tinbase");
     ASSERT_EQ(RunCli("init " + Quote(store_)).exit_code, 0);
     auto dem = RunCli("dem import " + Quote(store_) + " " +
                       Quote(DataPath("geology/hamersley/dtm_rp.tif")));

@@ -13,6 +13,7 @@
 #include "db/store.h"
 #include "tests/support/cli_support.h"
 #include "tests/support/polygon_files.h"
+#include "tests/support/store_target.h"
 #include "tests/support/stored_feature.h"
 #include "tests/support/test_support.h"
 
@@ -37,7 +38,7 @@ struct Vertex3 {
 class PolygonEditCli : public ::testing::Test {
  protected:
   void SetUp() override {
-    store_ = dir_.Path("s.tinbase");
+    store_ = testing::StoreTarget(dir_, "s.tinbase");
     q_ = Quote(store_);
     ASSERT_EQ(RunCli("init " + q_).exit_code, 0);
     const auto dem =

@@ -15,6 +15,7 @@
 #include "tests/db/query/query_fixture.h"
 #include "tests/support/cli_support.h"
 #include "tests/support/grid_tin.h"
+#include "tests/support/store_target.h"
 #include "tests/support/test_support.h"
 
 namespace tinbase {
@@ -28,6 +29,7 @@ using testing::PlaneZ;
 using testing::Quote;
 using testing::RunCli;
 using testing::RunWrite;
+using testing::StoreTarget;
 using testing::TempDir;
 
 constexpr double kX0 = 500000, kY0 = 5000000;
@@ -69,7 +71,7 @@ class QueryCliTest : public ::testing::Test {
           tin.vertices[t.v[0]].x + tin.vertices[t.v[1]].x + tin.vertices[t.v[2]].x < 3 * (kX0 + 100)
               ? 0
               : 1;
-    store_ = dir_.Path("plane.tinbase");
+    store_ = StoreTarget(dir_, "plane.tinbase");
     auto stored = testing::StoreSurface(store_, "plane", tin);
     ASSERT_TRUE(stored.ok()) << stored.status().ToString();
   }
@@ -300,7 +302,7 @@ TEST_F(QueryCliTest, BadProfilesAreRefusedAndLeaveNoPlot) {
 // it, each centroid within the square.
 TEST(QueryCliStandalone, TrianglesOfAFeature) {
   TempDir dir;
-  const std::string store = dir.Path("h.tinbase");
+  const std::string store = StoreTarget(dir, "h.tinbase");
   RunWrite(store, "init " + Quote(store));
   RunWrite(store,
            "dem import " + Quote(store) + " " + Quote(DataPath("geology/hamersley/dtm_rp.tif")));

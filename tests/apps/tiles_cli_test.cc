@@ -15,6 +15,7 @@
 #include "db/surface_store.h"
 #include "db/tiles/tile_store.h"
 #include "tests/support/cli_support.h"
+#include "tests/support/store_target.h"
 #include "tests/support/test_support.h"
 
 namespace tinbase {
@@ -27,6 +28,7 @@ using testing::Json;
 using testing::Quote;
 using testing::RunCli;
 using testing::RunWrite;
+using testing::StoreTarget;
 using testing::TempDir;
 
 std::string ToolsDir() { return std::string(TINBASE_TEST_DATA_DIR) + "/../tools"; }
@@ -115,7 +117,7 @@ TEST(TileReadersTest, BothReadersAgreeOnThePublicSampleTiles) {
 class TilesCliTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    store_ = dir_.Path("s.tinbase");
+    store_ = StoreTarget(dir_, "s.tinbase");
     RunWrite(store_, "init " + Quote(store_));
     RunWrite(store_, "dem import " + Quote(store_) + " " + Quote(DataPath("dem/N43E007.hgt")));
     RunWrite(store_, "tin build " + Quote(store_) + " --surface t --tolerance 20");
@@ -209,8 +211,8 @@ TEST_F(TilesCliTest, UpdateRewritesOnlyTheTilesAnEditTouchedAndEqualsAFreshBuild
   const auto after = TilesOf(store_);
 
   // A fresh build of the edited surface, in a copy of the store.
-  const std::string fresh = dir_.Path("fresh.tinbase");
-  std::filesystem::copy_file(store_, fresh);
+  const std::string fresh = StoreTarget(dir_, "fresh.tinbase");
+  testing::CopyStore(store_, fresh);
   RunWrite(fresh, "tiles build " + Quote(fresh) + build_args);
   const auto rebuilt = TilesOf(fresh);
   ASSERT_EQ(after.size(), rebuilt.size());
@@ -255,8 +257,8 @@ TEST_F(TilesCliTest, AnEditWithUpdateTilesLeavesNothingForTilesUpdate) {
   const nlohmann::json again =
       Json(RunCli("tiles update " + Quote(store_) + " --surface t --json"));
   EXPECT_EQ(again["changes"], 0) << "the edit brought the tiles up to date";
-  const std::string fresh = dir_.Path("fresh.tinbase");
-  std::filesystem::copy_file(store_, fresh);
+  const std::string fresh = StoreTarget(dir_, "fresh.tinbase");
+  testing::CopyStore(store_, fresh);
   RunWrite(fresh, "tiles build " + Quote(fresh) + build_args);
   const auto edited = TilesOf(store_);
   const auto rebuilt = TilesOf(fresh);

@@ -9,6 +9,7 @@
 
 #include "tests/support/cli_support.h"
 #include "tests/support/make_contours.h"
+#include "tests/support/store_target.h"
 #include "tests/support/test_support.h"
 
 namespace tinbase {
@@ -21,6 +22,7 @@ using testing::Json;
 using testing::Quote;
 using testing::RunCli;
 using testing::RunWrite;
+using testing::StoreTarget;
 using testing::TableChecksums;
 using testing::TempDir;
 
@@ -38,7 +40,7 @@ nlohmann::json Surface(const std::string& store, const std::string& name) {
 class TinCliTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    store_ = dir_.Path("s.tinbase");
+    store_ = StoreTarget(dir_, "s.tinbase");
     RunWrite(store_, "init " + Quote(store_));
     RunWrite(store_,
              "dem import " + Quote(store_) + " " + Quote(DataPath("geology/hamersley/dtm_rp.tif")));

@@ -23,6 +23,7 @@
 #include "tests/support/cli_support.h"
 #include "tests/support/serve_child.h"
 #include "tests/support/service_support.h"
+#include "tests/support/store_target.h"
 
 namespace tinbase::testing {
 namespace {
@@ -96,7 +97,7 @@ int64_t FeatureCount(const std::string& store, const std::string& where) {
 
 TEST(TwoWritersTest, ServeAndCliWriteOneStoreForAMinute) {
   TempDir dir;
-  const std::string store = dir.Path("s.tinbase");
+  const std::string store = StoreTarget(dir, "s.tinbase");
   CopyDemoStore(store);
   Tally served, cli;
   {

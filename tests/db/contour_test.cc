@@ -10,6 +10,7 @@
 #include "db/dem_store.h"
 #include "tests/support/make_contours.h"
 #include "tests/support/read_grid.h"
+#include "tests/support/store_target.h"
 #include "tests/support/test_support.h"
 #include "tests/support/tin_fixtures.h"
 
@@ -38,7 +39,7 @@ std::string WriteLines(const TempDir& dir, const std::string& name,
 class ContourImportTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    store_path_ = dir_.Path("s.tinbase");
+    store_path_ = testing::StoreTarget(dir_, "s.tinbase");
     auto store = Store::Create(store_path_, "");
     ASSERT_TRUE(store.ok()) << store.status().ToString();
     store_ = std::move(store).value();

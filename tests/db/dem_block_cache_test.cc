@@ -13,6 +13,7 @@
 
 #include "db/dem_store.h"
 #include "db/store.h"
+#include "tests/support/store_target.h"
 #include "tests/support/test_support.h"
 
 namespace tinbase {
@@ -139,7 +140,7 @@ bool PlaneValid(int64_t c, int64_t r) { return (c / 50 + r / 50) % 7 != 3; }
 TEST(DemSampling, ThreadsWithTheirOwnStoresShareTheCacheUnderEvictions) {
   TempDir dir;
   const std::string plane = WritePlane(dir);
-  const std::string path = dir.Path("s.tinbase");
+  const std::string path = testing::StoreTarget(dir, "s.tinbase");
   {
     auto store = Store::Create(path, "");
     ASSERT_TRUE(store.ok());

@@ -9,6 +9,7 @@
 #include "db/feature_store.h"
 #include "db/surface_store.h"
 #include "tests/support/grid_tin.h"
+#include "tests/support/store_target.h"
 #include "tests/support/test_support.h"
 
 namespace tinbase {
@@ -19,7 +20,7 @@ using testing::TempDir;
 class FeatureModeRowTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    auto store = Store::Create(dir_.Path("s.tinbase"), "EPSG:32632");
+    auto store = Store::Create(testing::StoreTarget(dir_, "s.tinbase"), "EPSG:32632");
     ASSERT_TRUE(store.ok()) << store.status().ToString();
     store_ = std::move(*store);
     auto tx = store_->BeginWrite();

@@ -13,6 +13,7 @@
 #include "db/polygon_editor.h"
 #include "db/surface_builder.h"
 #include "tests/support/read_grid.h"
+#include "tests/support/store_target.h"
 #include "tests/support/test_support.h"
 #include "tests/support/tin_fixtures.h"
 
@@ -25,7 +26,7 @@ using testing::TempDir;
 class FullCheckTest : public ::testing::Test {
  protected:
   void Build(const std::string& dem_file, double tolerance) {
-    auto store = Store::Create(dir_.Path("s.tinbase"), "");
+    auto store = Store::Create(testing::StoreTarget(dir_, "s.tinbase"), "");
     ASSERT_TRUE(store.ok()) << store.status().ToString();
     store_ = std::move(*store);
     DemStore dems(*store_);

@@ -14,6 +14,7 @@
 
 #include "db/integrity_check.h"
 #include "db/surface_store.h"
+#include "tests/support/store_target.h"
 #include "tests/support/test_support.h"
 #include "tests/support/thread_count.h"
 #include "tests/support/tin_checks.h"
@@ -25,7 +26,7 @@ using testing::DataPath;
 using testing::TempDir;
 
 std::unique_ptr<Store> NewStore(const TempDir& dir, const std::string& crs) {
-  auto store = Store::Create(dir.Path("points.tinbase"), crs);
+  auto store = Store::Create(testing::StoreTarget(dir, "points.tinbase"), crs);
   EXPECT_TRUE(store.ok()) << store.status().ToString();
   return store.ok() ? std::move(store).value() : nullptr;
 }

@@ -13,6 +13,7 @@
 #include "db/polygon_editor.h"
 #include "db/surface_builder.h"
 #include "db/surface_store.h"
+#include "tests/support/store_target.h"
 #include "tests/support/test_support.h"
 
 namespace tinbase {
@@ -120,7 +121,7 @@ TEST(ProgressCallbacks, PolygonAddReportsFeatureByFeature) {
 
 TEST(ProgressCallbacks, PointsImportReportsReadingThenTriangles) {
   TempDir dir;
-  auto store = Store::Create(dir.Path("p.tinbase"), "");
+  auto store = Store::Create(testing::StoreTarget(dir, "p.tinbase"), "");
   ASSERT_TRUE(store.ok());
   Fractions seen;
   PointImportOptions o;

@@ -25,6 +25,7 @@
 #include "db/surface_builder.h"
 #include "db/surface_store.h"
 #include "tests/support/polygon_files.h"
+#include "tests/support/store_target.h"
 #include "tests/support/test_support.h"
 #include "tests/support/tin_fixtures.h"
 
@@ -40,7 +41,7 @@ constexpr double kCx = 539300, kCy = 7497340, kCell = 344.404386931320971;
 class UpdateEngineConcurrencyTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    path_ = dir_.Path("s.tinbase");
+    path_ = testing::StoreTarget(dir_, "s.tinbase");
     auto store = Store::Create(path_, "");
     ASSERT_TRUE(store.ok());
     DemStore dems(**store);

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "tests/support/service_support.h"
+#include "tests/support/store_target.h"
 
 namespace tinbase::testing {
 namespace {
@@ -16,7 +17,7 @@ constexpr double kLon = 7.25, kLat = 43.85;  // on land in N43E007
 class ChangeRoutesTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    store_ = dir_.Path("s.tinbase");
+    store_ = StoreTarget(dir_, "s.tinbase");
     CopyDemoStore(store_);
     service::ServiceOptions options;
     options.store_path = store_;

@@ -13,6 +13,7 @@
 #include "tests/core/export/gltf_check.h"
 #include "tests/support/gdal_tools.h"
 #include "tests/support/service_support.h"
+#include "tests/support/store_target.h"
 
 namespace tinbase::testing {
 namespace {
@@ -36,7 +37,7 @@ std::string HeaderOf(const httplib::Headers& headers, const char* name) {
 class DemRoutesTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    store_ = dir_.Path("s.tinbase");
+    store_ = StoreTarget(dir_, "s.tinbase");
     CopyDemoStore(store_);
     service::ServiceOptions options;
     options.store_path = store_;

@@ -11,6 +11,7 @@
 #include "db/change_log.h"
 #include "tests/support/service_support.h"
 #include "tests/support/stored_feature.h"
+#include "tests/support/store_target.h"
 
 namespace tinbase::testing {
 namespace {
@@ -21,7 +22,7 @@ const char* const kPost = "/surfaces/t/features?crs=EPSG:4326";
 class EditRoutesTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    store_ = dir_.Path("s.tinbase");
+    store_ = StoreTarget(dir_, "s.tinbase");
     CopyDemoStore(store_);
   }
   void Serve(service::ServiceOptions options = {}) {

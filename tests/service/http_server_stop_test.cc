@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "tests/support/service_support.h"
+#include "tests/support/store_target.h"
 
 namespace tinbase::testing {
 namespace {
@@ -11,7 +12,7 @@ namespace {
 TEST(HttpServerStopTest, AStopRightAfterTheStartEndsTheService) {
   TempDir dir;
   service::ServiceOptions options;
-  options.store_path = dir.Path("s.tinbase");
+  options.store_path = StoreTarget(dir, "s.tinbase");
   CopyDemoStore(options.store_path);
   for (int round = 0; round < 50; ++round) {
     TestService service(options);  // started on its thread, then stopped and joined at once

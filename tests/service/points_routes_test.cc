@@ -7,6 +7,7 @@
 #include <string>
 
 #include "tests/support/service_support.h"
+#include "tests/support/store_target.h"
 #include "tests/support/stored_feature.h"
 
 namespace tinbase::testing {
@@ -50,7 +51,7 @@ class PointsRoutesTest : public ::testing::Test {
   }
 
   TempDir dir_;
-  std::string store_ = dir_.Path("s.tinbase");
+  std::string store_ = StoreTarget(dir_, "s.tinbase");
   std::unique_ptr<TestService> service_;
   std::map<std::string, std::string> before_;
 };

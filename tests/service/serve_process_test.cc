@@ -18,6 +18,7 @@
 #include "db/surface_store.h"
 #include "tests/support/serve_child.h"
 #include "tests/support/service_support.h"
+#include "tests/support/store_target.h"
 
 namespace tinbase::testing {
 namespace {
@@ -80,7 +81,7 @@ class Posters {
 
 TEST(ServeProcessTest, KillDuringWritesLeavesAStoreThatChecksClean) {
   TempDir dir;
-  const std::string store = dir.Path("s.tinbase");
+  const std::string store = StoreTarget(dir, "s.tinbase");
   CopyDemoStore(store);
   RunWrite(store, "tiles build " + Quote(store) + " --surface t --max-zoom 9");
   std::vector<int64_t> acknowledged;

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "tests/support/service_support.h"
+#include "tests/support/store_target.h"
 
 namespace tinbase::testing {
 namespace {
@@ -21,7 +22,7 @@ namespace {
 class ServiceBadInputTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    store_ = dir_.Path("s.tinbase");
+    store_ = StoreTarget(dir_, "s.tinbase");
     CopyDemoStore(store_);
     Start(service::ServiceOptions());
   }

@@ -11,6 +11,7 @@
 #include "tests/core/export/gltf_check.h"
 #include "tests/support/gdal_tools.h"
 #include "tests/support/service_support.h"
+#include "tests/support/store_target.h"
 
 namespace tinbase::testing {
 namespace {
@@ -21,7 +22,7 @@ constexpr const char* kWindow = "355000,4855000,365000,4868000";
 class SurfaceQueryRoutesTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    store_ = dir_.Path("s.tinbase");
+    store_ = StoreTarget(dir_, "s.tinbase");
     CopyDemoStoreWithFeature(store_);
     Start(service::ServiceOptions());
   }

@@ -9,6 +9,7 @@
 
 #include "tests/support/gdal_tools.h"
 #include "tests/support/service_support.h"
+#include "tests/support/store_target.h"
 
 namespace tinbase::testing {
 namespace {
@@ -16,7 +17,7 @@ namespace {
 class SurfaceRoutesTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    store_ = dir_.Path("s.tinbase");
+    store_ = StoreTarget(dir_, "s.tinbase");
     CopyDemoStoreWithFeature(store_);
     service::ServiceOptions options;
     options.store_path = store_;

@@ -22,6 +22,7 @@
 #include "db/surface_store.h"
 #include "db/tiles/tile_store.h"
 #include "tests/support/service_support.h"
+#include "tests/support/store_target.h"
 
 namespace tinbase::testing {
 namespace {
@@ -105,7 +106,7 @@ struct TileAnswer {
 class TileRoutesTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    store_ = dir_.Path("s.tinbase");
+    store_ = StoreTarget(dir_, "s.tinbase");
     CopyDemoStoreWithTiles(store_);
     service::ServiceOptions options;
     options.store_path = store_;
@@ -517,7 +518,7 @@ TEST_F(TileRoutesTest, ConcurrentClientsGetTheSameTiles) {
 
 TEST(TileRoutesWithoutTilesTest, ASurfaceWithoutTilesSaysHowToBuildThem) {
   TempDir dir;
-  const std::string store = dir.Path("s.tinbase");
+  const std::string store = StoreTarget(dir, "s.tinbase");
   CopyDemoStore(store);
   service::ServiceOptions options;
   options.store_path = store;

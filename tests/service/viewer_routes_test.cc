@@ -7,6 +7,7 @@
 #include <string>
 
 #include "tests/support/service_support.h"
+#include "tests/support/store_target.h"
 
 namespace tinbase::testing {
 namespace {
@@ -19,7 +20,7 @@ void WriteFile(const std::string& path, const std::string& text) {
 class ViewerRoutesTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    store_ = dir_.Path("s.tinbase");
+    store_ = StoreTarget(dir_, "s.tinbase");
     RunWrite(store_, "init " + Quote(store_));
     web_ = dir_.Path("web");
     WriteFile(web_ + "/index.html", "<!doctype html><title>tinbase</title>");

@@ -50,7 +50,7 @@ inline const std::string& BaseEditStore() {
 // A private copy of the base store in `dir`, opened: each case edits its own.
 inline std::unique_ptr<Store> OpenCopyOfBaseStore(const TempDir& dir) {
   const std::string path = StoreTarget(dir, "p.tinbase");
-  std::filesystem::copy_file(BaseEditStore(), path);
+  testing::CopyStore(BaseEditStore(), path);
   auto opened = Store::Open(path);
   RC_ASSERT(opened.ok());
   return std::move(*opened);

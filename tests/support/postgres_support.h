@@ -8,6 +8,7 @@
 
 #include <atomic>
 #include <cstdlib>
+#include <random>
 #include <string>
 
 namespace tinbase::testing {
@@ -25,12 +26,14 @@ inline std::string PostgresUrl() {
 }
 
 // A store target in a schema of that server no other test uses ("" when there is no server).
+// The process id alone is not enough: a server that outlives many test runs sees ids again.
 inline std::string FreshPostgresStore(const std::string& label) {
   static std::atomic<int> counter{0};
+  static const unsigned nonce = std::random_device{}() % 1000000;
   const std::string url = PostgresUrl();
   if (url.empty()) return "";
-  return url + "?schema=t_" + label + "_" + std::to_string(getpid()) + "_" +
-         std::to_string(counter++);
+  return url + "?schema=t_" + label + "_" + std::to_string(getpid()) + "_" + std::to_string(nonce) +
+         "_" + std::to_string(counter++);
 }
 
 }  // namespace tinbase::testing

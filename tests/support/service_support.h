@@ -15,6 +15,7 @@
 #include "service/http_server.h"
 #include "tests/support/cli_support.h"
 #include "tests/support/polygon_files.h"
+#include "tests/support/store_target.h"
 #include "tests/support/test_support.h"
 
 namespace tinbase::testing {
@@ -26,12 +27,12 @@ inline void CopyDemoStore(const std::string& path) {
   static std::string original;
   if (shared == nullptr) {
     shared = new TempDir();  // lives until the binary exits
-    original = shared->Path("demo.tinbase");
+    original = StoreTarget(*shared, "demo.tinbase");
     RunWrite(original, "init " + Quote(original));
     RunWrite(original, "dem import " + Quote(original) + " " + Quote(DataPath("dem/N43E007.hgt")));
     RunWrite(original, "tin build " + Quote(original) + " --surface t --tolerance 20");
   }
-  std::filesystem::copy_file(original, path);
+  CopyStore(original, path);
 }
 
 // Land of the demo store (EPSG:32632, about 7.26 E 43.9 N: ground some 550 m high) and the
@@ -47,7 +48,7 @@ inline void CopyDemoStoreWithFeature(const std::string& path) {
   static std::string original;
   if (shared == nullptr) {
     shared = new TempDir();  // lives until the binary exits
-    original = shared->Path("feature.tinbase");
+    original = StoreTarget(*shared, "feature.tinbase");
     CopyDemoStore(original);
     const PointList square = {{kGraniteMinX, kGraniteMinY},
                               {kGraniteMaxX, kGraniteMinY},
@@ -58,7 +59,7 @@ inline void CopyDemoStoreWithFeature(const std::string& path) {
     RunWrite(original, "polygon add " + Quote(original) + " " + Quote(file) +
                            " --surface t --mode fill --tag granite");
   }
-  std::filesystem::copy_file(original, path);
+  CopyStore(original, path);
 }
 
 // Where CopyDemoStoreWithTiles puts its lake, in the store's CRS (EPSG:32632, metres): a fill
@@ -76,7 +77,7 @@ inline void CopyDemoStoreWithTiles(const std::string& path) {
   static std::string original;
   if (shared == nullptr) {
     shared = new TempDir();  // lives until the binary exits
-    original = shared->Path("demo-tiles.tinbase");
+    original = StoreTarget(*shared, "demo-tiles.tinbase");
     CopyDemoStore(original);
     const std::string lake = WritePolygons(
         *shared, "lake.geojson", {{Ngon(kDemoLakeX, kDemoLakeY, kDemoLakeRadius, 12)}}, 32632);
@@ -86,7 +87,7 @@ inline void CopyDemoStoreWithTiles(const std::string& path) {
                            std::to_string(kDemoTilesMaxZoom) +
                            " --extensions octvertexnormals,watermask,metadata --water-tag water");
   }
-  std::filesystem::copy_file(original, path);
+  CopyStore(original, path);
 }
 
 // A service running in this process until destroyed.

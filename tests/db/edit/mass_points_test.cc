@@ -13,6 +13,7 @@
 
 #include "db/point_locator.h"
 #include "tests/support/edit_fixture.h"
+#include "tests/support/store_target.h"
 #include "tests/support/tin_fixtures.h"
 
 namespace tinbase {
@@ -65,7 +66,7 @@ class MassPoints : public EditFixture {
     return n;
   }
 
-  std::string Path() { return dir_.Path("s.tinbase"); }
+  std::string Path() { return testing::StoreTarget(dir_, "s.tinbase"); }
 };
 
 TEST_F(MassPoints, PointsGoInWithTheirOwnZAsOneFeatureAndOneChange) {

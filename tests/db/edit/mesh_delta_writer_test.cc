@@ -13,6 +13,7 @@
 #include "db/feature_store.h"
 #include "db/polygon_editor.h"
 #include "tests/support/edit_fixture.h"
+#include "tests/support/store_target.h"
 #include "tests/support/tin_fixtures.h"
 
 namespace tinbase {
@@ -121,7 +122,7 @@ TEST_F(MeshDeltaWriterTest, WritesExactlyTheDeltaAndTheCacheFollows) {
 
 TEST_F(MeshDeltaWriterTest, AFailureAtAnyStepRollsEverythingBack) {
   Close(/*reopen=*/false);
-  const auto before = testing::TableChecksums(dir_.Path("s.tinbase"));
+  const auto before = testing::TableChecksums(testing::StoreTarget(dir_, "s.tinbase"));
   for (int fail_at = 1; fail_at <= 7; ++fail_at) {
     SCOPED_TRACE("failure at step " + std::to_string(fail_at));
     Close(/*reopen=*/true);
@@ -138,7 +139,7 @@ TEST_F(MeshDeltaWriterTest, AFailureAtAnyStepRollsEverythingBack) {
       EXPECT_EQ(last, fail_at);
     }  // rolled back
     Close(/*reopen=*/false);
-    EXPECT_EQ(testing::TableChecksums(dir_.Path("s.tinbase")), before);
+    EXPECT_EQ(testing::TableChecksums(testing::StoreTarget(dir_, "s.tinbase")), before);
   }
 }
 

@@ -21,6 +21,7 @@
 #include "db/polygon_editor.h"
 #include "db/surface_builder.h"
 #include "db/surface_store.h"
+#include "tests/support/store_target.h"
 #include "tests/support/test_support.h"
 #include "tests/support/tin_fixtures.h"
 
@@ -121,7 +122,7 @@ TEST(DataAreaClipTest, SquaresWithoutElevationNeedFourNodataCells) {
 class OverhangTest : public ::testing::Test {
  protected:
   void Open(const std::string& dem_file) {
-    path_ = dir_.Path("s.tinbase");
+    path_ = testing::StoreTarget(dir_, "s.tinbase");
     auto store = Store::Create(path_, "");
     ASSERT_TRUE(store.ok()) << store.status().ToString();
     store_ = std::move(*store);

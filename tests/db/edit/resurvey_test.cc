@@ -26,6 +26,7 @@
 #include "db/surface_builder.h"
 #include "db/surface_store.h"
 #include "tests/support/polygon_files.h"
+#include "tests/support/store_target.h"
 #include "tests/support/test_support.h"
 #include "tests/support/tin_fixtures.h"
 
@@ -59,7 +60,7 @@ void ExpectSameAsFromScratch(Store& store, const std::string& name) {
 class ResurveyTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    path_ = dir_.Path("s.tinbase");
+    path_ = testing::StoreTarget(dir_, "s.tinbase");
     auto store = Store::Create(path_, "");
     ASSERT_TRUE(store.ok()) << store.status().ToString();
     store_ = std::move(*store);
@@ -216,7 +217,7 @@ TEST_F(ResurveyTest, EqualsARebuildFromTheNewDem) {
 // paint) and meet the new cells (invariant 7). The store of the nodata tests: the DEM with a 30 x
 // 30 hole of nodata from (first, first), and surface "t" built on it.
 std::unique_ptr<Store> StoreWithHole(const TempDir& dir, int64_t first) {
-  auto store = Store::Create(dir.Path("s.tinbase"), "");
+  auto store = Store::Create(testing::StoreTarget(dir, "s.tinbase"), "");
   EXPECT_TRUE(store.ok()) << store.status().ToString();
   auto raster = GdalRaster::Open(DataPath("geology/hamersley/dtm_rp.tif"));
   EXPECT_TRUE(raster.ok());
@@ -259,8 +260,8 @@ TEST(ResurveyNodataTest, NewSheetOverNodataShowsTheTrianglesThere) {
 TEST(ResurveyNodataTest, NewCellsOnTheBoundaryAreRefusedAndChangeNothing) {
   TempDir dir;
   StoreWithHole(dir, 0).reset();
-  const auto before = testing::TableChecksums(dir.Path("s.tinbase"));
-  auto store = Store::Open(dir.Path("s.tinbase"));
+  const auto before = testing::TableChecksums(testing::StoreTarget(dir, "s.tinbase"));
+  auto store = Store::Open(testing::StoreTarget(dir, "s.tinbase"));
   ASSERT_TRUE(store.ok());
   DemImportOptions dem;
   dem.name = "dtm";
@@ -270,7 +271,7 @@ TEST(ResurveyNodataTest, NewCellsOnTheBoundaryAreRefusedAndChangeNothing) {
   EXPECT_NE(report.status().message().find("lies by the surface's boundary"), std::string::npos)
       << report.status().message();
   store->reset();
-  EXPECT_EQ(testing::TableChecksums(dir.Path("s.tinbase")), before);
+  EXPECT_EQ(testing::TableChecksums(testing::StoreTarget(dir, "s.tinbase")), before);
 }
 
 // The control: the same sheet imported with the surfaces left as they were breaks the tolerance

@@ -13,6 +13,7 @@
 #include "tests/support/edit_fixture.h"
 #include "tests/support/line_features.h"
 #include "tests/support/tin_fixtures.h"
+#include "tests/support/store_target.h"
 
 namespace tinbase {
 namespace {
@@ -154,7 +155,7 @@ TEST_F(ZFromTest, CheckReportsAVertexOffItsLinesZ) {
 }
 
 TEST_F(ZFromTest, ANanZIsRefusedNamingTheFeatureAndVertexAndChangesNothing) {
-  const auto before = testing::TableChecksums(dir_.Path("s.tinbase"));
+  const auto before = testing::TableChecksums(testing::StoreTarget(dir_, "s.tinbase"));
   const double nan = std::numeric_limits<double>::quiet_NaN();
   auto report = testing::AddLines(
       *store_, {testing::LineFeature("features[0]", FeatureMode::kBreakline, {a_, c_, b_},
@@ -169,7 +170,7 @@ TEST_F(ZFromTest, ANanZIsRefusedNamingTheFeatureAndVertexAndChangesNothing) {
   ASSERT_FALSE(from_file.ok());
   EXPECT_EQ(from_file.status().message(),
             "nan.geojson feature 0, line 0, vertex 1: z is not a number");
-  EXPECT_EQ(testing::TableChecksums(dir_.Path("s.tinbase")), before);
+  EXPECT_EQ(testing::TableChecksums(testing::StoreTarget(dir_, "s.tinbase")), before);
 }
 
 TEST_F(ZFromTest, ZFromTheFeatureNeedsLinesWithZ) {

@@ -16,6 +16,7 @@
 #include "db/dem_store.h"
 #include "db/feature_store.h"
 #include "tests/support/gdal_tools.h"
+#include "tests/support/store_target.h"
 #include "tests/support/test_support.h"
 #include "tests/support/tin_fixtures.h"
 
@@ -62,7 +63,7 @@ std::string Q(const std::string& s) { return "'" + s + "'"; }
 class GpkgExportTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    auto store = Store::Create(dir_.Path("s.tinbase"), "EPSG:32632");
+    auto store = Store::Create(testing::StoreTarget(dir_, "s.tinbase"), "EPSG:32632");
     ASSERT_TRUE(store.ok()) << store.status().ToString();
     store_ = std::move(*store);
     WriteDem(dir_.Path("dem.tif"));

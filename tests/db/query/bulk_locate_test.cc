@@ -13,6 +13,7 @@
 
 #include "tests/db/query/query_fixture.h"
 #include "tests/support/grid_tin.h"
+#include "tests/support/store_target.h"
 #include "tests/support/test_support.h"
 
 namespace tinbase {
@@ -36,7 +37,7 @@ bool Holds(const LoadedSurface& s, int64_t triangle_id, const Point2& p) {
 class BulkLocateTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    auto stored = testing::StoreSurface(dir_.Path("b.tinbase"), "plane",
+    auto stored = testing::StoreSurface(testing::StoreTarget(dir_, "b.tinbase"), "plane",
                                         testing::MakeGridTin(40, 40, 5, 1000, 2000, PlaneZ));
     ASSERT_TRUE(stored.ok()) << stored.status().ToString();
     s_ = std::move(*stored);
@@ -124,7 +125,7 @@ class BulkLocatePathsTest : public BulkLocateTest {
       if (t % 11 == 0) tin.triangles[t].tag = 1;
       if (t % 13 == 0) tin.triangles[t].visible = false;
     }
-    auto stored = testing::StoreSurface(dir_.Path("p.tinbase"), "painted", tin);
+    auto stored = testing::StoreSurface(testing::StoreTarget(dir_, "p.tinbase"), "painted", tin);
     ASSERT_TRUE(stored.ok()) << stored.status().ToString();
     s_ = std::move(*stored);
   }

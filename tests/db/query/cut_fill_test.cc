@@ -8,6 +8,7 @@
 #include "db/query/measure_source.h"
 #include "tests/core/measure/analytic_tins.h"
 #include "tests/support/polygon_files.h"
+#include "tests/support/store_target.h"
 #include "tests/support/test_support.h"
 #include "tests/support/tin_fixtures.h"
 
@@ -29,7 +30,7 @@ CutFillRequest Request(const std::string& base, const std::string& top, int64_t 
 class CutFillTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    auto store = Store::Create(dir_.Path("s.tinbase"), "EPSG:32632");
+    auto store = Store::Create(testing::StoreTarget(dir_, "s.tinbase"), "EPSG:32632");
     ASSERT_TRUE(store.ok()) << store.status().ToString();
     store_ = std::move(*store);
     // Ground z = 100 over [0, 200]^2; design z = 100 + (x - 150) / 10 over [100, 300] x [0, 200];

@@ -8,6 +8,7 @@
 
 #include "tests/db/query/query_fixture.h"
 #include "tests/support/grid_tin.h"
+#include "tests/support/store_target.h"
 #include "tests/support/test_support.h"
 
 namespace tinbase {
@@ -35,7 +36,8 @@ Tin PaintedPlane() {
 class ProfileTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    auto stored = testing::StoreSurface(dir_.Path("p.tinbase"), "plane", PaintedPlane());
+    auto stored =
+        testing::StoreSurface(testing::StoreTarget(dir_, "p.tinbase"), "plane", PaintedPlane());
     ASSERT_TRUE(stored.ok()) << stored.status().ToString();
     s_ = std::move(*stored);
   }

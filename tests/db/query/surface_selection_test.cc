@@ -9,6 +9,7 @@
 #include <set>
 
 #include "core/geometry/predicates.h"
+#include "tests/support/store_target.h"
 #include "tests/support/test_support.h"
 #include "tests/support/tin_fixtures.h"
 
@@ -61,7 +62,7 @@ class SurfaceSelectionTest : public ::testing::Test {
     Tin tin = testing::RandomDelaunayTin(options);
     // Hide every fifth triangle so visibility filters have something to drop.
     for (size_t t = 0; t < tin.triangles.size(); t += 5) tin.triangles[t].visible = false;
-    auto store = Store::Create(dir_.Path("s.tinbase"), "EPSG:32632");
+    auto store = Store::Create(testing::StoreTarget(dir_, "s.tinbase"), "EPSG:32632");
     ASSERT_TRUE(store.ok()) << store.status().ToString();
     store_ = std::move(*store);
     auto tx = store_->BeginWrite();

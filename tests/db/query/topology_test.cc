@@ -10,6 +10,7 @@
 #include <set>
 
 #include "tests/db/query/query_fixture.h"
+#include "tests/support/store_target.h"
 #include "tests/support/test_support.h"
 #include "tests/support/tin_fixtures.h"
 
@@ -57,7 +58,7 @@ Ids IdsOf(const Tin& input, const LoadedSurface& s) {
 class HexagonTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    auto stored = testing::StoreSurface(dir_.Path("h.tinbase"), "hex", Hexagon());
+    auto stored = testing::StoreSurface(testing::StoreTarget(dir_, "h.tinbase"), "hex", Hexagon());
     ASSERT_TRUE(stored.ok()) << stored.status().ToString();
     s_ = std::move(*stored);
     ids_ = IdsOf(Hexagon(), s_.loaded);
@@ -147,8 +148,8 @@ TEST(Topology, StarsOfARandomTinAgreeWithBruteForce) {
   testing::RandomTinOptions options;
   options.points = 300;
   options.seed = 11;
-  auto stored =
-      testing::StoreSurface(dir.Path("r.tinbase"), "r", testing::RandomDelaunayTin(options));
+  auto stored = testing::StoreSurface(testing::StoreTarget(dir, "r.tinbase"), "r",
+                                      testing::RandomDelaunayTin(options));
   ASSERT_TRUE(stored.ok()) << stored.status().ToString();
   const LoadedSurface& s = stored->loaded;
   std::map<int64_t, std::set<int64_t>> around;

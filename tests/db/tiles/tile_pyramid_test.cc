@@ -10,6 +10,7 @@
 
 #include "core/geometry/reproject.h"
 #include "core/tiles/quantized_mesh.h"
+#include "tests/support/store_target.h"
 #include "tests/support/test_support.h"
 #include "tests/support/tile_seams.h"
 #include "tests/support/tin_fixtures.h"
@@ -23,7 +24,7 @@ using testing::TempDir;
 class TilePyramidTest : public ::testing::Test {
  protected:
   void Create(const std::string& crs, Tin tin) {
-    auto store = Store::Create(dir_.Path("s.tinbase"), crs);
+    auto store = Store::Create(testing::StoreTarget(dir_, "s.tinbase"), crs);
     ASSERT_TRUE(store.ok()) << store.status().ToString();
     store_ = std::move(*store);
     auto tx = store_->BeginWrite();
@@ -161,7 +162,7 @@ TEST_F(TilePyramidTest, BadRequestsAreRefusedAndChangeNothing) {
   TileBuildOptions good;
   good.max_zoom = 12;
   ASSERT_TRUE(BuildTilePyramid(*store_, info_, good).ok());
-  const auto before = TableChecksums(dir_.Path("s.tinbase"));
+  const auto before = TableChecksums(testing::StoreTarget(dir_, "s.tinbase"));
   TileBuildOptions bad = good;
   bad.max_zoom = 25;
   EXPECT_NE(BuildTilePyramid(*store_, info_, bad).status().message().find("--max-zoom 25"),
@@ -175,7 +176,7 @@ TEST_F(TilePyramidTest, BadRequestsAreRefusedAndChangeNothing) {
             std::string::npos);
   EXPECT_NE(ParseTileExtensions("octvertexnormals,shadows").status().message().find("'shadows'"),
             std::string::npos);
-  EXPECT_EQ(TableChecksums(dir_.Path("s.tinbase")), before);
+  EXPECT_EQ(TableChecksums(testing::StoreTarget(dir_, "s.tinbase")), before);
 }
 
 TEST_F(TilePyramidTest, StoreWithoutCrsIsRefused) {

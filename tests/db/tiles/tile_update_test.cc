@@ -16,6 +16,7 @@
 #include "db/feature_store.h"
 #include "db/mesh/mesh_tables.h"
 #include "db/tiles/tile_pyramid.h"
+#include "tests/support/store_target.h"
 #include "tests/support/test_support.h"
 #include "tests/support/tin_fixtures.h"
 
@@ -28,7 +29,7 @@ using Tiles = std::map<TileKey, std::pair<std::vector<uint8_t>, int64_t>>;
 class TileUpdateTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    auto store = Store::Create(dir_.Path("s.tinbase"), "EPSG:32632");
+    auto store = Store::Create(testing::StoreTarget(dir_, "s.tinbase"), "EPSG:32632");
     ASSERT_TRUE(store.ok()) << store.status().ToString();
     store_ = std::move(*store);
     auto tx = store_->BeginWrite();
