@@ -1,8 +1,8 @@
 // Inserts per second on one PostgreSQL surface with 1, 2 and 4 concurrent writers in disjoint
 // regions (docs/scaling.md, "Writers"; docs/BENCHMARKS.md, "Concurrent writers on PostgreSQL").
 //
-// The store: the Hamersley DEM and a surface built from it at 10 m (`tinbase init`, `dem import`,
-// `tin build` run as child processes). Writer w of n inserts small random polygons (fill, one
+// The store: the Hamersley DEM and a surface built from it at 10 m (as `tinbase init`, `dem
+// import` and `tin build --tolerance 10` make it). Writer w of n inserts small random polygons (fill, one
 // transaction each, through AddPolygons on a Store of its own, as `tinbase polygon add` does)
 // in stripe w of n vertical stripes of the map, so no two writers' regions meet. Each round runs
 // every writer count in turn, in an order that alternates between rounds; a case stops after
@@ -24,21 +24,30 @@
 #include <thread>
 #include <vector>
 
+#include "db/dem_store.h"
 #include "db/polygon_editor.h"
 #include "db/store.h"
+#include "db/surface_builder.h"
 
 namespace {
 
 constexpr double kCx = 539298, kCy = 7497339;  // the middle of the Hamersley DEM (EPSG:28350)
 constexpr double kHalfWidth = 16000;           // the stripes span x in kCx +- this
 
-int Run(const std::string& command) {
-  const int status = std::system(command.c_str());
-  if (status != 0) std::fprintf(stderr, "failed (%d): %s\n", status, command.c_str());
-  return status;
+// The store: the Hamersley DEM and a surface built from it at 10 m, as `tinbase init`, `dem
+// import` and `tin build --tolerance 10` make it.
+tinbase::Status BuildStore(const std::string& store) {
+  TB_ASSIGN_OR_RETURN(auto created, tinbase::Store::Create(store, ""));
+  tinbase::DemStore dems(*created);
+  TB_RETURN_IF_ERROR(
+      dems.Import({std::string(TINBASE_DATA_DIR) + "/geology/hamersley/dtm_rp.tif"}, {})
+          .status());
+  tinbase::SurfaceBuildOptions options;
+  options.surface = "terrain";
+  options.greedy.tolerance = 10;
+  return tinbase::BuildSurfaceFromDem(*created, options).status();
 }
 
-std::string Quote(const std::string& s) { return "'" + s + "'"; }
 
 // A convex 6-gon of radius 150 to 300 m at a random point of stripe `w` of `n`, as GeoJSON.
 std::string Polygon(std::mt19937_64& random, int w, int n) {
@@ -122,12 +131,10 @@ int main(int argc, char** argv) {
   const std::string store = url + "?schema=bench_writers_" + std::to_string(getpid());
   char dir_template[] = "/tmp/pg_writers_XXXXXX";
   const std::string dir = mkdtemp(dir_template);
-  const std::string cli = TINBASE_CLI;
-  if (Run(cli + " init " + Quote(store)) != 0 ||
-      Run(cli + " dem import " + Quote(store) + " " +
-          Quote(std::string(TINBASE_DATA_DIR) + "/geology/hamersley/dtm_rp.tif")) != 0 ||
-      Run(cli + " tin build " + Quote(store) + " --surface terrain --tolerance 10") != 0)
+  if (tinbase::Status built = BuildStore(store); !built.ok()) {
+    std::fprintf(stderr, "%s\n", built.ToString().c_str());
     return 1;
+  }
   std::FILE* out = csv.empty() ? nullptr : std::fopen(csv.c_str(), "w");
   if (out != nullptr) std::fprintf(out, "round,writers,inserts,failures,seconds,inserts_per_s\n");
   std::printf("round writers inserts failures seconds inserts/s\n");
