@@ -673,9 +673,7 @@ Result<std::vector<int64_t>> MeshTables::InsertTriangles(const Tin& tin,
   return WriteTriangleRows(db_, surface_, tin, vertex_ids, LayOutTriangles(surface_.blocks, tin));
 }
 
-Result<int64_t> MeshTables::NextTriangleId(size_t count) {
-  return NextId(db_, "triangles", count);
-}
+Result<int64_t> MeshTables::NextTriangleId(size_t count) { return NextId(db_, "triangles", count); }
 
 Status MeshTables::InsertTriangleBatch(const TriangleBatch& batch, int64_t base,
                                        int64_t first_vertex,

@@ -355,8 +355,8 @@ Status PgConnection::LockRegion(int64_t surface, const std::vector<int64_t>& blo
   // in the sorted order.
   std::string sql = "SELECT pg_advisory_xact_lock_shared(" + std::to_string(key) + ")";
   for (int32_t part : parts)
-    sql += ", pg_advisory_xact_lock(" + std::to_string(surface_part) + ", " +
-           std::to_string(part) + ")";
+    sql += ", pg_advisory_xact_lock(" + std::to_string(surface_part) + ", " + std::to_string(part) +
+           ")";
   return Exec(sql);
 }
 

@@ -134,11 +134,10 @@ Status InsertNumberedRows(Connection& db, const char* table_and_columns, int col
   if (!db.NumbersRowsByLargestId()) {
     std::string with_id(table_and_columns);
     with_id.insert(with_id.find('(') + 1, "id, ");
-    return InsertRows(db, with_id.c_str(), columns + 1, rows,
-                      [&](Statement& row, int p, size_t r) {
-                        row.Bind(p, first_id + static_cast<int64_t>(r));
-                        bind_row(row, p + 1, r);
-                      });
+    return InsertRows(db, with_id.c_str(), columns + 1, rows, [&](Statement& row, int p, size_t r) {
+      row.Bind(p, first_id + static_cast<int64_t>(r));
+      bind_row(row, p + 1, r);
+    });
   }
   TB_RETURN_IF_ERROR(InsertRows(db, table_and_columns, columns, rows, bind_row));
   if (rows == 0) return Status::Ok();
