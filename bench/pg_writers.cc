@@ -2,10 +2,10 @@
 // regions (docs/scaling.md, "Writers"; docs/BENCHMARKS.md, "Concurrent writers on PostgreSQL").
 //
 // The store: the Hamersley DEM and a surface built from it at 10 m (as `tinbase init`, `dem
-// import` and `tin build --tolerance 10` make it). Writer w of n inserts small random polygons (fill, one
-// transaction each, through AddPolygons on a Store of its own, as `tinbase polygon add` does)
-// in stripe w of n vertical stripes of the map, so no two writers' regions meet. Each round runs
-// every writer count in turn, in an order that alternates between rounds; a case stops after
+// import` and `tin build --tolerance 10` make it). Writer w of n inserts small random polygons
+// (fill, one transaction each, through AddPolygons on a Store of its own, as `tinbase polygon add`
+// does) in stripe w of n vertical stripes of the map, so no two writers' regions meet. Each round
+// runs every writer count in turn, in an order that alternates between rounds; a case stops after
 // `seconds` of wall time, and the rate is its committed inserts over its wall time.
 //
 // Usage: pg_writers POSTGRES_URL [rounds=3] [seconds=30] [csv]
@@ -40,14 +40,12 @@ tinbase::Status BuildStore(const std::string& store) {
   TB_ASSIGN_OR_RETURN(auto created, tinbase::Store::Create(store, ""));
   tinbase::DemStore dems(*created);
   TB_RETURN_IF_ERROR(
-      dems.Import({std::string(TINBASE_DATA_DIR) + "/geology/hamersley/dtm_rp.tif"}, {})
-          .status());
+      dems.Import({std::string(TINBASE_DATA_DIR) + "/geology/hamersley/dtm_rp.tif"}, {}).status());
   tinbase::SurfaceBuildOptions options;
   options.surface = "terrain";
   options.greedy.tolerance = 10;
   return tinbase::BuildSurfaceFromDem(*created, options).status();
 }
-
 
 // A convex 6-gon of radius 150 to 300 m at a random point of stripe `w` of `n`, as GeoJSON.
 std::string Polygon(std::mt19937_64& random, int w, int n) {
