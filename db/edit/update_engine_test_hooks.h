@@ -26,7 +26,7 @@ struct UpdateEngineTestHooks {
   bool verify_mesh = false;
   // Called once the edit holds its region's lock (db/edit/region_lock.h), before it writes: the
   // concurrent-writer tests see there which edits hold their locks at once.
-  std::function<void()> region_locked;
+  std::function<void()> region_locked = {};
 };
 
 // Installs `hooks` for the edits this thread runs while the object lives; the hooks installed
