@@ -17,6 +17,7 @@
 #include "db/dem_store.h"
 #include "db/edit/line_z.h"
 #include "db/edit/update_engine_test_hooks.h"
+#include "db/edit/write_retry.h"
 #include "db/feature_store.h"
 #include "db/history/feature_versions.h"
 #include "db/history/mesh_image_store.h"
@@ -445,7 +446,7 @@ Result<PolygonAddReport> ApplyEditOnce(SurfaceSession& session, std::vector<NewF
   Store& store = session.store;
   std::unique_ptr<WriteTransaction> tx;
   if (!session.in_caller_transaction) {
-    TB_ASSIGN_OR_RETURN(tx, store.BeginWrite());
+    TB_ASSIGN_OR_RETURN(tx, store.BeginRegionWrite());
   }
   Change change;
   change.surface = session.surface.id;
@@ -454,6 +455,10 @@ Result<PolygonAddReport> ApplyEditOnce(SurfaceSession& session, std::vector<NewF
   TB_ASSIGN_OR_RETURN(report.tx, AppendChange(store, change));
   TB_ASSIGN_OR_RETURN(bool mesh_kept, session.mesh.Begin(report.tx));
   report.mesh_kept = mesh_kept ? 1 : 0;
+  // With concurrent writers change numbers commit out of order, so a next number does not prove
+  // that no other edit came between: the features are kept only with the mesh rows, which the
+  // data version guards.
+  if (!mesh_kept && store.db().ConcurrentWriters()) session.features_tx = -1;
   if (mesh_kept && TEST_VerifyMesh()) TB_RETURN_IF_ERROR(session.mesh.VerifyAgainstStore());
   TB_ASSIGN_OR_RETURN(std::vector<EditorFeature> existing, FeaturesBefore(session, report.tx));
   session.features_tx = -1;  // until this edit commits
@@ -496,10 +501,25 @@ Result<PolygonAddReport> ApplyEditOnce(SurfaceSession& session, std::vector<NewF
 Result<PolygonAddReport> ApplyEdit(SurfaceSession& session, std::vector<NewFeature> added,
                                    const std::vector<int64_t>& removed, const std::string& action) {
   TB_RETURN_IF_ERROR(TEST_FaultStep(0));
-  auto report = ApplyEditOnce(session, added, removed, action);
-  if (report.ok()) return report;
-  session.mesh.Clear();
-  session.features_tx = -1;
+  // An edit that lost a race with another writer runs again (db/edit/write_retry.h); each attempt
+  // takes a copy of the features, as an attempt moves their lines out.
+  const int attempts = session.in_caller_transaction ? 1 : EditAttempts(session.store.db());
+  Result<PolygonAddReport> report = Status::Busy("not attempted");
+  for (int attempt = 1; attempt <= attempts; ++attempt) {
+    if (attempts == 1) {
+      report = ApplyEditOnce(session, added, removed, action);
+    } else {
+      std::vector<NewFeature> copy = added;
+      report = ApplyEditOnce(session, copy, removed, action);
+    }
+    if (report.ok()) return report;
+    session.mesh.Clear();
+    session.features_tx = -1;
+    if (!RetryEdit(report.status(), attempt, attempts)) break;
+    PauseBeforeRetry(attempt);
+  }
+  if (attempts > 1 && report.status().code() == StatusCode::kBusy)
+    return GaveUpRetrying(report.status(), attempts);
   if (report.status().code() == StatusCode::kInvalidArgument) {
     for (const NewFeature& n : added)
       TB_RETURN_IF_ERROR(FeatureOnSurface(session.store, session.surface, n.feature));

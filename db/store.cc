@@ -165,6 +165,11 @@ Result<std::unique_ptr<WriteTransaction>> Store::BeginWrite() {
   return std::make_unique<WriteTransaction>(this, std::move(tx));
 }
 
+Result<std::unique_ptr<WriteTransaction>> Store::BeginRegionWrite() {
+  TB_ASSIGN_OR_RETURN(Transaction tx, Transaction::BeginRegion(*db_));
+  return std::make_unique<WriteTransaction>(this, std::move(tx));
+}
+
 Result<std::optional<std::string>> Store::GetMeta(const std::string& key) {
   TB_ASSIGN_OR_RETURN(Statement * stmt, db_->Cached("SELECT value FROM meta WHERE key = ?"));
   stmt->Bind(1, key);

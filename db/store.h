@@ -48,6 +48,10 @@ class Store {
 
   // Starts the single write transaction; Busy if another writer holds the store for too long.
   Result<std::unique_ptr<WriteTransaction>> BeginWrite();
+  // Starts the write transaction of an edit of one region of a surface: on a backend with
+  // concurrent writers (PostgreSQL) other region edits go on, and the edit locks its region
+  // (Connection::LockRegion); elsewhere the same as BeginWrite.
+  Result<std::unique_ptr<WriteTransaction>> BeginRegionWrite();
 
   // The store's CRS, or nullopt before the first DEM has set it.
   Result<std::optional<Crs>> GetCrs();

@@ -258,7 +258,10 @@ Result<SurfaceInfo> SurfaceStore::CreateWhileTriangulating(
   bool consecutive = true;
   for (size_t i = 0; i < vertex_ids.size() && consecutive; ++i)
     consecutive = vertex_ids[i] == first_vertex + static_cast<int64_t>(i);
-  TB_ASSIGN_OR_RETURN(const int64_t base, mesh.NextTriangleId());
+  // The triangles of n points number at most 2n: their ids are reserved before the first batch
+  // (the count is known only at the end), and any beyond the reservation below.
+  const size_t reserved = 2 * vertices.size();
+  TB_ASSIGN_OR_RETURN(const int64_t base, mesh.NextTriangleId(reserved));
   size_t written = 0;
   if (!started) group.wait();
   while (std::optional<TriangleBatch> batch = queue.Pop()) {
@@ -270,6 +273,9 @@ Result<SurfaceInfo> SurfaceStore::CreateWhileTriangulating(
     written += batch->triangles.size();
   }
   group.wait();
+  // Past a reservation this write's ids ran on from it: a store write holds the whole store, so
+  // the next reservation starts where this one ended, and these ids are taken from it.
+  if (written > reserved) TB_RETURN_IF_ERROR(mesh.NextTriangleId(written - reserved).status());
   TB_RETURN_IF_ERROR(triangulated);
   return info;
 }

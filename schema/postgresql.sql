@@ -26,11 +26,18 @@ CREATE TABLE dems(
   block_row0 bigint NOT NULL DEFAULT 0
 );
 
+-- 0017: ids and change numbers from sequences (concurrent writers, docs/scaling.md).
+CREATE SEQUENCE dems_id_seq;
+CREATE SEQUENCE surfaces_id_seq;
+CREATE SEQUENCE vertices_id_seq;
+CREATE SEQUENCE tags_id_seq;
+CREATE SEQUENCE triangles_id_seq;
+CREATE SEQUENCE features_id_seq;
+CREATE SEQUENCE changes_tx_seq;
+
 CREATE FUNCTION tinbase_dems_id() RETURNS trigger LANGUAGE plpgsql AS $$
 BEGIN
-  IF NEW.id IS NULL THEN
-    NEW.id := (SELECT coalesce(max(id), 0) + 1 FROM dems);
-  END IF;
+  IF NEW.id IS NULL THEN NEW.id := nextval('dems_id_seq'); END IF;
   RETURN NEW;
 END $$;
 CREATE TRIGGER dems_id BEFORE INSERT ON dems FOR EACH ROW EXECUTE FUNCTION tinbase_dems_id();
@@ -139,7 +146,7 @@ CREATE TABLE changes(
 
 CREATE FUNCTION tinbase_surfaces_id() RETURNS trigger LANGUAGE plpgsql AS $$
 BEGIN
-  IF NEW.id IS NULL THEN NEW.id := (SELECT coalesce(max(id), 0) + 1 FROM surfaces); END IF;
+  IF NEW.id IS NULL THEN NEW.id := nextval('surfaces_id_seq'); END IF;
   RETURN NEW;
 END $$;
 CREATE TRIGGER surfaces_id BEFORE INSERT ON surfaces
@@ -147,7 +154,7 @@ CREATE TRIGGER surfaces_id BEFORE INSERT ON surfaces
 
 CREATE FUNCTION tinbase_vertices_id() RETURNS trigger LANGUAGE plpgsql AS $$
 BEGIN
-  IF NEW.id IS NULL THEN NEW.id := (SELECT coalesce(max(id), 0) + 1 FROM vertices); END IF;
+  IF NEW.id IS NULL THEN NEW.id := nextval('vertices_id_seq'); END IF;
   RETURN NEW;
 END $$;
 CREATE TRIGGER vertices_id BEFORE INSERT ON vertices
@@ -155,14 +162,14 @@ CREATE TRIGGER vertices_id BEFORE INSERT ON vertices
 
 CREATE FUNCTION tinbase_tags_id() RETURNS trigger LANGUAGE plpgsql AS $$
 BEGIN
-  IF NEW.id IS NULL THEN NEW.id := (SELECT coalesce(max(id), 0) + 1 FROM tags); END IF;
+  IF NEW.id IS NULL THEN NEW.id := nextval('tags_id_seq'); END IF;
   RETURN NEW;
 END $$;
 CREATE TRIGGER tags_id BEFORE INSERT ON tags FOR EACH ROW EXECUTE FUNCTION tinbase_tags_id();
 
 CREATE FUNCTION tinbase_triangles_id() RETURNS trigger LANGUAGE plpgsql AS $$
 BEGIN
-  IF NEW.id IS NULL THEN NEW.id := (SELECT coalesce(max(id), 0) + 1 FROM triangles); END IF;
+  IF NEW.id IS NULL THEN NEW.id := nextval('triangles_id_seq'); END IF;
   RETURN NEW;
 END $$;
 CREATE TRIGGER triangles_id BEFORE INSERT ON triangles
@@ -170,7 +177,7 @@ CREATE TRIGGER triangles_id BEFORE INSERT ON triangles
 
 CREATE FUNCTION tinbase_features_id() RETURNS trigger LANGUAGE plpgsql AS $$
 BEGIN
-  IF NEW.id IS NULL THEN NEW.id := (SELECT coalesce(max(id), 0) + 1 FROM features); END IF;
+  IF NEW.id IS NULL THEN NEW.id := nextval('features_id_seq'); END IF;
   RETURN NEW;
 END $$;
 CREATE TRIGGER features_id BEFORE INSERT ON features
@@ -178,7 +185,7 @@ CREATE TRIGGER features_id BEFORE INSERT ON features
 
 CREATE FUNCTION tinbase_changes_tx() RETURNS trigger LANGUAGE plpgsql AS $$
 BEGIN
-  IF NEW.tx IS NULL THEN NEW.tx := (SELECT coalesce(max(tx), 0) + 1 FROM changes); END IF;
+  IF NEW.tx IS NULL THEN NEW.tx := nextval('changes_tx_seq'); END IF;
   RETURN NEW;
 END $$;
 CREATE TRIGGER changes_tx BEFORE INSERT ON changes
@@ -296,3 +303,23 @@ CREATE TABLE mesh_images(
           DEFERRABLE INITIALLY DEFERRED,
   image   bytea NOT NULL
 );
+
+-- 0017: a run of n consecutive numbers of a sequence (PgConnection::ReserveIds).
+CREATE FUNCTION tinbase_reserve_ids(seq regclass, n bigint) RETURNS bigint LANGUAGE plpgsql AS $$
+DECLARE
+  first bigint;
+BEGIN
+  IF n < 1 THEN
+    RAISE EXCEPTION 'tinbase_reserve_ids: % numbers asked for, at least 1 expected', n;
+  END IF;
+  PERFORM pg_advisory_lock(1953063522, seq::oid::integer);
+  BEGIN
+    first := nextval(seq);
+    IF n > 1 THEN PERFORM setval(seq, first + n - 1); END IF;
+  EXCEPTION WHEN OTHERS THEN
+    PERFORM pg_advisory_unlock(1953063522, seq::oid::integer);
+    RAISE;
+  END;
+  PERFORM pg_advisory_unlock(1953063522, seq::oid::integer);
+  RETURN first;
+END $$;

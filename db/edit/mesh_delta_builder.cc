@@ -157,7 +157,7 @@ Status DeltaBuilder::NumberVertices() {
     fresh.push_back(static_cast<uint32_t>(i));
   }
   TB_ASSIGN_OR_RETURN(delta_.first_vertex,
-                      MeshTables(ctx_.store.db(), ctx_.surface).NextVertexId());
+                      MeshTables(ctx_.store.db(), ctx_.surface).NextVertexId(fresh.size()));
   for (size_t k = 0; k < fresh.size(); ++k) {
     ids_[fresh[k]] = delta_.first_vertex + static_cast<int64_t>(k);
     delta_.new_vertices.push_back(tin_.vertices[fresh[k]]);
@@ -177,8 +177,6 @@ Status DeltaBuilder::NumberVertices() {
 // back with another triangle. Their rows go in block order, as a built surface's do, so that a
 // later repaint of a block finds long runs of ids.
 Status DeltaBuilder::NumberTriangles() {
-  TB_ASSIGN_OR_RETURN(delta_.first_triangle,
-                      MeshTables(ctx_.store.db(), ctx_.surface).NextTriangleId());
   block_.assign(tin_.triangles.size(), 0);
   std::vector<std::pair<int64_t, uint32_t>> keyed;  // (block, local triangle)
   for (size_t t = 0; t < tin_.triangles.size(); ++t) {
@@ -189,6 +187,8 @@ Status DeltaBuilder::NumberTriangles() {
     keyed.push_back({block_[t], static_cast<uint32_t>(t)});
   }
   std::sort(keyed.begin(), keyed.end());
+  TB_ASSIGN_OR_RETURN(delta_.first_triangle,
+                      MeshTables(ctx_.store.db(), ctx_.surface).NextTriangleId(keyed.size()));
   for (const auto& [b, t] : keyed) written_.push_back(t);
   new_id_.assign(tin_.triangles.size(), 0);
   for (size_t k = 0; k < written_.size(); ++k)

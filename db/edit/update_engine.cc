@@ -10,6 +10,7 @@
 #include "db/edit/mesh_delta.h"
 #include "db/edit/mesh_delta_builder.h"
 #include "db/edit/mesh_delta_writer.h"
+#include "db/edit/region_lock.h"
 #include "db/edit/repaint_plan.h"
 #include "db/edit/update_engine_test_hooks.h"
 
@@ -72,6 +73,12 @@ Result<EditResult> UpdateEngine::Apply(const LocalEdit& edit) {
   TB_ASSIGN_OR_RETURN(LocalPatch patch,
                       RetriangulateUntilSettled(ctx, rules, plan.paint_box, edit.remove, &region));
   TB_RETURN_IF_ERROR(rules.status());
+  // With concurrent writers: the region's blocks locked before anything is written.
+  Box locked = patch.region;
+  locked.Add(plan.paint_box);
+  TB_RETURN_IF_ERROR(LockEditRegion(store_.db(), surface_.id, surface_.blocks, locked,
+                                    plan.uniform_blocks, region.whole_surface));
+  TEST_RegionLocked();
   // 4. Everything the edit changes, as one value; the last read of the edit.
   if (!page_cache_ || !page_cache_->raised())
     page_cache_ = std::make_unique<LargeWriteHint>(store_.db(), RowsWritten(region, patch, plan));

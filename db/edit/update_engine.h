@@ -12,6 +12,8 @@
 //   4. mesh_delta_builder: everything the edit changes          -> MeshDelta
 //   5. mesh_delta_writer: the one writer of the mesh rows; then the mesh cache applies the same
 //      MeshDelta (MeshCache::Apply).
+// Between 3 and 4, with concurrent writers (PostgreSQL), the edit locks its region's blocks
+// (db/edit/region_lock.h).
 // Every read happens before the first write. An edit whose seeded R holds more than half of the
 // surface's triangles takes R to be the whole surface instead (kMinWholeSurfaceRegion): every
 // row is read in one scan, the surface is re-triangulated and refined once, the new rows are

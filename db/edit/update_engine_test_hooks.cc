@@ -27,4 +27,8 @@ Status TEST_FaultStep(int step) {
 
 bool TEST_VerifyMesh() { return g_hooks != nullptr && g_hooks->verify_mesh; }
 
+void TEST_RegionLocked() {
+  if (g_hooks != nullptr && g_hooks->region_locked) g_hooks->region_locked();
+}
+
 }  // namespace tinbase

@@ -24,6 +24,9 @@ struct UpdateEngineTestHooks {
   // Each edit that begins from the mesh rows the one before kept (db/mesh_cache.h) first checks
   // them against the store (MeshCache::VerifyAgainstStore).
   bool verify_mesh = false;
+  // Called once the edit holds its region's lock (db/edit/region_lock.h), before it writes: the
+  // concurrent-writer tests see there which edits hold their locks at once.
+  std::function<void()> region_locked = {};
 };
 
 // Installs `hooks` for the edits this thread runs while the object lives; the hooks installed
@@ -46,5 +49,8 @@ Status TEST_FaultStep(int step);
 
 // Whether the installed hooks ask for verify_mesh.
 bool TEST_VerifyMesh();
+
+// Runs the region_locked hook, if one is installed.
+void TEST_RegionLocked();
 
 }  // namespace tinbase

@@ -78,8 +78,10 @@ Result<bool> HasVersions(Store& store, int64_t feature) {
   return row;
 }
 
-// One past the largest feature id any row or version names.
+// One past the largest feature id any row or version names; with concurrent writers the next of
+// the features' sequence, which is past all of them (migration 0017).
 Result<int64_t> FreshFeatureId(Store& store) {
+  if (!store.db().NumbersRowsByLargestId()) return store.db().ReserveIds("features", 1);
   TB_ASSIGN_OR_RETURN(Statement * stmt,
                       store.db().Cached("SELECT max(m) FROM (SELECT max(id) AS m FROM features "
                                         "UNION ALL SELECT max(feature) FROM feature_versions) u"));

@@ -149,7 +149,7 @@ TriangleLayout LayOutTriangles(const BlockGrid& grid, const Tin& tin) {
 // Writes the vertex rows of `surface` with fresh ids; returns the id of each vertex by index.
 Result<std::vector<int64_t>> WriteVertexRows(Connection& db, const SurfaceInfo& surface,
                                              const std::vector<TinVertex>& vertices) {
-  TB_ASSIGN_OR_RETURN(const int64_t base, NextId(db, "vertices"));
+  TB_ASSIGN_OR_RETURN(const int64_t base, NextId(db, "vertices", vertices.size()));
   const std::vector<uint32_t> order = VertexOrder(vertices);
   std::vector<int64_t> ids(vertices.size());
   for (size_t rank = 0; rank < order.size(); ++rank)
@@ -263,7 +263,7 @@ Result<std::vector<int64_t>> WriteTriangleRows(Connection& db, const SurfaceInfo
                                                const Tin& tin,
                                                const std::vector<int64_t>& vertex_ids,
                                                const TriangleLayout& layout) {
-  TB_ASSIGN_OR_RETURN(const int64_t base, NextId(db, "triangles"));
+  TB_ASSIGN_OR_RETURN(const int64_t base, NextId(db, "triangles", tin.triangles.size()));
   TB_ASSIGN_OR_RETURN(const std::vector<int64_t> tag_ids, TagIds(db, tin));
   const std::vector<uint32_t>& order = layout.order;
   std::vector<int64_t> ids(tin.triangles.size());
@@ -675,7 +675,7 @@ Result<std::vector<int64_t>> MeshTables::InsertTriangles(const Tin& tin,
   return WriteTriangleRows(db_, surface_, tin, vertex_ids, LayOutTriangles(surface_.blocks, tin));
 }
 
-Result<int64_t> MeshTables::NextTriangleId() { return NextId(db_, "triangles"); }
+Result<int64_t> MeshTables::NextTriangleId(size_t count) { return NextId(db_, "triangles", count); }
 
 Status MeshTables::InsertTriangleBatch(const TriangleBatch& batch, int64_t base,
                                        int64_t first_vertex,
@@ -708,7 +708,7 @@ Status MeshTables::DeleteConstraintsOfFeature(Connection& db, int64_t feature) {
 
 // ---- Writes of one edit
 
-Result<int64_t> MeshTables::NextVertexId() { return NextId(db_, "vertices"); }
+Result<int64_t> MeshTables::NextVertexId(size_t count) { return NextId(db_, "vertices", count); }
 
 Status MeshTables::AppendVertices(int64_t first_id, const std::vector<TinVertex>& vertices) {
   return InsertNumberedRows(db_, "vertices(surface, x, y, z, kind)", 5, vertices.size(), first_id,

@@ -188,8 +188,9 @@ class MeshTables {
   // `tin` are valid (SurfaceStore validates them).
   Result<std::vector<int64_t>> InsertTriangles(const Tin& tin,
                                                const std::vector<int64_t>& vertex_ids);
-  // The id the next triangle row written gets: 1 + the largest in the table.
-  Result<int64_t> NextTriangleId();
+  // The id the next triangle row written gets, the first of `count` reserved
+  // (Connection::ReserveIds; on a single-writer store 1 + the largest in the table).
+  Result<int64_t> NextTriangleId(size_t count);
   // Writes the rows of `batch`, triangle index t with id base + t, vertex index v with id
   // first_vertex + v, or vertex_ids[v] when `vertex_ids` is given; then fills in the neighbour
   // columns its links set in rows written before. The rows take the default paint (visible, no
@@ -205,8 +206,8 @@ class MeshTables {
   // the connection's cached statements and the bulk statements of db/sql/bulk_write.h. Each
   // REQUIRES a WriteTransaction; an error leaves the rollback to it.
 
-  // The id the next vertex row written gets: 1 + the largest in the table.
-  Result<int64_t> NextVertexId();
+  // The id the next vertex row written gets, the first of `count` reserved (as NextTriangleId).
+  Result<int64_t> NextVertexId(size_t count);
   // Writes `vertices` as rows of the surface with ids first_id, first_id + 1, ... in order.
   // REQUIRES: first_id == NextVertexId() in this transaction; Corruption, after the rows are
   // written, when they were numbered otherwise.

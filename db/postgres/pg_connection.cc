@@ -2,11 +2,13 @@
 
 #include <libpq-fe.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cstdlib>
 #include <cstring>
 #include <functional>
 
+#include "core/tin/block_grid.h"
 #include "db/postgres/pg_copy.h"
 
 namespace tinbase {
@@ -295,11 +297,12 @@ Result<Statement*> PgConnection::Cached(std::string_view sql) {
 }
 
 Result<int64_t> PgConnection::DataVersion() {
-  // Every write that changes a surface appends to `changes`; the newest transaction number
-  // committed by others says whether anything a cache holds may have changed. The rows of this
-  // connection's open transaction (xmin is its id) do not count: they are not another's commit.
+  // Every write that changes a surface appends one row to `changes`, and none is ever deleted:
+  // their count says whether anything a cache holds may have changed. (Not the largest number:
+  // concurrent writers commit their numbers out of order.) The rows of this connection's open
+  // transaction (xmin is its id) do not count: they are not another's commit.
   return QueryInt(
-      "SELECT coalesce(max(tx), 0) FROM changes "
+      "SELECT count(*) FROM changes "
       "WHERE xmin IS DISTINCT FROM pg_current_xact_id_if_assigned()::xid");
 }
 
@@ -317,8 +320,62 @@ Status PgConnection::BeginRead() {
   return s;
 }
 
-Status PgConnection::Commit() { return Exec("COMMIT"); }
-Status PgConnection::Rollback() { return Exec("ROLLBACK"); }
+Status PgConnection::BeginRegionWrite() {
+  TB_RETURN_IF_ERROR(Exec("SELECT pg_advisory_lock_shared(" + std::to_string(lock_key_) + ")"));
+  region_write_lock_ = true;
+  Status begun = Exec("BEGIN ISOLATION LEVEL REPEATABLE READ");
+  if (!begun.ok()) ReleaseRegionWriteLock();
+  return begun;
+}
+
+void PgConnection::ReleaseRegionWriteLock() {
+  if (!region_write_lock_) return;
+  region_write_lock_ = false;
+  // A dropped connection has lost the lock with its session.
+  (void)Exec("SELECT pg_advisory_unlock_shared(" + std::to_string(lock_key_) + ")");
+}
+
+int64_t PgConnection::SurfaceLockKey(int64_t surface) const {
+  return static_cast<int64_t>(
+      std::hash<std::string>()("tinbase/" + schema_ + "/" + std::to_string(surface)) >> 1);
+}
+
+Status PgConnection::LockRegion(int64_t surface, const std::vector<int64_t>& blocks,
+                                bool whole_surface) {
+  const int64_t key = SurfaceLockKey(surface);
+  if (whole_surface) return Exec("SELECT pg_advisory_xact_lock(" + std::to_string(key) + ")");
+  // The two-number form of the lock: (the surface, the block). A block id is by * 2^24 + bx;
+  // the low 15 bits of by and 16 of bx make the second number, so only blocks tens of thousands
+  // of blocks apart share a lock (they then wait for each other, which is never wrong).
+  const auto surface_part = static_cast<int32_t>(key & 0x7fffffff);
+  std::vector<int32_t> parts;
+  parts.reserve(blocks.size());
+  for (int64_t block : blocks) {
+    const int64_t bx = BlockGrid::ColumnOfPacked(block), by = BlockGrid::RowOfPacked(block);
+    parts.push_back(static_cast<int32_t>(((by & 0x7fff) << 16) | (bx & 0xffff)));
+  }
+  std::sort(parts.begin(), parts.end());
+  parts.erase(std::unique(parts.begin(), parts.end()), parts.end());
+  // One statement; PostgreSQL evaluates its select list left to right, so the locks are taken
+  // in the sorted order.
+  std::string sql = "SELECT pg_advisory_xact_lock_shared(" + std::to_string(key) + ")";
+  for (int32_t part : parts)
+    sql += ", pg_advisory_xact_lock(" + std::to_string(surface_part) + ", " + std::to_string(part) +
+           ")";
+  return Exec(sql);
+}
+
+Status PgConnection::Commit() {
+  Status s = Exec("COMMIT");
+  ReleaseRegionWriteLock();
+  return s;
+}
+
+Status PgConnection::Rollback() {
+  Status s = Exec("ROLLBACK");
+  ReleaseRegionWriteLock();
+  return s;
+}
 
 Status PgConnection::BeginSavepoint(std::string_view name) {
   return Exec("SAVEPOINT " + std::string(name));

@@ -5,9 +5,14 @@
 // connection's search_path is that schema, then public (where PostGIS lives). The statements of
 // db/ are written once, in the SQL both backends speak: `?` and `?N` parameters become `$N` here,
 // and every row comes back in text form, parsed by the Column* getters. All SQLSTATEs become
-// Status values in exactly one function, StatusFromPg(). One writer at a time per store, as on
-// SQLite: BeginWrite takes a transaction-scoped advisory lock named after the schema, so a second
-// writer waits (lock_timeout, then Busy) and readers never wait.
+// Status values in exactly one function, StatusFromPg().
+//
+// Writers (docs/scaling.md, "Writers"): a whole-store write (BeginWrite: tin build, dem import,
+// ...) takes an advisory lock named after the schema, so every other writer waits for it
+// (lock_timeout, then Busy); an edit of a region (BeginRegionWrite) takes the same lock shared, so
+// edits run side by side, each in REPEATABLE READ, and locks the blocks of its region
+// (LockRegion) before it writes. Of two edits whose rows meet, the later writer gets a
+// serialisation failure (Busy) and retries. Readers never wait.
 // Thread-safety: a connection and its statements belong to one thread at a time.
 #pragma once
 
@@ -101,10 +106,21 @@ class PgConnection final : public Connection {
   int64_t Changes() const override { return changes_; }
   int64_t TotalChanges() const override { return total_changes_; }
   Result<int64_t> DataVersion() override;
-  int64_t DataVersionAfterCommit(int64_t /*read*/, int64_t tx) const override { return tx; }
+  // The number of `changes` rows (each write transaction appends one): with concurrent writers
+  // their numbers commit out of order, so the largest says nothing about the ones below it.
+  int64_t DataVersionAfterCommit(int64_t read, int64_t /*tx*/) const override { return read + 1; }
 
   // READ COMMITTED plus the store's advisory write lock (see the file comment).
   Status BeginWrite() override;
+  // The store's lock shared, taken before the transaction begins so that its snapshot is taken
+  // after a whole-store writer committed; then REPEATABLE READ.
+  Status BeginRegionWrite() override;
+  bool ConcurrentWriters() const override { return true; }
+  // A transaction-scoped advisory lock per block, keyed by the store, the surface and the block,
+  // taken in one order by every writer (so two cannot deadlock on them), after the surface's
+  // lock: shared for blocks, exclusive for the whole surface.
+  Status LockRegion(int64_t surface, const std::vector<int64_t>& blocks,
+                    bool whole_surface) override;
   // REPEATABLE READ, READ ONLY, with its snapshot taken by a first query.
   Status BeginRead() override;
   Status Commit() override;
@@ -135,6 +151,10 @@ class PgConnection final : public Connection {
  private:
   PgConnection(pg_conn* conn, std::string schema, std::string label);
   Result<bool> HasStoreTable();
+  // Releases the store's shared lock of BeginRegionWrite, if held.
+  void ReleaseRegionWriteLock();
+  // The key of the advisory lock of `surface` of this store.
+  int64_t SurfaceLockKey(int64_t surface) const;
 
   pg_conn* conn_;
   std::string schema_;
@@ -143,6 +163,7 @@ class PgConnection final : public Connection {
   int64_t changes_ = 0;
   int64_t total_changes_ = 0;
   int next_statement_ = 0;
+  bool region_write_lock_ = false;  // the store's lock held shared, by BeginRegionWrite
   std::unordered_map<std::string, std::unique_ptr<PgStatement>> cache_;
 };
 

@@ -5,11 +5,13 @@
 // Used by every writer of many rows at once (SurfaceStore's surface writes, the update engine's
 // patches). The functions run statements on the caller's connection inside the caller's
 // WriteTransaction; an error leaves the rollback to it. Built on the Connection interface only;
-// a backend supplies the head of its insert (Connection::BulkInsertHead) and must number rows
-// inserted without an id as 1 + the largest id (InsertNumberedRows checks that it did).
+// a backend supplies the head of its insert (Connection::BulkInsertHead) and either numbers rows
+// inserted without an id as 1 + the largest id (InsertNumberedRows checks that it did) or says it
+// does not (Connection::NumbersRowsByLargestId), and then each row is given its reserved id.
 // Thread-safety: as the connection.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -24,11 +26,10 @@
 
 namespace tinbase {
 
-// 1 + the largest id in `table`, so a batch of rows can be given ids before it is written.
-inline Result<int64_t> NextId(Connection& db, const char* table) {
-  TB_ASSIGN_OR_RETURN(int64_t max_id,
-                      db.QueryInt(std::string("SELECT coalesce(max(id), 0) FROM ") + table));
-  return max_id + 1;
+// The first of `count` fresh consecutive ids of `table` (Connection::ReserveIds: 1 + the largest
+// id on a single-writer store), so a batch of rows can be given ids before it is written.
+inline Result<int64_t> NextId(Connection& db, const char* table, size_t count) {
+  return db.ReserveIds(table, static_cast<int64_t>(std::max<size_t>(count, 1)));
 }
 
 namespace bulk_internal {
@@ -152,23 +153,22 @@ Status RunOverIds(Connection& db, const std::string& statement_head,
 // after the rows are written, when the last row did not get the id it was meant to (another row was
 // inserted between NextId and these); the caller's transaction then rolls back.
 //
-// Streamed rows (PostgreSQL's COPY) carry their ids instead: the schema's id trigger then has no
-// largest id to look up for each row, most of a streamed row's cost.
+// On a backend that does not number rows so (NumbersRowsByLargestId false: concurrent writers
+// draw ids from a sequence), first_id comes from NextId's reservation and each row is written with
+// its id, as the first column.
 template <typename BindRow>
 Status InsertNumberedRows(Connection& db, const char* table_and_columns, int columns, size_t rows,
                           int64_t first_id, BindRow bind_row) {
-  const std::string table(table_and_columns, std::strcspn(table_and_columns, "("));
-  const std::string with_id = table + "(id, " + (table_and_columns + table.size() + 1);
-  TB_ASSIGN_OR_RETURN(std::unique_ptr<RowStream> stream,
-                      bulk_internal::StreamFor(db, with_id, columns + 1, rows));
-  if (stream != nullptr) {
-    TB_RETURN_IF_ERROR(bulk_internal::StreamRows(*stream, rows, [&](Statement& row, size_t r) {
-      row.Bind(1, first_id + static_cast<int64_t>(r));
-      bind_row(row, 2, r);
-    }));
-  } else {
-    TB_RETURN_IF_ERROR(InsertRows(db, table_and_columns, columns, rows, bind_row));
+  if (!db.NumbersRowsByLargestId()) {
+    std::string with_id(table_and_columns);
+    with_id.insert(with_id.find('(') + 1, "id, ");
+    return InsertRows(db, with_id.c_str(), columns + 1, rows, [&](Statement& row, int p, size_t r) {
+      row.Bind(p, first_id + static_cast<int64_t>(r));
+      bind_row(row, p + 1, r);
+    });
   }
+  TB_RETURN_IF_ERROR(InsertRows(db, table_and_columns, columns, rows, bind_row));
+  const std::string table(table_and_columns, std::strcspn(table_and_columns, "("));
   if (rows == 0) return Status::Ok();
   const int64_t last = first_id + static_cast<int64_t>(rows) - 1;
   TB_ASSIGN_OR_RETURN(int64_t largest, db.QueryInt("SELECT max(id) FROM " + table));

@@ -1,5 +1,7 @@
 #include "db/sql/connection.h"
 
+#include <algorithm>
+
 #include "db/postgres/pg_connection.h"
 #include "db/sql/store_url.h"
 #include "db/sqlite/sqlite_connection.h"
@@ -41,6 +43,28 @@ Result<int64_t> Connection::QueryInt(std::string_view sql) {
   const int64_t v = stmt->ColumnInt(0);
   stmt->Reset();
   return v;
+}
+
+Result<int64_t> Connection::ReserveIds(std::string_view table, int64_t count) {
+  if (backend() == Backend::kPostgres) {
+    // The table's sequence, a run of `count` numbers at once (tinbase_reserve_ids, migration
+    // 0017); `table` is one of the store's own, named by the code, never by input.
+    TB_ASSIGN_OR_RETURN(Statement * reserve, Cached("SELECT tinbase_reserve_ids(?::regclass, ?)"));
+    reserve->Bind(1, std::string(table) + "_id_seq").Bind(2, std::max<int64_t>(count, 1));
+    TB_ASSIGN_OR_RETURN(bool row, reserve->Step());
+    const int64_t first = row ? reserve->ColumnInt(0) : 0;
+    reserve->Reset();
+    if (!row) return Status::Corruption("no id reserved for " + std::string(table));
+    return first;
+  }
+  TB_ASSIGN_OR_RETURN(int64_t largest,
+                      QueryInt("SELECT coalesce(max(id), 0) FROM " + std::string(table)));
+  return largest + 1;
+}
+
+Status Connection::LockRegion(int64_t /*surface*/, const std::vector<int64_t>& /*blocks*/,
+                              bool /*whole_surface*/) {
+  return Status::Ok();
 }
 
 }  // namespace tinbase

@@ -28,6 +28,7 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "core/base/status.h"
 
@@ -219,6 +220,34 @@ class Connection {
 
   // What Open was given.
   virtual const std::string& path() const = 0;
+
+  // --- concurrent writers (docs/scaling.md, "Writers") -------------------------------------
+  // A backend with one writer per store (SQLite) keeps the defaults: its ids stay 1 + the largest
+  // of their table, a region write is the store's one write transaction, and LockRegion has
+  // nothing to do.
+
+  // Whether writers of distant regions of one surface may commit at once; their edits then retry
+  // on Busy (db/polygon_editor.cc).
+  virtual bool ConcurrentWriters() const { return false; }
+  // The first of `count` (>= 1) consecutive ids that no row holds and no other writer is given,
+  // for new rows of `table` (a table numbered by its `id` column). SQLite: 1 + the largest id of
+  // the table, right for its single writer. PostgreSQL (any connection of that backend, also
+  // one inside the server): a run of the table's sequence (migration 0017).
+  virtual Result<int64_t> ReserveIds(std::string_view table, int64_t count);
+  // Whether a row inserted without an id gets 1 + the largest id of its table (SQLite); when not
+  // (PostgreSQL's sequences), bulk writes give each row its reserved id (db/sql/bulk_write.h
+  // InsertNumberedRows).
+  virtual bool NumbersRowsByLargestId() const { return backend() == Backend::kSqlite; }
+  // Begins a write transaction that edits one region of a surface: with concurrent writers it
+  // waits only for whole-store writers (BeginWrite), and the edit locks its region with
+  // LockRegion before it writes. The default is BeginWrite.
+  virtual Status BeginRegionWrite() { return BeginWrite(); }
+  // Locks `blocks` (BlockGrid ids) of `surface`, or every block of it when `whole_surface`, until
+  // the transaction ends: waits while another writer holds one of them. Rows another writer
+  // committed since this transaction's snapshot then fail this transaction's writes with Busy,
+  // and the caller retries the edit. REQUIRES: inside BeginRegionWrite. The default does nothing.
+  virtual Status LockRegion(int64_t surface, const std::vector<int64_t>& blocks,
+                            bool whole_surface);
 
  protected:
   Connection() = default;

@@ -7,6 +7,11 @@ Result<Transaction> Transaction::Begin(Connection& db) {
   return Transaction(db);
 }
 
+Result<Transaction> Transaction::BeginRegion(Connection& db) {
+  TB_RETURN_IF_ERROR(db.BeginRegionWrite());
+  return Transaction(db);
+}
+
 Transaction::~Transaction() {
   if (db_ != nullptr) (void)db_->Rollback();
 }

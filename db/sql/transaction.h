@@ -20,6 +20,9 @@ class Transaction {
  public:
   // Begins the write transaction; Busy if another writer holds the store for too long.
   static Result<Transaction> Begin(Connection& db);
+  // Begins the write transaction of an edit of one region of a surface
+  // (Connection::BeginRegionWrite): other region writers do not wait for it.
+  static Result<Transaction> BeginRegion(Connection& db);
   Transaction(Transaction&& other) noexcept : db_(other.db_) { other.db_ = nullptr; }
   Transaction(const Transaction&) = delete;
   Transaction& operator=(const Transaction&) = delete;

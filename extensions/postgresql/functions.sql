@@ -110,4 +110,9 @@ BEGIN
     PERFORM pg_extension_config_dump(quote_ident(name)::regclass,
                                      CASE WHEN name = 'meta' THEN coalesce(made_here, '') ELSE '' END);
   END LOOP;
+  -- The id sequences (migration 0017) too: a restore that restarted them at 1 would hand out ids
+  -- the restored rows already hold.
+  FOR name IN SELECT sequencename FROM pg_sequences WHERE schemaname = current_schema() LOOP
+    PERFORM pg_extension_config_dump(quote_ident(name)::regclass, '');
+  END LOOP;
 END $$;

@@ -1,0 +1,4 @@
+-- 0017: nothing changes in an SQLite store. The PostgreSQL store numbers its rows from sequences
+-- from here on (migrations/postgresql/0017_id_sequences.sql), for concurrent writers; SQLite has
+-- one writer per file, and numbers a row 1 + the largest id of its table as before. The number
+-- is kept so that both backends count the same migrations.
