@@ -40,7 +40,7 @@ TEST(BulkWriteTest, EveryCountWritesEachRowOnceInOrder) {
     TempDir dir;
     auto db = Table(dir);
     ASSERT_TRUE(db->Exec("BEGIN").ok());
-    const int64_t first = *NextId(*db, "t");
+    const int64_t first = *NextId(*db, "t", count);
     ASSERT_TRUE(InsertNumberedRows(*db, "t(a, b)", 2, count, first,
                                    [](Statement& row, int p, size_t r) {
                                      row.Bind(p, static_cast<int64_t>(r));
