@@ -10,6 +10,7 @@
 #include <string>
 #include <utility>
 
+#include "core/base/message_text.h"
 #include "core/geometry/polygon.h"
 #include "core/vector/gdal_session.h"
 
@@ -177,7 +178,7 @@ Status ReadGeometry(const json& feature, const Reprojection& reprojection, const
           ReadLine((*coordinates)[k], reprojection, prefix + "line " + std::to_string(k), out));
     }
   } else {
-    return Status::InvalidArgument(label + ": geometry is a " + kind +
+    return Status::InvalidArgument(label + ": geometry is a " + OneLineText(kind) +
                                    "; a Polygon, MultiPolygon, LineString or MultiLineString "
                                    "is needed");
   }
@@ -231,7 +232,7 @@ Status CheckFeatureObject(const json& feature, const std::string& label) {
   TB_ASSIGN_OR_RETURN(const json* type,
                       Member(feature, "type", &json::is_string, label, "a string"));
   if (*type != "Feature")
-    return Status::InvalidArgument(label + ": type is \"" + type->get<std::string>() +
+    return Status::InvalidArgument(label + ": type is \"" + OneLineText(type->get<std::string>()) +
                                    "\", not \"Feature\"");
   return Status::Ok();
 }
@@ -266,7 +267,8 @@ Status ReadSurveyPoints(const json& feature, const Reprojection& reprojection,
   } else if (*type == "MultiPoint") {
     TB_ASSIGN_OR_RETURN(points, ReadPositions(*coordinates, reprojection, label));
   } else {
-    return Status::InvalidArgument(label + ": geometry is a " + type->get<std::string>() +
+    return Status::InvalidArgument(label + ": geometry is a " +
+                                   OneLineText(type->get<std::string>()) +
                                    "; survey points are a Point or MultiPoint (with z)");
   }
   if (points.empty()) return Status::InvalidArgument(label + ": the geometry is empty");
@@ -309,7 +311,8 @@ Status ForEachBodyFeature(std::string_view body, const Read& read) {
                       Member(root, "type", &json::is_string, "the body", "a string"));
   if (*type == "Feature") return read(root, std::string("feature"));
   if (*type != "FeatureCollection")
-    return Status::InvalidArgument("the body is a GeoJSON \"" + type->get<std::string>() +
+    return Status::InvalidArgument("the body is a GeoJSON \"" +
+                                   OneLineText(type->get<std::string>()) +
                                    "\"; a Feature or FeatureCollection is needed");
   TB_ASSIGN_OR_RETURN(const json* features, Member(root, "features", &json::is_array,
                                                    "the FeatureCollection", "an array"));

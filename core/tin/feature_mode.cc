@@ -2,6 +2,8 @@
 
 #include <string>
 
+#include "core/base/message_text.h"
+
 namespace tinbase {
 
 const char* FeatureModeName(FeatureMode mode) {
@@ -27,9 +29,10 @@ const char* FeatureModeName(FeatureMode mode) {
 Result<FeatureMode> ParseFeatureMode(std::string_view name) {
   for (FeatureMode mode : kFeatureModes)
     if (name == FeatureModeName(mode)) return mode;
-  return Status::InvalidArgument(
-      "unknown feature mode '" + std::string(name) +
-      "' (expected clip, erase, fill, replace, breakline, softline or points)");
+  std::string message = "unknown feature mode ";
+  message.append(QuotedForMessage(name));
+  message.append(" (expected clip, erase, fill, replace, breakline, softline or points)");
+  return Status::InvalidArgument(message);
 }
 
 const char* ZFromName(ZFrom z_from) { return z_from == ZFrom::kFeature ? "feature" : "dem"; }
@@ -37,8 +40,10 @@ const char* ZFromName(ZFrom z_from) { return z_from == ZFrom::kFeature ? "featur
 Result<ZFrom> ParseZFrom(std::string_view name) {
   if (name == "dem") return ZFrom::kDem;
   if (name == "feature") return ZFrom::kFeature;
-  return Status::InvalidArgument("unknown z source '" + std::string(name) +
-                                 "' (expected dem or feature)");
+  std::string message = "unknown z source ";
+  message.append(QuotedForMessage(name));
+  message.append(" (expected dem or feature)");
+  return Status::InvalidArgument(message);
 }
 
 }  // namespace tinbase

@@ -101,6 +101,9 @@ TEST(GeoJsonRequestTest, BadBodiesNameThePlace) {
   ExpectRefused(Collection({{{"type", "Polygon"}}}),
                 "features[0]: type is \"Polygon\", not \"Feature\"");
   ExpectRefused(Feature(nullptr), "feature: the feature has no geometry");
+  // Text from the request echoed in a message stays on one line (found by the fuzzer).
+  ExpectRefused(Feature({{"type", "LineStri\ng"}, {"coordinates", nlohmann::json::array()}}),
+                "feature: geometry is a LineStri\\ng; a Polygon");
   ExpectRefused(Feature({{"type", "Polygon"}}), "feature, geometry: no \"coordinates\" member");
   ExpectRefused(Feature({{"type", "GeometryCollection"}, {"coordinates", nlohmann::json::array()}}),
                 "feature: geometry is a GeometryCollection; a Polygon, MultiPolygon, LineString "
