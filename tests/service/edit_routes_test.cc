@@ -10,8 +10,8 @@
 
 #include "db/change_log.h"
 #include "tests/support/service_support.h"
-#include "tests/support/stored_feature.h"
 #include "tests/support/store_target.h"
+#include "tests/support/stored_feature.h"
 
 namespace tinbase::testing {
 namespace {

@@ -12,8 +12,8 @@
 #include "db/integrity_check.h"
 #include "tests/support/edit_fixture.h"
 #include "tests/support/line_features.h"
-#include "tests/support/tin_fixtures.h"
 #include "tests/support/store_target.h"
+#include "tests/support/tin_fixtures.h"
 
 namespace tinbase {
 namespace {
