@@ -22,6 +22,8 @@ set(TINBASE_SQLITE_ONLY_TESTS
   # truncated and overwritten store files, /dev/null.
   hostile_inputs_test
   hostile_service_test
+  # Damages DEM block rows with SQLite's SQL (changes(), zeroblob).
+  dem_corruption_test
 )
 
 # Test cases, by GoogleTest pattern, per binary.
