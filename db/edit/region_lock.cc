@@ -23,6 +23,7 @@ Status LockEditRegion(Connection& db, int64_t surface, const BlockGrid& grid, co
   std::vector<int64_t> blocks;
   if (!whole_surface) blocks = BlocksToLock(grid, box);
   if (!blocks.empty()) blocks.insert(blocks.end(), also.begin(), also.end());
+  if (blocks.size() > kMaxLockedBlocks) blocks.clear();
   return db.LockRegion(surface, blocks, whole_surface || blocks.empty())
       .WithContext("locking the edit's region");
 }

@@ -21,8 +21,10 @@
 
 namespace tinbase {
 
-// Above this many blocks an edit locks its whole surface.
-inline constexpr size_t kMaxLockedBlocks = 4096;
+// Above this many blocks an edit locks its whole surface. PostgreSQL keeps every lock a
+// transaction holds in one shared table (max_locks_per_transaction times max_connections slots,
+// 6400 by default), so a few writers side by side must stay well inside it.
+inline constexpr size_t kMaxLockedBlocks = 512;
 
 // The blocks of `grid` that `box` grown by one block covers, in id order; empty when they are
 // more than kMaxLockedBlocks (or `box` is empty).

@@ -356,13 +356,22 @@ Status PgConnection::LockRegion(int64_t surface, const std::vector<int64_t>& blo
   }
   std::sort(parts.begin(), parts.end());
   parts.erase(std::unique(parts.begin(), parts.end()), parts.end());
-  // One statement; PostgreSQL evaluates its select list left to right, so the locks are taken
-  // in the sorted order.
-  std::string sql = "SELECT pg_advisory_xact_lock_shared(" + std::to_string(key) + ")";
-  for (int32_t part : parts)
-    sql += ", pg_advisory_xact_lock(" + std::to_string(surface_part) + ", " + std::to_string(part) +
-           ")";
-  return Exec(sql);
+  // PostgreSQL evaluates a select list left to right, so each statement takes its locks in the
+  // sorted order, and the statements follow each other in that order too. A select list holds at
+  // most 1664 entries, hence the batches.
+  TB_RETURN_IF_ERROR(Exec("SELECT pg_advisory_xact_lock_shared(" + std::to_string(key) + ")"));
+  constexpr size_t kLocksPerStatement = 1000;
+  for (size_t first = 0; first < parts.size(); first += kLocksPerStatement) {
+    const size_t last = std::min(parts.size(), first + kLocksPerStatement);
+    std::string sql = "SELECT ";
+    for (size_t i = first; i < last; ++i) {
+      if (i != first) sql += ", ";
+      sql += "pg_advisory_xact_lock(" + std::to_string(surface_part) + ", " +
+             std::to_string(parts[i]) + ")";
+    }
+    TB_RETURN_IF_ERROR(Exec(sql));
+  }
+  return Status::Ok();
 }
 
 Status PgConnection::Commit() {

@@ -58,7 +58,9 @@ Tally PostUntil(int port, const std::atomic<bool>& stop) {
     }
     ++tally.busy;
     EXPECT_EQ(r->status, 503) << r->body;
-    EXPECT_EQ(nlohmann::json::parse(r->body, nullptr, false).value("error", ""), "busy") << r->body;
+    const auto error = nlohmann::json::parse(r->body, nullptr, false);
+    EXPECT_EQ(error.is_object() ? error.value("/error/code"_json_pointer, "") : "", "busy")
+        << r->body;
   }
   return tally;
 }

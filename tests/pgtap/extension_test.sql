@@ -23,8 +23,11 @@ SELECT is((SELECT array_length(extconfig, 1) FROM pg_extension WHERE extname = '
           (SELECT count(*)::integer - 1 FROM pg_tables WHERE schemaname = 'terrain'
              AND tablename IN (SELECT relname FROM pg_class c JOIN pg_depend d ON d.objid = c.oid
                                WHERE d.refobjid = (SELECT oid FROM pg_extension
-                                                   WHERE extname = 'tinbase'))),
-          'pg_dump keeps the rows of every table but tinbase_store');
+                                                   WHERE extname = 'tinbase')))
+          + (SELECT count(*)::integer FROM pg_class c JOIN pg_depend d ON d.objid = c.oid
+             WHERE c.relkind = 'S' AND c.relnamespace = 'terrain'::regnamespace
+               AND d.refobjid = (SELECT oid FROM pg_extension WHERE extname = 'tinbase')),
+          'pg_dump keeps the rows of every table but tinbase_store, and the id sequences');
 
 -- The read functions give the CLI's answers.
 SELECT cmp_ok((SELECT count(*) FROM cli_answers WHERE triangle IS NOT NULL), '>', 250::bigint,

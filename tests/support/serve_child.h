@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -23,6 +24,9 @@ class ServeChild {
     }
     pid_ = fork();
     if (pid_ == 0) {
+      // A test that dies (an uncaught exception aborts it) takes its server with it; an orphaned
+      // server would hold CTest's output pipe open until the test's timeout.
+      prctl(PR_SET_PDEATHSIG, SIGKILL);
       dup2(out[1], STDOUT_FILENO);
       close(out[0]);
       close(out[1]);

@@ -13,7 +13,9 @@
 #include <sstream>
 #include <string>
 #include <thread>
+#include <vector>
 
+#include "core/tin/block_grid.h"
 #include "db/edit/update_engine_test_hooks.h"
 #include "db/polygon_editor.h"
 #include "db/sql/connection.h"
@@ -163,6 +165,25 @@ TEST_F(ConcurrentRegionsTest, OverlappingEditsSerialiseAndBothLand) {
   EXPECT_GT(b->tx, a->tx);
   CliResult check = RunCli("check --full " + Quote(store_));
   EXPECT_EQ(check.exit_code, 0) << check.out << check.err;
+}
+
+// More block locks than one statement's select list may hold (1664 entries) are all taken.
+TEST_F(ConcurrentRegionsTest, TwoThousandBlockLocksAreAllTaken) {
+  auto db = Connection::Open(store_, Connection::Mode::kReadWrite);
+  ASSERT_TRUE(db.ok()) << db.status().ToString();
+  ASSERT_TRUE((*db)->BeginRegionWrite().ok());
+  std::vector<int64_t> blocks;
+  for (int64_t by = 0; by < 40; ++by)
+    for (int64_t bx = 0; bx < 50; ++bx) blocks.push_back(BlockGrid::Pack(bx, by));
+  const Status locked = (*db)->LockRegion(1, blocks, false);
+  EXPECT_TRUE(locked.ok()) << locked.ToString();
+  // The two-number form of an advisory lock shows objsubid 2.
+  auto held = (*db)->QueryInt(
+      "SELECT count(*) FROM pg_locks WHERE locktype = 'advisory' AND objsubid = 2 "
+      "AND pid = pg_backend_pid() AND granted");
+  ASSERT_TRUE(held.ok()) << held.status().ToString();
+  EXPECT_EQ(*held, 2000);
+  EXPECT_TRUE((*db)->Rollback().ok());
 }
 
 }  // namespace
