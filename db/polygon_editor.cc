@@ -16,6 +16,7 @@
 #include "db/change_log.h"
 #include "db/dem_store.h"
 #include "db/edit/line_z.h"
+#include "db/edit/surface_of_feature.h"
 #include "db/edit/update_engine_test_hooks.h"
 #include "db/edit/write_retry.h"
 #include "db/feature_store.h"
@@ -525,20 +526,6 @@ Result<PolygonAddReport> ApplyEdit(SurfaceSession& session, std::vector<NewFeatu
       TB_RETURN_IF_ERROR(FeatureOnSurface(session.store, session.surface, n.feature));
   }
   return report.status();
-}
-
-Result<SurfaceInfo> SurfaceOfFeature(Store& store, int64_t id) {
-  TB_ASSIGN_OR_RETURN(Statement * stmt,
-                      store.db().Cached("SELECT surface FROM features WHERE id = ?"));
-  stmt->Bind(1, id);
-  TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
-  if (!row) {
-    stmt->Reset();
-    return Status::NotFound("no feature " + std::to_string(id));
-  }
-  const int64_t surface = stmt->ColumnInt(0);
-  stmt->Reset();
-  return SurfaceStore(store).FindById(surface);
 }
 
 }  // namespace

@@ -14,6 +14,7 @@
 #include "db/change_log.h"
 #include "db/dem_store.h"
 #include "db/edit/point_screen.h"
+#include "db/edit/surface_of_feature.h"
 #include "db/edit/update_engine.h"
 #include "db/history/feature_versions.h"
 #include "db/history/mesh_image_store.h"
@@ -110,20 +111,6 @@ Result<EditResult> ApplyEdit(PointsSession& session, UpdateEngine& engine, Local
   const std::set<int64_t> removing(edit.remove.begin(), edit.remove.end());
   std::erase_if(edit.features, [&](const EditorFeature& f) { return removing.count(f.id) > 0; });
   return engine.Apply(edit);
-}
-
-Result<SurfaceInfo> SurfaceOfFeature(Store& store, int64_t id) {
-  TB_ASSIGN_OR_RETURN(Statement * stmt,
-                      store.db().Cached("SELECT surface FROM features WHERE id = ?"));
-  stmt->Bind(1, id);
-  TB_ASSIGN_OR_RETURN(bool row, stmt->Step());
-  if (!row) {
-    stmt->Reset();
-    return Status::NotFound("no feature " + std::to_string(id));
-  }
-  const int64_t surface = stmt->ColumnInt(0);
-  stmt->Reset();
-  return SurfaceStore(store).FindById(surface);
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include "core/vector/feature_wkb.h"
 #include "core/vector/line_z_wkb.h"
 #include "core/vector/point_wkb.h"
+#include "db/sql/each_row.h"
 
 namespace tinbase {
 
@@ -39,32 +40,15 @@ FeatureVersion VersionOfRow(const Statement& stmt) {
 // The versions `stmt` selects (kVersionColumns), its parameters bound.
 Result<std::vector<FeatureVersion>> ReadVersions(Statement& stmt) {
   std::vector<FeatureVersion> out;
-  while (true) {
-    auto row = stmt.Step();
-    if (!row.ok()) {
-      stmt.Reset();
-      return row.status();
-    }
-    if (!*row) break;
-    out.push_back(VersionOfRow(stmt));
-  }
-  stmt.Reset();
+  TB_RETURN_IF_ERROR(
+      EachRow(stmt, [&](const Statement& row) { out.push_back(VersionOfRow(row)); }));
   return out;
 }
 
 // The ids (column 0) `stmt` selects, its parameters bound.
 Result<std::vector<int64_t>> ReadIds(Statement& stmt) {
   std::vector<int64_t> out;
-  while (true) {
-    auto row = stmt.Step();
-    if (!row.ok()) {
-      stmt.Reset();
-      return row.status();
-    }
-    if (!*row) break;
-    out.push_back(stmt.ColumnInt(0));
-  }
-  stmt.Reset();
+  TB_RETURN_IF_ERROR(EachRow(stmt, [&](const Statement& row) { out.push_back(row.ColumnInt(0)); }));
   return out;
 }
 
@@ -140,16 +124,8 @@ Result<std::map<int64_t, std::vector<int64_t>>> FeaturesTouchedSince(Store& stor
                                         "ORDER BY tx, feature"));
   stmt->Bind(1, since);
   std::map<int64_t, std::vector<int64_t>> out;
-  while (true) {
-    auto row = stmt->Step();
-    if (!row.ok()) {
-      stmt->Reset();
-      return row.status();
-    }
-    if (!*row) break;
-    out[stmt->ColumnInt(0)].push_back(stmt->ColumnInt(1));
-  }
-  stmt->Reset();
+  TB_RETURN_IF_ERROR(EachRow(
+      *stmt, [&](const Statement& row) { out[row.ColumnInt(0)].push_back(row.ColumnInt(1)); }));
   return out;
 }
 

@@ -57,12 +57,15 @@ class PointsRoutesTest : public ::testing::Test {
 };
 
 TEST_F(PointsRoutesTest, PostPutsThePointsInAndDeleteTakesThemOut) {
-  CopyDemoStore(store_);
-  Serve();
+  ASSERT_NO_FATAL_FAILURE(CopyDemoStore(store_));
+  ASSERT_NO_FATAL_FAILURE(Serve());
   const nlohmann::json body = {{"type", "FeatureCollection"}, {"features", {Shots(), Shots(900)}}};
   const nlohmann::json a =
       JsonAnswer(PostGeoJson(*service_->Client(), std::string(kPoints) + "?tag=gnss", body), 201);
+  ASSERT_TRUE(HasFields(
+      a, {"features", "points_in", "vertices", "snapped", "tiles_updated", "bbox", "tx"}));
   ASSERT_EQ(a["features"].size(), 1u) << a.dump();
+  ASSERT_EQ(a["bbox"].size(), 4u) << a.dump();
   EXPECT_EQ(a["points_in"], 4);
   EXPECT_EQ(a["vertices"], 4);
   EXPECT_EQ(a["snapped"], nlohmann::json::array());
@@ -77,11 +80,14 @@ TEST_F(PointsRoutesTest, PostPutsThePointsInAndDeleteTakesThemOut) {
   ASSERT_EQ(f.points.size(), 4u);
   EXPECT_EQ(f.points[1].z, 572.25) << "the point keeps its own z";
   const nlohmann::json changes = Json(RunCli("changes --json " + Quote(store_)));
+  ASSERT_TRUE(changes.is_array() && !changes.empty()) << changes.dump();
+  ASSERT_TRUE(HasFields(changes.back(), {"tx", "action"}));
   EXPECT_EQ(changes.back()["tx"], a["tx"]);
   EXPECT_EQ(changes.back()["action"], "points add");
 
   const nlohmann::json removed =
       JsonAnswer(service_->Client()->Delete(std::string(kPoints) + "/" + std::to_string(id)));
+  ASSERT_TRUE(HasFields(removed, {"removed_features", "features", "vertices", "tx"}));
   EXPECT_EQ(removed["removed_features"], nlohmann::json({id}));
   EXPECT_EQ(removed["features"], nlohmann::json::array());
   EXPECT_EQ(removed["vertices"], 4);
@@ -92,14 +98,16 @@ TEST_F(PointsRoutesTest, PostPutsThePointsInAndDeleteTakesThemOut) {
 
 // Lon/lat in, reprojected; a single Point Z is a body too.
 TEST_F(PointsRoutesTest, ACrsParameterReprojectsThePoints) {
-  CopyDemoStore(store_);
-  Serve();
+  ASSERT_NO_FATAL_FAILURE(CopyDemoStore(store_));
+  ASSERT_NO_FATAL_FAILURE(Serve());
   const nlohmann::json point = {
       {"type", "Feature"},
       {"properties", nullptr},
       {"geometry", {{"type", "Point"}, {"coordinates", {7.25, 43.85, 601.5}}}}};
   const nlohmann::json a = JsonAnswer(
       PostGeoJson(*service_->Client(), std::string(kPoints) + "?crs=EPSG:4326", point), 201);
+  ASSERT_TRUE(HasFields(a, {"vertices", "features"}));
+  ASSERT_EQ(a["features"].size(), 1u) << a.dump();
   EXPECT_EQ(a["vertices"], 1);
   const EditorFeature f = LoadStored(a["features"][0].get<int64_t>());
   ASSERT_EQ(f.points.size(), 1u);
@@ -111,15 +119,23 @@ TEST_F(PointsRoutesTest, ACrsParameterReprojectsThePoints) {
 // The tiles are brought up to date in the edit's transaction: the pyramid's transaction is the
 // edit's and nothing is left for `tiles update`; a tile update that fails refuses the edit.
 TEST_F(PointsRoutesTest, TheTilesCommitWithTheEdit) {
-  CopyDemoStoreWithTiles(store_);
-  Serve();
+  ASSERT_NO_FATAL_FAILURE(CopyDemoStoreWithTiles(store_));
+  ASSERT_NO_FATAL_FAILURE(Serve());
   nlohmann::json near_lake = Shots();
   near_lake["geometry"]["coordinates"] = {{kDemoLakeX + 5000.5, kDemoLakeY + 10.25, 300.5}};
   const nlohmann::json a = JsonAnswer(PostGeoJson(*service_->Client(), kPoints, near_lake), 201);
+  ASSERT_TRUE(HasFields(a, {"tiles_updated", "tx", "features"}));
+  ASSERT_EQ(a["features"].size(), 1u) << a.dump();
   EXPECT_GT(a["tiles_updated"].get<int64_t>(), 0) << a.dump();
   const nlohmann::json info = Json(RunCli("tiles info " + Quote(store_) + " --surface t --json"));
+  ASSERT_TRUE(HasFields(info, {"layer"}));
+  ASSERT_TRUE(HasFields(info["layer"], {"tinbase"}));
+  ASSERT_TRUE(HasFields(info["layer"]["tinbase"], {"tx"}));
   EXPECT_EQ(info["layer"]["tinbase"]["tx"], a["tx"]) << info.dump();
-  EXPECT_EQ(Json(RunCli("changes --json " + Quote(store_))).back()["tx"], a["tx"]);
+  const nlohmann::json changes = Json(RunCli("changes --json " + Quote(store_)));
+  ASSERT_TRUE(changes.is_array() && !changes.empty()) << changes.dump();
+  ASSERT_TRUE(HasFields(changes.back(), {"tx"}));
+  EXPECT_EQ(changes.back()["tx"], a["tx"]);
   EXPECT_EQ(Json(RunCli("tiles update " + Quote(store_) + " --surface t --json"))["changes"], 0);
 
   {
@@ -137,8 +153,8 @@ TEST_F(PointsRoutesTest, TheTilesCommitWithTheEdit) {
 }
 
 TEST_F(PointsRoutesTest, BadBodiesAndFeaturesAreRefusedNamingThePlace) {
-  CopyDemoStoreWithFeature(store_);
-  Serve();
+  ASSERT_NO_FATAL_FAILURE(CopyDemoStoreWithFeature(store_));
+  ASSERT_NO_FATAL_FAILURE(Serve());
   before_ = TableChecksums(store_);
   auto client = service_->Client();
   ExpectRefused(client->Post(kPoints, "{\"type\": \"Feature\",", "application/json"), 400,
@@ -174,11 +190,11 @@ TEST_F(PointsRoutesTest, BadBodiesAndFeaturesAreRefusedNamingThePlace) {
 }
 
 TEST_F(PointsRoutesTest, WritesNeedTheTokenAreRefusedReadOnlyAndLargeBodiesToo) {
-  CopyDemoStore(store_);
+  ASSERT_NO_FATAL_FAILURE(CopyDemoStore(store_));
   service::ServiceOptions options;
   options.token = "s3cret-token";
   options.max_body_bytes = 4096;
-  Serve(options);
+  ASSERT_NO_FATAL_FAILURE(Serve(options));
   before_ = TableChecksums(store_);
   ExpectRefused(PostGeoJson(*service_->Client(), kPoints, Shots()), 401, "needs an Authorization");
   ExpectRefused(service_->Client()->Delete(std::string(kPoints) + "/1"), 401,
@@ -192,7 +208,7 @@ TEST_F(PointsRoutesTest, WritesNeedTheTokenAreRefusedReadOnlyAndLargeBodiesToo) 
 
   options.token.reset();
   options.read_only = true;
-  Serve(options);
+  ASSERT_NO_FATAL_FAILURE(Serve(options));
   before_ = TableChecksums(store_);
   ExpectRefused(PostGeoJson(*service_->Client(), kPoints, Shots()), 403, "--read-only");
   ExpectRefused(service_->Client()->Delete(std::string(kPoints) + "/1"), 403, "--read-only");

@@ -77,7 +77,10 @@ std::string Gunzip(const std::string& path) {
 // `metadata` of it.
 void ExpectReading(const nlohmann::json& npm, const QuantizedMesh& mesh, bool normals, bool water,
                    bool metadata, const std::string& what) {
-  ASSERT_TRUE(npm.is_object()) << what;
+  ASSERT_TRUE(HasFields(npm, {"vertices", "u", "v", "height", "indices", "west", "north", "header",
+                              "normals", "waterMask", "metadata"}))
+      << what;
+  ASSERT_TRUE(HasFields(npm["header"], {"maxHeight"})) << what;
   EXPECT_EQ(npm["vertices"], mesh.vertex_count()) << what;
   EXPECT_EQ(npm["u"].get<std::vector<uint16_t>>(), mesh.u) << what;
   EXPECT_EQ(npm["v"].get<std::vector<uint16_t>>(), mesh.v) << what;
@@ -107,7 +110,7 @@ class TileRoutesTest : public ::testing::Test {
  protected:
   void SetUp() override {
     store_ = StoreTarget(dir_, "s.tinbase");
-    CopyDemoStoreWithTiles(store_);
+    ASSERT_NO_FATAL_FAILURE(CopyDemoStoreWithTiles(store_));
     service::ServiceOptions options;
     options.store_path = store_;
     service_ = std::make_unique<TestService>(options);
@@ -134,52 +137,60 @@ class TileRoutesTest : public ::testing::Test {
     return a;
   }
 
-  // Every tile key layer.json lists as available.
+  // Every tile key layer.json lists as available; none (and a failure) when it lists none.
   std::vector<TileKey> AvailableTiles() {
     const nlohmann::json layer =
         JsonAnswer(service_->Client()->Get("/surfaces/t/tiles/layer.json"));
     std::vector<TileKey> keys;
+    if (!HasFields(layer, {"available"})) {
+      ADD_FAILURE() << "layer.json: " << layer.dump();
+      return keys;
+    }
     for (size_t level = 0; level < layer["available"].size(); ++level)
       for (const auto& r : layer["available"][level])
         for (int64_t x = r["startX"]; x <= r["endX"].get<int64_t>(); ++x)
           for (int64_t y = r["startY"]; y <= r["endY"].get<int64_t>(); ++y)
             keys.push_back({static_cast<int>(level), x, y});
+    EXPECT_FALSE(keys.empty()) << "layer.json lists no tile: " << layer.dump();
     return keys;
   }
 
-  // Every tile the store holds.
+  // Every tile the store holds; none (and a failure) when they cannot be read.
   std::vector<TileKey> StoredKeys() {
     auto store = Store::Open(store_, Store::Access::kReadOnly);
     EXPECT_TRUE(store.ok()) << store.status().ToString();
+    if (!store.ok()) return {};
     auto surface = SurfaceStore(**store).Find("t");
-    EXPECT_TRUE(surface.ok());
+    EXPECT_TRUE(surface.ok()) << surface.status().ToString();
+    if (!surface.ok()) return {};
     auto keys = TileStore((*store)->db()).Keys(surface->id);
-    EXPECT_TRUE(keys.ok());
+    EXPECT_TRUE(keys.ok()) << keys.status().ToString();
+    if (!keys.ok()) return {};
     return {keys->begin(), keys->end()};
   }
 
-  // The tile's bytes as the store holds them.
+  // The tile's bytes as the store holds them; empty (and a failure) when they cannot be read.
   std::string StoredBytes(const TileKey& key) {
     auto store = Store::Open(store_, Store::Access::kReadOnly);
     EXPECT_TRUE(store.ok()) << store.status().ToString();
+    if (!store.ok()) return {};
     auto surface = SurfaceStore(**store).Find("t");
-    EXPECT_TRUE(surface.ok());
+    EXPECT_TRUE(surface.ok()) << surface.status().ToString();
+    if (!surface.ok()) return {};
     auto tile = TileStore((*store)->db()).Tile(surface->id, key);
     EXPECT_TRUE(tile.ok() && tile->has_value()) << key.ToString();
+    if (!tile.ok() || !tile->has_value()) return {};
     return std::string((**tile).first.begin(), (**tile).first.end());
   }
 
-  // The tile as the store holds it.
+  // The tile as the store holds it; an empty mesh (and a failure) when it cannot be read.
   QuantizedMesh Stored(const TileKey& key) {
-    auto store = Store::Open(store_, Store::Access::kReadOnly);
-    EXPECT_TRUE(store.ok()) << store.status().ToString();
-    auto surface = SurfaceStore(**store).Find("t");
-    EXPECT_TRUE(surface.ok());
-    auto tile = TileStore((*store)->db()).Tile(surface->id, key);
-    EXPECT_TRUE(tile.ok() && tile->has_value()) << key.ToString();
-    auto mesh = DecodeQuantizedMesh((**tile).first, key.ToString());
+    const std::string bytes = StoredBytes(key);
+    if (bytes.empty()) return {};
+    auto mesh =
+        DecodeQuantizedMesh(std::vector<uint8_t>(bytes.begin(), bytes.end()), key.ToString());
     EXPECT_TRUE(mesh.ok()) << mesh.status().ToString();
-    return *mesh;
+    return mesh.ok() ? *mesh : QuantizedMesh{};
   }
 
   static std::string PathOf(const TileKey& key) {
@@ -195,6 +206,8 @@ class TileRoutesTest : public ::testing::Test {
 TEST_F(TileRoutesTest, LayerJsonDescribesThePyramidForCesium) {
   auto r = service_->Client()->Get("/surfaces/t/tiles/layer.json");
   const nlohmann::json layer = JsonAnswer(r);
+  ASSERT_TRUE(r);
+  ASSERT_TRUE(HasFields(layer, {"format", "scheme", "maxzoom", "extensions", "tiles"}));
   EXPECT_EQ(layer["format"], "quantized-mesh-1.0");
   EXPECT_EQ(layer["scheme"], "tms");
   EXPECT_EQ(layer["maxzoom"], kDemoTilesMaxZoom);
@@ -243,6 +256,7 @@ TEST_F(TileRoutesTest, EveryTileDecodesWithTheNpmDecoderAsStoredLessWhatWasNotAs
     }
   }
   const nlohmann::json npm = DecodeWithNpm(files);
+  ASSERT_TRUE(HasFields(npm, files));
   int with_water_mask = 0, with_metadata = 0;
   for (const auto& [file, what] : asked_all) {
     const QuantizedMesh stored = Stored(what.first);
@@ -259,7 +273,10 @@ TEST_F(TileRoutesTest, SendsOnlyTheExtensionsBothThePyramidHasAndTheClientAskedF
   // A tile of the finest level, where metadata is, with the lake's water mask.
   TileKey key;
   for (const TileKey& k : StoredKeys())
-    if (k.level == kDemoTilesMaxZoom && Stored(k).water_mask->size() > 1) key = k;
+    if (k.level == kDemoTilesMaxZoom) {
+      const QuantizedMesh mesh = Stored(k);
+      if (mesh.water_mask && mesh.water_mask->size() > 1) key = k;
+    }
   ASSERT_EQ(key.level, kDemoTilesMaxZoom);
   struct Case {
     std::string accept;
@@ -292,6 +309,7 @@ TEST_F(TileRoutesTest, SendsOnlyTheExtensionsBothThePyramidHasAndTheClientAskedF
   // Different representations, different tags (the last two are the same representation).
   EXPECT_EQ(etags.size(), cases.size() - 1);
   const nlohmann::json npm = DecodeWithNpm(files);
+  ASSERT_TRUE(HasFields(npm, files));
   const QuantizedMesh stored = Stored(key);
   ASSERT_TRUE(stored.normals && stored.water_mask && stored.metadata);
   for (size_t i = 0; i < cases.size(); ++i)
@@ -300,7 +318,9 @@ TEST_F(TileRoutesTest, SendsOnlyTheExtensionsBothThePyramidHasAndTheClientAskedF
 }
 
 TEST_F(TileRoutesTest, GzipsOnlyWhenTheClientAcceptsIt) {
-  const std::string path = PathOf(AvailableTiles().back());
+  const std::vector<TileKey> available = AvailableTiles();
+  ASSERT_FALSE(available.empty());
+  const std::string path = PathOf(available.back());
   const TileAnswer plain = Get(path, {{"Accept", kCesiumAccept}, {"Accept-Encoding", "identity"}});
   ASSERT_EQ(plain.status, 200);
   EXPECT_EQ(plain.encoding, "");
@@ -320,7 +340,9 @@ TEST_F(TileRoutesTest, GzipsOnlyWhenTheClientAcceptsIt) {
 }
 
 TEST_F(TileRoutesTest, IfNoneMatchWithTheCurrentTagIsA304) {
-  const std::string path = PathOf(AvailableTiles().back());
+  const std::vector<TileKey> available = AvailableTiles();
+  ASSERT_FALSE(available.empty());
+  const std::string path = PathOf(available.back());
   const httplib::Headers cesium = {{"Accept", kCesiumAccept}, {"Accept-Encoding", "gzip"}};
   const TileAnswer first = Get(path, cesium);
   ASSERT_EQ(first.status, 200);
@@ -431,7 +453,9 @@ TEST_F(TileRoutesTest, BadCoordinatesAre400AndMissingTiles404) {
   ExpectJsonError(client->Get("/surfaces/t/tiles/layer.json?pyramid=other"), 404,
                   "no tile pyramid 'other'");
   // The service still serves.
-  EXPECT_EQ(Get(PathOf(AvailableTiles().front()), {}).status, 200);
+  const std::vector<TileKey> available = AvailableTiles();
+  ASSERT_FALSE(available.empty());
+  EXPECT_EQ(Get(PathOf(available.front()), {}).status, 200);
 }
 
 TEST_F(TileRoutesTest, FillerTilesAboveTheCoarsestStoredLevelLetCesiumStartAtTheRoots) {
@@ -439,7 +463,10 @@ TEST_F(TileRoutesTest, FillerTilesAboveTheCoarsestStoredLevelLetCesiumStartAtThe
   int coarsest = kMaxTileLevel;
   for (const TileKey& key : StoredKeys()) coarsest = std::min(coarsest, key.level);
   ASSERT_GE(coarsest, 3);
+  ASSERT_LE(coarsest, kDemoTilesMaxZoom) << "the store holds no tile";
   const nlohmann::json layer = JsonAnswer(service_->Client()->Get("/surfaces/t/tiles/layer.json"));
+  ASSERT_TRUE(HasFields(layer, {"available"}));
+  ASSERT_GT(layer["available"].size(), static_cast<size_t>(std::min(10, kDemoTilesMaxZoom)));
   for (int level = 0; level < coarsest; ++level) {
     const nlohmann::json whole = {{{"endX", TilesAcross(level) - 1},
                                    {"endY", TilesDown(level) - 1},
@@ -465,9 +492,12 @@ TEST_F(TileRoutesTest, FillerTilesAboveTheCoarsestStoredLevelLetCesiumStartAtThe
     WriteFile(files.back(), a.body);
   }
   const nlohmann::json npm = DecodeWithNpm(files);
+  ASSERT_TRUE(HasFields(npm, files));
   for (size_t i = 0; i < files.size(); ++i) {
     const nlohmann::json& t = npm[files[i]];
-    ASSERT_TRUE(t.is_object()) << files[i];
+    ASSERT_TRUE(HasFields(t, {"vertices", "triangles", "west", "north", "height", "normals",
+                              "waterMask", "metadata"}))
+        << files[i];
     // A 16 x 16 grid, flat at the pyramid's lowest height, with the ellipsoid's normals.
     EXPECT_EQ(t["vertices"], 17 * 17) << files[i];
     EXPECT_EQ(t["triangles"], 2 * 16 * 16) << files[i];
@@ -480,10 +510,13 @@ TEST_F(TileRoutesTest, FillerTilesAboveTheCoarsestStoredLevelLetCesiumStartAtThe
   }
   // The roots' metadata: the filler levels whole under each root, then (under the eastern root,
   // where the surface is) the stored tiles as layer.json lists them.
+  ASSERT_TRUE(HasFields(npm[files[0]]["metadata"], {"available"}));
+  ASSERT_TRUE(HasFields(npm[files[1]]["metadata"], {"available"}));
   const nlohmann::json& west = npm[files[0]]["metadata"]["available"];
   const nlohmann::json& east = npm[files[1]]["metadata"]["available"];
   ASSERT_EQ(west.size(), static_cast<size_t>(coarsest - 1));
-  ASSERT_GE(east.size(), static_cast<size_t>(coarsest));
+  ASSERT_GE(east.size(), static_cast<size_t>(std::min(10, kDemoTilesMaxZoom)));
+  ASSERT_FALSE(west[0].empty());
   const nlohmann::json level1_east = {{{"endX", 3}, {"endY", 1}, {"startX", 2}, {"startY", 0}}};
   EXPECT_EQ(east[0], level1_east);
   EXPECT_EQ(west[0][0]["startX"], 0);
@@ -519,7 +552,7 @@ TEST_F(TileRoutesTest, ConcurrentClientsGetTheSameTiles) {
 TEST(TileRoutesWithoutTilesTest, ASurfaceWithoutTilesSaysHowToBuildThem) {
   TempDir dir;
   const std::string store = StoreTarget(dir, "s.tinbase");
-  CopyDemoStore(store);
+  ASSERT_NO_FATAL_FAILURE(CopyDemoStore(store));
   service::ServiceOptions options;
   options.store_path = store;
   TestService service(options);

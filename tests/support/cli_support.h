@@ -35,10 +35,14 @@ inline void ExpectRejected(const std::string& store, const std::string& args,
   EXPECT_EQ(TableChecksums(store), before) << "store changed by rejected: " << args;
 }
 
-// The JSON a successful command printed.
+// The JSON a successful command printed; null (and a failure) when it printed none, so that a
+// failed command fails the test with its message instead of a parse exception.
 inline nlohmann::json Json(const CliResult& r) {
   EXPECT_EQ(r.exit_code, 0) << r.err;
-  return nlohmann::json::parse(r.out);
+  nlohmann::json j = nlohmann::json::parse(r.out, nullptr, /*allow_exceptions=*/false);
+  if (!j.is_discarded()) return j;
+  ADD_FAILURE() << "the command printed no JSON: " << r.out;
+  return nullptr;
 }
 
 }  // namespace tinbase::testing

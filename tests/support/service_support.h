@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "service/http_server.h"
 #include "tests/support/cli_support.h"
@@ -20,18 +21,44 @@
 
 namespace tinbase::testing {
 
+namespace internal {
+
+// Runs `args`, one step of making a shared original store, then `check --full` on `store`,
+// unless an earlier step failed. The failing command and its output go to `failed`: the original
+// is made once per test binary, and every test that copies it fails with that message.
+inline void RunSetupStep(const std::string& store, const std::string& args, std::string& failed) {
+  if (!failed.empty()) return;
+  const CliResult r = RunCli(args);
+  if (r.exit_code != 0) {
+    failed = args + "\n" + r.err;
+    return;
+  }
+  const CliResult check = RunCli("check --full " + Quote(store));
+  if (check.exit_code != 0) failed = "check after: " + args + "\n" + check.out + check.err;
+}
+
+}  // namespace internal
+
+// The copy helpers below fail fatally (with the failed setup step's message) when the shared
+// original could not be made: callers wrap them in ASSERT_NO_FATAL_FAILURE.
+
 // A copy, at `path`, of a store holding the DEM N43E007 (SRTM, 1201 x 1201) and the surface
 // "t" built on it with tolerance 20 m. The original is made once per test binary via the CLI.
 inline void CopyDemoStore(const std::string& path) {
   static TempDir* shared = nullptr;
   static std::string original;
+  static std::string failed;
   if (shared == nullptr) {
     shared = new TempDir();  // lives until the binary exits
     original = StoreTarget(*shared, "demo.tinbase");
-    RunWrite(original, "init " + Quote(original));
-    RunWrite(original, "dem import " + Quote(original) + " " + Quote(DataPath("dem/N43E007.hgt")));
-    RunWrite(original, "tin build " + Quote(original) + " --surface t --tolerance 20");
+    internal::RunSetupStep(original, "init " + Quote(original), failed);
+    internal::RunSetupStep(
+        original, "dem import " + Quote(original) + " " + Quote(DataPath("dem/N43E007.hgt")),
+        failed);
+    internal::RunSetupStep(original, "tin build " + Quote(original) + " --surface t --tolerance 20",
+                           failed);
   }
+  ASSERT_TRUE(failed.empty()) << "making the shared demo store failed: " << failed;
   CopyStore(original, path);
 }
 
@@ -46,19 +73,24 @@ inline constexpr double kGraniteMaxX = 362000, kGraniteMaxY = 4864000;
 inline void CopyDemoStoreWithFeature(const std::string& path) {
   static TempDir* shared = nullptr;
   static std::string original;
+  static std::string failed;
   if (shared == nullptr) {
     shared = new TempDir();  // lives until the binary exits
     original = StoreTarget(*shared, "feature.tinbase");
     CopyDemoStore(original);
+    if (::testing::Test::HasFatalFailure()) failed = "the demo store it copies (above)";
     const PointList square = {{kGraniteMinX, kGraniteMinY},
                               {kGraniteMaxX, kGraniteMinY},
                               {kGraniteMaxX, kGraniteMaxY},
                               {kGraniteMinX, kGraniteMaxY},
                               {kGraniteMinX, kGraniteMinY}};
     const std::string file = WritePolygons(*shared, "granite.geojson", {{square}}, 32632);
-    RunWrite(original, "polygon add " + Quote(original) + " " + Quote(file) +
-                           " --surface t --mode fill --tag granite");
+    internal::RunSetupStep(original,
+                           "polygon add " + Quote(original) + " " + Quote(file) +
+                               " --surface t --mode fill --tag granite",
+                           failed);
   }
+  ASSERT_TRUE(failed.empty()) << "making the shared store with a feature failed: " << failed;
   CopyStore(original, path);
 }
 
@@ -75,18 +107,26 @@ inline constexpr int kDemoTilesMaxZoom = 10;
 inline void CopyDemoStoreWithTiles(const std::string& path) {
   static TempDir* shared = nullptr;
   static std::string original;
+  static std::string failed;
   if (shared == nullptr) {
     shared = new TempDir();  // lives until the binary exits
     original = StoreTarget(*shared, "demo-tiles.tinbase");
     CopyDemoStore(original);
+    if (::testing::Test::HasFatalFailure()) failed = "the demo store it copies (above)";
     const std::string lake = WritePolygons(
         *shared, "lake.geojson", {{Ngon(kDemoLakeX, kDemoLakeY, kDemoLakeRadius, 12)}}, 32632);
-    RunWrite(original, "polygon add " + Quote(original) + " " + Quote(lake) +
-                           " --surface t --mode fill --tag water");
-    RunWrite(original, "tiles build " + Quote(original) + " --surface t --max-zoom " +
-                           std::to_string(kDemoTilesMaxZoom) +
-                           " --extensions octvertexnormals,watermask,metadata --water-tag water");
+    internal::RunSetupStep(original,
+                           "polygon add " + Quote(original) + " " + Quote(lake) +
+                               " --surface t --mode fill --tag water",
+                           failed);
+    internal::RunSetupStep(
+        original,
+        "tiles build " + Quote(original) + " --surface t --max-zoom " +
+            std::to_string(kDemoTilesMaxZoom) +
+            " --extensions octvertexnormals,watermask,metadata --water-tag water",
+        failed);
   }
+  ASSERT_TRUE(failed.empty()) << "making the shared store with tiles failed: " << failed;
   CopyStore(original, path);
 }
 
@@ -115,7 +155,8 @@ class TestService {
   TestService& operator=(const TestService&) = delete;
 
   bool running() const { return server_ != nullptr; }
-  int port() const { return server_->port(); }
+  // 0 when the service did not start (its failure is reported): a client of it gets no answer.
+  int port() const { return running() ? server_->port() : 0; }
   service::HttpServer& server() { return *server_; }
   // A client of this service with short timeouts, so a hung route fails the test.
   std::unique_ptr<httplib::Client> Client() const {
@@ -144,10 +185,23 @@ inline nlohmann::json JsonAnswer(const httplib::Result& r, int status = 200) {
   return j;
 }
 
+// Success when `j` is an object holding every one of `keys`; else a failure showing `j` (a
+// failed request's error answer, say). Assert it before reading fields of a const json: reading
+// a field it lacks is undefined behaviour there, and a missing value read as a number throws.
+inline ::testing::AssertionResult HasFields(const nlohmann::json& j,
+                                            const std::vector<std::string>& keys) {
+  if (!j.is_object()) return ::testing::AssertionFailure() << "not a JSON object: " << j.dump();
+  for (const std::string& key : keys)
+    if (!j.contains(key))
+      return ::testing::AssertionFailure() << "no field '" << key << "' in " << j.dump();
+  return ::testing::AssertionSuccess();
+}
+
 // A JSON error answer with `status` whose message contains `expected`.
 inline void ExpectJsonError(const httplib::Result& r, int status, const std::string& expected) {
   const nlohmann::json j = JsonAnswer(r, status);
-  ASSERT_TRUE(j.is_object() && j.contains("error")) << j.dump();
+  ASSERT_TRUE(HasFields(j, {"error"}));
+  ASSERT_TRUE(HasFields(j["error"], {"status", "message"}));
   EXPECT_EQ(j["error"]["status"], status);
   const std::string message = j["error"]["message"].get<std::string>();
   EXPECT_NE(message.find(expected), std::string::npos) << message;
