@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -233,7 +234,10 @@ struct SurfaceSession {
   size_t load_points = 0;
   // The lowest and highest z of the DEM's cells, read when a level is first checked.
   std::optional<std::pair<double, double>> relief;
-  bool strict = false;         // PolygonAddOptions::strict: no clipping to the data area
+  bool strict = false;  // PolygonAddOptions::strict: no clipping to the data area
+  // The rectangle the surface covers (SurfaceHull), found when the first polygon feature is
+  // clipped: edits keep it (they stay inside the surface).
+  std::optional<PlanRect> hull;
   BeforeCommit before_commit;  // the caller's, run inside each edit's transaction
   // The edits run inside a write transaction the caller opened and commits (ApplyFeatureEdit).
   bool in_caller_transaction = false;
@@ -325,7 +329,12 @@ Result<NewFeature> Prepare(SurfaceSession& session, EditorFeature f) {
   TB_RETURN_IF_ERROR(CheckLevel(session, f));
   NewFeature out;
   if (!session.strict) {
-    TB_ASSIGN_OR_RETURN(DataAreaClip clip, ClipFeatureToDataArea(session.dems, session.dem, f));
+    if (!session.hull && !f.polygons.empty()) {
+      TB_ASSIGN_OR_RETURN(session.hull, SurfaceHull(session.store, session.surface, session.dem));
+    }
+    TB_ASSIGN_OR_RETURN(
+        DataAreaClip clip,
+        ClipFeatureToDataArea(session.dems, session.dem, session.hull.value_or(PlanRect{}), f));
     out.verdict = clip.verdict;
     out.area_outside = clip.area_outside;
     if (clip.verdict == ClipVerdict::kOutside) {

@@ -1,10 +1,10 @@
 // DataAreaClip: polygons cut to the part of the plan where a surface has data (docs/design.md,
 // "Polygons that overhang the surface").
 //
-// A surface draped on a DEM has data inside its hull (the rectangle of the DEM's cell centres,
-// where every builder puts its corners) wherever the DEM gives an elevation: bilinear sampling
-// (core/raster/bilinear.h) leaves nodata cells out and has none only where all four cells around
-// a point are nodata, so the area without data is a union of squares between cell centres. A
+// A surface draped on a DEM has data inside its hull (the rectangle of the cell centres it was
+// built on, where every builder puts its corners) wherever the DEM gives an elevation: bilinear
+// sampling (core/raster/bilinear.h) leaves nodata cells out and has none only where all four cells
+// around a point are nodata, so the area without data is a union of squares between cell centres. A
 // polygon digitised on a map larger than the DEM overhangs that area; clipping keeps the part on it
 // and measures what was cut. The set operations are GEOS's, through OGR (GDAL is built with GEOS on
 // Debian); their output rings pass MakeValidPolygon like any polygon read from a file.

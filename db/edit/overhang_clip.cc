@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <utility>
+
+#include "db/point_locator.h"
 
 namespace tinbase {
 
@@ -23,13 +26,54 @@ PlanRect HullOf(const GridGeometry& g) {
   return {std::min(x0, x1), std::min(y0, y1), std::max(x0, x1), std::max(y0, y1)};
 }
 
+// Whether the surface holds (x, y) (on an edge or a vertex counts).
+Result<bool> Holds(PointLocator& locator, double x, double y) {
+  auto located = locator.LocateTriangle(x, y);
+  if (located.ok()) return true;
+  if (located.status().code() == StatusCode::kNotFound) return false;
+  return located.status();
+}
+
+// The box of the surface's vertices; nullopt when it has none.
+Result<std::optional<PlanRect>> VertexBox(Store& store, const SurfaceInfo& surface) {
+  TB_ASSIGN_OR_RETURN(
+      Statement * stmt,
+      store.db().Cached("SELECT min(x), min(y), max(x), max(y) FROM vertices WHERE surface = ?"));
+  stmt->Bind(1, surface.id);
+  TB_ASSIGN_OR_RETURN(const bool row, stmt->Step());
+  std::optional<PlanRect> box;
+  if (row && !stmt->ColumnIsNull(0))
+    box = PlanRect{stmt->ColumnDouble(0), stmt->ColumnDouble(1), stmt->ColumnDouble(2),
+                   stmt->ColumnDouble(3)};
+  stmt->Reset();
+  return box;
+}
+
 }  // namespace
 
-Result<DataArea> DataAreaAround(DemStore& dems, const DemInfo& dem, const Box& box) {
+Result<PlanRect> SurfaceHull(Store& store, const SurfaceInfo& surface, const DemInfo& dem) {
+  const PlanRect grid = HullOf(dem.geometry);
+  {
+    TB_ASSIGN_OR_RETURN(auto snapshot, SnapshotUnlessInTransaction(store));
+    PointLocator locator(store, surface);
+    TB_ASSIGN_OR_RETURN(const bool low, Holds(locator, grid.min_x, grid.min_y));
+    TB_ASSIGN_OR_RETURN(const bool high, Holds(locator, grid.max_x, grid.max_y));
+    // The surface's domain is a rectangle inside the grid's: holding two opposite corners of
+    // the grid's, it is the grid's.
+    if (low && high) return grid;
+  }
+  TB_ASSIGN_OR_RETURN(std::optional<PlanRect> own, VertexBox(store, surface));
+  if (!own) return grid;  // no vertices: the edit refuses every point as outside the surface
+  return PlanRect{std::max(own->min_x, grid.min_x), std::max(own->min_y, grid.min_y),
+                  std::min(own->max_x, grid.max_x), std::min(own->max_y, grid.max_y)};
+}
+
+Result<DataArea> DataAreaAround(DemStore& dems, const DemInfo& dem, const PlanRect& hull,
+                                const Box& box) {
   const GridGeometry& g = dem.geometry;
   const double cell = std::min(g.cell_x, std::fabs(g.cell_y));
   DataArea area;
-  area.hull = HullOf(g);
+  area.hull = hull;
   area.hull_inset = kInsetCells * cell;
   area.min_piece_area = kMinPieceCells * cell * cell;
   const double margin = kMarginCells * cell;
@@ -41,10 +85,11 @@ Result<DataArea> DataAreaAround(DemStore& dems, const DemInfo& dem, const Box& b
   return area;
 }
 
-Result<DataAreaClip> ClipFeatureToDataArea(DemStore& dems, const DemInfo& dem, EditorFeature& f) {
+Result<DataAreaClip> ClipFeatureToDataArea(DemStore& dems, const DemInfo& dem, const PlanRect& hull,
+                                           EditorFeature& f) {
   if (f.polygons.empty()) return DataAreaClip{};
   auto clipped = [&]() -> Result<DataAreaClip> {
-    TB_ASSIGN_OR_RETURN(DataArea area, DataAreaAround(dems, dem, BoxOf(f)));
+    TB_ASSIGN_OR_RETURN(DataArea area, DataAreaAround(dems, dem, hull, BoxOf(f)));
     return ClipToDataArea(f.polygons, area);
   }();
   if (!clipped.ok()) return clipped.status().WithContext(f.label);

@@ -1,8 +1,9 @@
 // OverhangClip: the stage of the polygon editor (db/polygon_editor.h) that cuts a polygon feature
 // overhanging its surface to the surface's data area, before the feature is draped (docs/design.md,
 // "Polygons that overhang the surface"). The geometry is core/vector/data_area_clip.h; this stage
-// reads the DEM cells around the feature to find where it has no elevation. Breaklines pass
-// unchanged (their vertices must lie on the surface). Thread-safety: one Store.
+// finds the rectangle the surface's triangles cover (SurfaceHull: a DEM's grid may have grown
+// past it) and reads the DEM cells around the feature to find where it has no elevation.
+// Breaklines pass unchanged (their vertices must lie on the surface). Thread-safety: one Store.
 #pragma once
 
 #include <cstdint>
@@ -14,6 +15,8 @@
 #include "core/vector/data_area_clip.h"
 #include "db/dem_store.h"
 #include "db/feature_store.h"
+#include "db/store.h"
+#include "db/surface_store.h"
 
 namespace tinbase {
 
@@ -24,15 +27,24 @@ struct OverhangCut {
   double area_outside = 0;  // plan area cut away, square map units of the store's CRS
 };
 
-// The data area of a surface draped on `dem` around `box` (the hull; the squares without elevation
-// of the cells within a few cells of `box`). Errors of DemStore::ReadWindow (a block that cannot
-// be read: Corruption or IOError naming it).
-Result<DataArea> DataAreaAround(DemStore& dems, const DemInfo& dem, const Box& box);
+// The rectangle `surface`'s triangles cover (builders triangulate the rectangle of its DEM's cell
+// centres, and edits stay inside it). It is the DEM's rectangle unless the grid grew after the
+// build (db/edit/resurvey.h: the surface keeps its hull). Cheap when the surface holds both
+// corners of the DEM's rectangle (two point locations); otherwise the box of the surface's
+// vertices (a scan of its vertex rows). Errors of the point locator (Corruption) and of the read.
+Result<PlanRect> SurfaceHull(Store& store, const SurfaceInfo& surface, const DemInfo& dem);
 
-// f's polygons clipped to the data area of its surface on `dem`; f is unchanged for kInside and
-// for breaklines (verdict kInside), and holds the part inside for kCut (its caches unset).
-// Errors as DataAreaAround and ClipToDataArea, with f's label.
-Result<DataAreaClip> ClipFeatureToDataArea(DemStore& dems, const DemInfo& dem, EditorFeature& f);
+// The data area of a surface of rectangle `hull` (SurfaceHull) draped on `dem` around `box`: the
+// hull minus the squares without elevation of the cells within a few cells of `box`. Errors of
+// DemStore::ReadWindow (a block that cannot be read: Corruption or IOError naming it).
+Result<DataArea> DataAreaAround(DemStore& dems, const DemInfo& dem, const PlanRect& hull,
+                                const Box& box);
+
+// f's polygons clipped to the data area of its surface (rectangle `hull`, unused for breaklines)
+// on `dem`; f is unchanged for kInside and for breaklines (verdict kInside), and holds the part
+// inside for kCut (its caches unset). Errors as DataAreaAround and ClipToDataArea, with f's label.
+Result<DataAreaClip> ClipFeatureToDataArea(DemStore& dems, const DemInfo& dem, const PlanRect& hull,
+                                           EditorFeature& f);
 
 // "lies wholly outside the data area of surface 'S' (hull minus nodata)": the message for a
 // feature of verdict kOutside, after its label.

@@ -2,10 +2,12 @@
 // in a window) goes under surface "terrain"; the command says what it did per surface, `check
 // --full` passes against the new cells, and `changes --json` (read by nlohmann::json) lists one
 // "dem resurvey" row. A sheet that grows the DEM's grid is taken where the surface does not
-// reach; a change by the surface's edge is refused, the store unchanged.
+// reach; a change by the surface's edge is refused, the store unchanged. A polygon reaching past
+// the surface into the grown cells is clipped to the surface's own extent, not the DEM's.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -62,8 +64,44 @@ class ResurveyCliTest : public ::testing::Test {
     return path;
   }
 
+  // A rectangle in EPSG:28350, the DEM's CRS, as one GeoJSON polygon feature.
+  std::string Rectangle(const std::string& name, double x0, double y0, double x1, double y1) {
+    const std::string path = dir_.Path(name);
+    std::ofstream out(path);
+    out.precision(17);
+    out << R"({"type": "FeatureCollection", "crs": {"type": "name", "properties": {"name": )"
+        << R"("urn:ogc:def:crs:EPSG::28350"}}, "features": [{"type": "Feature", "properties": )"
+        << R"({}, "geometry": {"type": "Polygon", "coordinates": [[)"
+        << "[" << x0 << "," << y0 << "],[" << x1 << "," << y0 << "],[" << x1 << "," << y1 << "],["
+        << x0 << "," << y1 << "],[" << x0 << "," << y0 << "]]]}}]}\n";
+    return path;
+  }
+
+  // The DEM grown by 8 columns east over rows 20..35 (the cells under the surface as they were);
+  // fills the old east edge of the DEM's box (the surface's, half a cell beyond its last
+  // vertices), the top of the box and the cell size.
+  void GrowTheDem() {
+    const nlohmann::json before = Json(RunCli("info --json " + Quote(store_)));
+    const int64_t width = before["dems"][0]["width"].get<int64_t>();
+    east_ = before["dems"][0]["bbox"][2].get<double>();
+    north_ = before["dems"][0]["bbox"][3].get<double>();
+    cell_ = before["dems"][0]["cell_size"][0].get<double>();
+    RunWrite(store_, "dem import " + Quote(store_) + " " + Quote(Sheet(width - 8, 20, 16, 0)) +
+                         " --name dtm_rp --update-surfaces");
+  }
+
+  // Rows 24..30 of the DEM, from 10 cells inside the old east edge to 4 cells beyond it (in the
+  // grown cells, which have elevation): 4.5 cells by 6 lie outside the surface.
+  std::string Overhanging(const std::string& name) {
+    return Rectangle(name, east_ - 10 * cell_, north_ - 30 * cell_, east_ + 4 * cell_,
+                     north_ - 24 * cell_);
+  }
+
   TempDir dir_;
   std::string store_;
+  double east_ = 0;
+  double north_ = 0;
+  double cell_ = 0;
 };
 
 TEST_F(ResurveyCliTest, CorrectedSheetUpdatesTheSurface) {
@@ -112,6 +150,57 @@ TEST_F(ResurveyCliTest, SheetGrowingTheGridIsTakenWhereTheSurfaceDoesNotReach) {
   ASSERT_EQ(changes.size(), 1u) << changes.dump();
   EXPECT_EQ(changes[0]["action"], "dem resurvey");
   EXPECT_GT(changes[0]["added"].get<int64_t>(), 0) << "the raised cells under it were met";
+}
+
+// The data area is the surface's, not the grown DEM's: the overhang into the new cells is cut and
+// reported, the store passes the full check; --strict refuses it and changes nothing.
+TEST_F(ResurveyCliTest, PolygonIntoGrownCellsIsClippedToTheSurface) {
+  GrowTheDem();
+  const std::string polygon = Overhanging("over.geojson");
+  ExpectRejected(store_,
+                 "polygon add " + Quote(store_) + " " + Quote(polygon) +
+                     " --surface terrain --mode fill --tag x --strict",
+                 "lies outside surface 'terrain'");
+  const CliResult r = RunWrite(store_, "polygon add " + Quote(store_) + " " + Quote(polygon) +
+                                           " --surface terrain --mode fill --tag x --json");
+  const nlohmann::json report = nlohmann::json::parse(r.out);
+  ASSERT_EQ(report["features"].size(), 1u) << r.out;
+  ASSERT_EQ(report["clipped"].size(), 1u) << r.out;
+  EXPECT_EQ(report["clipped"][0]["feature"], report["features"][0]);
+  EXPECT_EQ(report["clipped"][0]["label"], "over.geojson feature 0");
+  EXPECT_NEAR(report["clipped"][0]["area_outside"].get<double>(), 4.5 * 6 * cell_ * cell_,
+              1e-3 * cell_ * cell_);
+  EXPECT_NE(r.err.find("tinbase: clipped to the surface's data area: over.geojson feature 0"),
+            std::string::npos)
+      << r.err;
+  const CliResult check = RunCli("check --full " + Quote(store_));
+  EXPECT_EQ(check.exit_code, 0) << check.out << check.err;
+}
+
+// `polygon update` follows the same rule; `points add` in the grown cells is outside the surface
+// (points are never clipped), the store unchanged.
+TEST_F(ResurveyCliTest, UpdateIntoGrownCellsIsClippedAndPointsThereRefused) {
+  GrowTheDem();
+  const std::string inside = Rectangle("inside.geojson", east_ - 10 * cell_, north_ - 30 * cell_,
+                                       east_ - 4 * cell_, north_ - 24 * cell_);
+  const nlohmann::json added =
+      Json(RunWrite(store_, "polygon add " + Quote(store_) + " " + Quote(inside) +
+                                " --surface terrain --mode fill --tag x --json"));
+  ASSERT_EQ(added["features"].size(), 1u) << added.dump();
+  const std::string id = std::to_string(added["features"][0].get<int64_t>());
+  const CliResult r = RunWrite(store_, "polygon update " + Quote(store_) + " " + id + " " +
+                                           Quote(Overhanging("over.geojson")));
+  EXPECT_NE(r.err.find("tinbase: clipped to the surface's data area: over.geojson feature 0"),
+            std::string::npos)
+      << r.err;
+  const CliResult check = RunCli("check --full " + Quote(store_));
+  EXPECT_EQ(check.exit_code, 0) << check.out << check.err;
+  const std::string points = dir_.Path("shots.csv");
+  std::ofstream(points) << "x,y,z\n"
+                        << std::to_string(east_ + 2 * cell_) << ","
+                        << std::to_string(north_ - 27 * cell_) << ",700\n";
+  ExpectRejected(store_, "points add " + Quote(store_) + " --surface terrain " + Quote(points),
+                 "lies outside surface 'terrain'");
 }
 
 }  // namespace
