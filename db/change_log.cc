@@ -4,8 +4,10 @@
 #include <ctime>
 #include <map>
 #include <utility>
+#include <vector>
 
 #include "db/history/feature_versions.h"
+#include "db/sql/settled_change.h"
 
 namespace tinbase {
 
@@ -84,6 +86,52 @@ Result<std::vector<Change>> ChangesSince(Store& store, int64_t since) {
     if (it != touched.end()) c.features = std::move(it->second);
   }
   return out;
+}
+
+int64_t SettledThrough(int64_t since, const std::vector<Change>& changes, int64_t settled) {
+  int64_t mark = since;
+  for (const Change& c : changes) {
+    // The numbers between mark and c.tx were not seen: rolled back if at most `settled`, else
+    // perhaps still to commit.
+    if (c.tx != mark + 1 && c.tx - 1 > settled) break;
+    mark = c.tx;
+  }
+  return mark;
+}
+
+Result<std::vector<Change>> SettledChangesSince(Store& store, int64_t since) {
+  TB_ASSIGN_OR_RETURN(const int64_t settled, SettledChange(store.db()));
+  TB_ASSIGN_OR_RETURN(std::vector<Change> changes, ChangesSince(store, since));
+  const int64_t mark = SettledThrough(since, changes, settled);
+  std::erase_if(changes, [mark](const Change& c) { return c.tx > mark; });
+  return changes;
+}
+
+Result<int64_t> SettledLastTransaction(Store& store) {
+  TB_ASSIGN_OR_RETURN(const int64_t settled, SettledChange(store.db()));
+  TB_ASSIGN_OR_RETURN(const int64_t last, LastTransaction(store));
+  if (last <= settled) return last;
+  // The first seen number at or above `settled` whose successor is not seen (`settled` itself
+  // standing for all below it).
+  TB_ASSIGN_OR_RETURN(
+      Statement * stmt,
+      store.db().Cached(
+          "SELECT min(t) FROM (SELECT CAST(? AS BIGINT) AS t UNION ALL SELECT tx FROM changes "
+          "WHERE tx > ?) seen WHERE NOT EXISTS (SELECT 1 FROM changes c "
+          "WHERE c.tx = seen.t + 1)"));
+  stmt->Bind(1, settled).Bind(2, settled);
+  TB_ASSIGN_OR_RETURN(const bool row, stmt->Step());
+  const int64_t mark = row && !stmt->ColumnIsNull(0) ? stmt->ColumnInt(0) : settled;
+  stmt->Reset();
+  return mark;
+}
+
+Result<int64_t> ChangeCount(Store& store) {
+  TB_ASSIGN_OR_RETURN(Statement * stmt, store.db().Cached("SELECT count(*) FROM changes"));
+  TB_ASSIGN_OR_RETURN(const bool row, stmt->Step());
+  const int64_t count = row ? stmt->ColumnInt(0) : 0;
+  stmt->Reset();
+  return count;
 }
 
 Result<Change> ChangeOf(Store& store, int64_t tx) {

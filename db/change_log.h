@@ -39,7 +39,29 @@ Result<std::optional<Change>> FirstChangeOfSurface(Store& store, int64_t surface
 // (a change of the mesh that is not a feature edit: a rebuild, new DEM data); nullopt when none.
 Result<std::optional<Change>> FirstChangeWithoutFeatures(Store& store, int64_t surface,
                                                          int64_t after);
-// The changes after transaction `since`, oldest first, with the features each touched.
+// The changes after transaction `since` that this connection sees, oldest first, with the
+// features each touched.
 Result<std::vector<Change>> ChangesSince(Store& store, int64_t since);
+
+// Readers that keep the last number they have seen and next ask for the changes after it (the
+// change feed, `tiles update`). With concurrent writers (PostgreSQL) numbers commit out of
+// order: a number below one a reader has seen may still commit, and a reader that moved past it
+// would miss it for ever. Such a reader moves its mark only as far as SettledThrough.
+
+// How far a reader may move its mark after reading `changes` (ChangesSince(store, since)), when
+// `settled` is SettledChange(store.db()) (db/sql/settled_change.h) taken before that read's
+// snapshot: to the last of them before the first number it did not see that may still commit (one
+// above `settled` not yet seen); `since` when that is the first.
+int64_t SettledThrough(int64_t since, const std::vector<Change>& changes, int64_t settled);
+// The changes after `since` up to SettledThrough: reading again after the last one misses none.
+// REQUIRES: outside a transaction, or in one begun by BeginRegionWrite or BeginWrite.
+Result<std::vector<Change>> SettledChangesSince(Store& store, int64_t since);
+// The largest number up to which every change that will commit is seen (the mark of a reader
+// that starts now); 0 for a store with none.
+Result<int64_t> SettledLastTransaction(Store& store);
+// The number of changes seen. Rows are never deleted, so it grows with every commit that
+// appends one, on either backend: a cache of what the rows hold is stale when it moved (the
+// largest number would not do: with concurrent writers a smaller one may commit after it).
+Result<int64_t> ChangeCount(Store& store);
 
 }  // namespace tinbase

@@ -57,24 +57,20 @@ class FeedSlots {
 
 struct Batch {
   nlohmann::json changes = nlohmann::json::array();
-  int64_t last = 0;  // the newest transaction in `changes`, else the `since` asked for
+  int64_t last = 0;  // the last transaction of `changes`, else the `since` asked for
 };
 
-// The newest transaction in the log (0 when empty).
+// The newest transaction in the log below which none may still commit (0 when empty).
 Result<int64_t> NewestChange(ServiceContext& context) {
   TB_ASSIGN_OR_RETURN(StoreLease reader, context.stores().Reader());
-  TB_ASSIGN_OR_RETURN(Statement * q,
-                      reader->db().Cached("SELECT coalesce(max(tx), 0) FROM changes"));
-  TB_ASSIGN_OR_RETURN(bool row, q->Step());
-  const int64_t newest = row ? q->ColumnInt(0) : 0;
-  q->Reset();
-  return newest;
+  return SettledLastTransaction(reader.store());
 }
 
-// The changes after `since` (at most kMaxBatch), read through a fresh snapshot.
+// The changes after `since` (at most kMaxBatch) up to the first number that may still commit
+// (db/change_log.h SettledChangesSince), read through a fresh snapshot.
 Result<Batch> ReadChanges(ServiceContext& context, ChangeJson& describe, int64_t since) {
   TB_ASSIGN_OR_RETURN(StoreLease reader, context.stores().Reader());
-  TB_ASSIGN_OR_RETURN(std::vector<Change> changes, ChangesSince(reader.store(), since));
+  TB_ASSIGN_OR_RETURN(std::vector<Change> changes, SettledChangesSince(reader.store(), since));
   Batch batch;
   batch.last = since;
   for (const Change& c : changes) {

@@ -3,7 +3,7 @@
 
 #include <utility>
 
-#include "db/tiles/tile_store.h"
+#include "db/change_log.h"
 
 namespace tinbase::service {
 
@@ -30,7 +30,7 @@ Result<nlohmann::json> ReadExtent(Store& store, const SurfaceInfo& s) {
 Result<SurfaceSummary> SurfaceSummaryCache::Get(Store& store, const SurfaceInfo& surface) {
   // The head and the rows from one snapshot, so an entry never pairs a head with later rows.
   TB_ASSIGN_OR_RETURN(auto snapshot, SnapshotUnlessInTransaction(store));
-  TB_ASSIGN_OR_RETURN(const int64_t head, LatestChange(store.db()));
+  TB_ASSIGN_OR_RETURN(const int64_t head, ChangeCount(store));
   {
     std::lock_guard<std::mutex> lock(mutex_);
     auto it = entries_.find(surface.id);

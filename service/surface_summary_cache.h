@@ -1,8 +1,9 @@
 // SurfaceSummaryCache: the part of a surface's description that costs a scan of its rows (its
 // counts and its extent), kept per surface for as long as the change log's head stays the same.
 // Every write that changes a surface's rows appends a change (db/change_log.h: builds, imports,
-// edits), so the head names the state of the rows; GET /surfaces then costs a few index lookups
-// instead of a scan of every vertex and triangle per call.
+// edits), so the head, the number of changes (ChangeCount: with concurrent writers numbers
+// commit out of order), names the state of the rows; GET /surfaces then costs a count of the
+// change log instead of a scan of every vertex and triangle per call.
 // Thread-safety: every member may be called from any thread (one mutex around the map; the scans
 // run outside it).
 #pragma once
@@ -32,7 +33,7 @@ class SurfaceSummaryCache {
 
  private:
   struct Entry {
-    int64_t head = -1;  // the change log's head the entry was read at
+    int64_t head = -1;  // the change log's head (ChangeCount) the entry was read at
     SurfaceSummary summary;
   };
   std::mutex mutex_;

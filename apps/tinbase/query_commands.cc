@@ -399,7 +399,7 @@ struct ChangesArgs : ReadArgs {
 int RunChanges(const ChangesArgs& args) {
   auto store = Store::Open(args.store, Store::Access::kReadOnly);
   if (!store.ok()) return ReportError(store.status());
-  auto changes = ChangesSince(**store, args.since);
+  auto changes = SettledChangesSince(**store, args.since);
   if (!changes.ok()) return ReportError(changes.status());
   nlohmann::json j = nlohmann::json::array();
   for (const Change& c : *changes) {

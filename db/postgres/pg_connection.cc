@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <functional>
+#include <limits>
 
 #include "core/tin/block_grid.h"
 #include "db/postgres/pg_copy.h"
@@ -306,14 +307,46 @@ Result<int64_t> PgConnection::DataVersion() {
       "WHERE xmin IS DISTINCT FROM pg_current_xact_id_if_assigned()::xid");
 }
 
+Result<int64_t> PgConnection::SettledChange() {
+  if (InTransaction()) return settled_at_begin_;
+  return ReadSettledChange();
+}
+
+Result<int64_t> PgConnection::ReadSettledChange() {
+  // A writer draws its number (the trigger's nextval) inside its INSERT INTO changes, so it holds
+  // that table's RowExclusiveLock from before it draws until it ends. Hence, in this order: the
+  // numbers drawn so far; then, if no other transaction holds that lock, each of them was drawn
+  // by a transaction that has ended, and a snapshot taken after this sees the committed ones.
+  // When one does, its number is unknown (its row is not visible): nothing is settled beyond
+  // what the reader sees without a gap. Numbers drawn later are larger than all of these. A
+  // role that may not read the sequence (or a store without it) settles nothing either.
+  TB_ASSIGN_OR_RETURN(
+      const int64_t drawn,
+      QueryInt("SELECT CASE WHEN has_sequence_privilege(to_regclass('changes_tx_seq'), "
+               "'SELECT, USAGE') THEN "
+               "coalesce(pg_sequence_last_value(to_regclass('changes_tx_seq')), 0) "
+               "ELSE 0 END"));
+  TB_ASSIGN_OR_RETURN(
+      const int64_t writers,
+      QueryInt("SELECT count(*) FROM pg_locks WHERE locktype = 'relation' "
+               "AND database = (SELECT oid FROM pg_database WHERE datname = current_database()) "
+               "AND relation = to_regclass('changes') AND mode = 'RowExclusiveLock' "
+               "AND pid <> pg_backend_pid()"));
+  return writers == 0 ? drawn : 0;
+}
+
 Status PgConnection::BeginWrite() {
   TB_RETURN_IF_ERROR(Exec("BEGIN ISOLATION LEVEL READ COMMITTED"));
   Status locked = Exec("SELECT pg_advisory_xact_lock(" + std::to_string(lock_key_) + ")");
   if (!locked.ok()) (void)Exec("ROLLBACK");
+  // Every other writer of the store waits for this lock, region writers included (they hold it
+  // shared until they have committed): no number is in flight while it is held.
+  settled_at_begin_ = std::numeric_limits<int64_t>::max();
   return locked;
 }
 
 Status PgConnection::BeginRead() {
+  settled_at_begin_ = 0;
   TB_RETURN_IF_ERROR(Exec("BEGIN ISOLATION LEVEL REPEATABLE READ READ ONLY"));
   Status s = Exec("SELECT 1");
   if (!s.ok()) (void)Exec("ROLLBACK");
@@ -323,6 +356,13 @@ Status PgConnection::BeginRead() {
 Status PgConnection::BeginRegionWrite() {
   TB_RETURN_IF_ERROR(Exec("SELECT pg_advisory_lock_shared(" + std::to_string(lock_key_) + ")"));
   region_write_lock_ = true;
+  // Read before the snapshot is taken, for the tile update an edit may run before it commits.
+  Result<int64_t> settled = ReadSettledChange();
+  if (!settled.ok()) {
+    ReleaseRegionWriteLock();
+    return settled.status();
+  }
+  settled_at_begin_ = *settled;
   Status begun = Exec("BEGIN ISOLATION LEVEL REPEATABLE READ");
   if (!begun.ok()) ReleaseRegionWriteLock();
   return begun;
@@ -377,12 +417,14 @@ Status PgConnection::LockRegion(int64_t surface, const std::vector<int64_t>& blo
 Status PgConnection::Commit() {
   Status s = Exec("COMMIT");
   ReleaseRegionWriteLock();
+  settled_at_begin_ = 0;
   return s;
 }
 
 Status PgConnection::Rollback() {
   Status s = Exec("ROLLBACK");
   ReleaseRegionWriteLock();
+  settled_at_begin_ = 0;
   return s;
 }
 

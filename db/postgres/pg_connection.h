@@ -121,6 +121,11 @@ class PgConnection final : public Connection {
   // lock: shared for blocks, exclusive for the whole surface.
   Status LockRegion(int64_t surface, const std::vector<int64_t>& blocks,
                     bool whole_surface) override;
+  // db/sql/settled_change.h. Outside a transaction: the change numbers drawn so far when no
+  // other transaction holds a write lock on `changes`, else 0. Inside one: that value as read
+  // before its snapshot was taken (BeginRegionWrite), the largest int64 under the store's
+  // exclusive lock (BeginWrite), 0 in a read transaction.
+  Result<int64_t> SettledChange();
   // REPEATABLE READ, READ ONLY, with its snapshot taken by a first query.
   Status BeginRead() override;
   Status Commit() override;
@@ -155,6 +160,8 @@ class PgConnection final : public Connection {
   void ReleaseRegionWriteLock();
   // The key of the advisory lock of `surface` of this store.
   int64_t SurfaceLockKey(int64_t surface) const;
+  // SettledChange as of now (see there).
+  Result<int64_t> ReadSettledChange();
 
   pg_conn* conn_;
   std::string schema_;
@@ -164,6 +171,7 @@ class PgConnection final : public Connection {
   int64_t total_changes_ = 0;
   int next_statement_ = 0;
   bool region_write_lock_ = false;  // the store's lock held shared, by BeginRegionWrite
+  int64_t settled_at_begin_ = 0;    // SettledChange of the open transaction
   std::unordered_map<std::string, std::unique_ptr<PgStatement>> cache_;
 };
 

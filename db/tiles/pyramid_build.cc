@@ -154,7 +154,7 @@ Result<TileBuildReport> BuildTilePyramid(Store& store, const SurfaceInfo& surfac
   in.pyramid.max_height = summary.extremes.max;
   in.pyramid.min_vertex = summary.extremes.min_vertex;
   in.pyramid.max_vertex = summary.extremes.max_vertex;
-  TB_ASSIGN_OR_RETURN(in.pyramid.tx, LatestChange(store.db()));
+  TB_ASSIGN_OR_RETURN(in.pyramid.tx, SettledLastTransaction(store));
   in.pyramid.max_zoom = options.max_zoom.value_or(
       NaturalMaxZoom(summary.west, summary.south, summary.east, summary.north, summary.vertices));
   in.base_error = surface.tolerance.value_or(1.0);

@@ -27,7 +27,9 @@ struct TilePyramidInfo {
   std::optional<std::string> water_tag;
   double min_height = 0;  // the quantisation range of every tile, metres
   double max_height = 0;
-  int64_t tx = 0;  // the last change the tiles show (0: none)
+  // The tiles show every change up to it (0: none), and perhaps some after it
+  // (db/change_log.h SettledThrough): an update reads the changes after it.
+  int64_t tx = 0;
   // A vertex of the surface at min_height and one at max_height (store ids); nullopt for a
   // pyramid written before they were recorded.
   std::optional<int64_t> min_vertex;

@@ -14,6 +14,7 @@
 #include "core/tiles/level_surfaces.h"
 #include "db/change_log.h"
 #include "db/mesh/mesh_tables.h"
+#include "db/sql/settled_change.h"
 #include "db/tiles/pyramid_levels.h"
 #include "db/tiles/tile_pyramid.h"
 #include "db/tiles/tile_window.h"
@@ -121,15 +122,16 @@ struct UpdatePlan {
   double make_seconds = 0;
 };
 
+// `mark`: the transaction the pyramid records as shown once the update is written.
 Result<UpdatePlan> PlanUpdate(Store& store, const SurfaceInfo& surface, const TilePyramidInfo& old,
                               const TileBuildOptions& options, const std::vector<Change>& changes,
-                              const Crs& crs) {
+                              int64_t mark, const Crs& crs) {
   const auto start = std::chrono::steady_clock::now();
   TB_ASSIGN_OR_RETURN(auto snapshot, SnapshotUnlessInTransaction(store));
   TileStore tiles(store.db());
   UpdatePlan plan;
   plan.in.pyramid = old;
-  TB_ASSIGN_OR_RETURN(plan.in.pyramid.tx, LatestChange(store.db()));
+  plan.in.pyramid.tx = mark;
   plan.in.base_error = surface.tolerance.value_or(1.0);
   TB_ASSIGN_OR_RETURN(TileRect region, ChangedRegion(changes, crs));
   if (options.extensions.normals) {
@@ -215,7 +217,12 @@ Result<TileUpdateReport> UpdateTilePyramid(Store& store, const SurfaceInfo& surf
                                    "' has no tiles to update (run tinbase tiles build first)");
   TileUpdateReport report;
   report.since_tx = report.tx = old->tx;
+  // Every change seen is applied, but the pyramid records only how far they are settled
+  // (change_log.h): a change that commits later below one applied here is applied next time,
+  // with those above it again.
+  TB_ASSIGN_OR_RETURN(const int64_t settled, SettledChange(store.db()));
   TB_ASSIGN_OR_RETURN(const std::vector<Change> all, ChangesSince(store, old->tx));
+  const int64_t mark = SettledThrough(old->tx, all, settled);
   std::vector<Change> changes;
   for (const Change& c : all)
     if (c.surface == surface.id) changes.push_back(c);
@@ -225,7 +232,8 @@ Result<TileUpdateReport> UpdateTilePyramid(Store& store, const SurfaceInfo& surf
   TB_ASSIGN_OR_RETURN(const TileBuildOptions options, OptionsOf(*old));
   TB_ASSIGN_OR_RETURN(const std::optional<Crs> crs, store.GetCrs());
   if (!crs) return Status::InvalidArgument("the store has no CRS: its tiles cannot be updated");
-  TB_ASSIGN_OR_RETURN(UpdatePlan plan, PlanUpdate(store, surface, *old, options, changes, *crs));
+  TB_ASSIGN_OR_RETURN(UpdatePlan plan,
+                      PlanUpdate(store, surface, *old, options, changes, mark, *crs));
   report.tx = plan.in.pyramid.tx;
   if (plan.full_rebuild) {
     TB_ASSIGN_OR_RETURN(const TileBuildReport rebuilt, BuildTilePyramid(store, surface, options));
