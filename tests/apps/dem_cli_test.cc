@@ -14,6 +14,7 @@
 #include "db/dem_store.h"
 #include "tests/support/cli_support.h"
 #include "tests/support/store_target.h"
+#include "tests/support/store_template.h"
 #include "tests/support/test_support.h"
 
 namespace tinbase {
@@ -34,9 +35,11 @@ class DemCliTest : public ::testing::Test {
   void SetUp() override {
     GDALAllRegister();
     store_ = StoreTarget(dir_, "d.tinbase");
-    RunWrite(store_, "init " + Quote(store_));
-    RunWrite(store_, "dem import " + Quote(store_) + " " + Quote(DataPath("dem/N43E007.hgt")) +
-                         " --block-size 128");
+    static const testing::StoreRecipe recipe{
+        "dem_cli_test", [](const std::string& store, const TempDir&) {
+          testing::MakeDemStore(store, "dem/N43E007.hgt", " --block-size 128");
+        }};
+    testing::CopyRecipeStore(recipe, store_);
   }
   TempDir dir_;
   std::string store_;

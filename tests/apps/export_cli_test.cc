@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -14,6 +15,7 @@
 #include "tests/core/export/gltf_check.h"
 #include "tests/support/cli_support.h"
 #include "tests/support/store_target.h"
+#include "tests/support/store_template.h"
 #include "tests/support/test_support.h"
 
 namespace tinbase {
@@ -35,28 +37,44 @@ class ExportCliTest : public ::testing::Test {
     store_ = StoreTarget(dir_, "s.tinbase");
     out_ = dir_.Path("out");
     std::filesystem::create_directory(out_);
-    RunWrite(store_, "init " + Quote(store_));
-    RunWrite(store_,
-             "dem import " + Quote(store_) + " " + Quote(DataPath("geology/hamersley/dtm_rp.tif")));
-    RunWrite(store_, "tin build " + Quote(store_) + " --surface terrain --tolerance 10");
-    RunWrite(store_, "polygon add " + Quote(store_) + " " +
-                         Quote(DataPath("geology/hamersley/geology.geojson")) +
-                         " --surface terrain --mode fill --tag-field unitname");
-    auto info = Json(RunCli("info --json " + Quote(store_)));
-    const auto& b = info["dems"][0]["bbox"];
-    for (int k = 0; k < 4; ++k) bbox_[k] = b[k].get<double>();
+    testing::CopyRecipeStore(Recipe(), store_);
+    bbox_ = DemBox(store_);
     cx_ = (bbox_[0] + bbox_[2]) / 2, cy_ = (bbox_[1] + bbox_[3]) / 2;
-    // An erase square in the middle, so some triangles are invisible.
-    const std::string square = dir_.Path("square.geojson");
-    std::ofstream(square) << R"({"type":"FeatureCollection","crs":{"type":"name","properties":)"
-                          << R"({"name":"EPSG:28350"}},"features":[{"type":"Feature",)"
-                          << R"("properties":{},"geometry":{"type":"Polygon","coordinates":[[)"
-                          << "[" << cx_ - 2000 << "," << cy_ - 2000 << "],[" << cx_ + 2000 << ","
-                          << cy_ - 2000 << "],[" << cx_ + 2000 << "," << cy_ + 2000 << "],["
-                          << cx_ - 2000 << "," << cy_ + 2000 << "],[" << cx_ - 2000 << ","
-                          << cy_ - 2000 << "]]]}}]}";
-    RunWrite(store_, "polygon add " + Quote(store_) + " " + Quote(square) +
-                         " --surface terrain --mode erase");
+  }
+
+  // The DEM's box in `store` (min x, min y, max x, max y).
+  static std::array<double, 4> DemBox(const std::string& store) {
+    auto info = Json(RunCli("info --json " + Quote(store)));
+    const auto& b = info["dems"][0]["bbox"];
+    std::array<double, 4> box{};
+    for (int k = 0; k < 4; ++k) box[k] = b[k].get<double>();
+    return box;
+  }
+
+  // The Hamersley surface "terrain" at 10 m with the geology filled in, tagged by unit name,
+  // and an erase square in the middle, so some triangles are invisible.
+  static const testing::StoreRecipe& Recipe() {
+    static const testing::StoreRecipe recipe{
+        "export_cli_test", [](const std::string& store, const TempDir& scratch) {
+          testing::CopyRecipeStore(testing::HamersleyTerrainRecipe(10), store);
+          RunWrite(store, "polygon add " + Quote(store) + " " +
+                              Quote(DataPath("geology/hamersley/geology.geojson")) +
+                              " --surface terrain --mode fill --tag-field unitname");
+          const std::array<double, 4> box = DemBox(store);
+          const double cx = (box[0] + box[2]) / 2, cy = (box[1] + box[3]) / 2;
+          const std::string square = scratch.Path("square.geojson");
+          std::ofstream(square) << R"({"type":"FeatureCollection","crs":{"type":"name",)"
+                                << R"("properties":{"name":"EPSG:28350"}},"features":[)"
+                                << R"({"type":"Feature","properties":{},"geometry":)"
+                                << R"({"type":"Polygon","coordinates":[[)"
+                                << "[" << cx - 2000 << "," << cy - 2000 << "],[" << cx + 2000 << ","
+                                << cy - 2000 << "],[" << cx + 2000 << "," << cy + 2000 << "],["
+                                << cx - 2000 << "," << cy + 2000 << "],[" << cx - 2000 << ","
+                                << cy - 2000 << "]]]}}]}";
+          RunWrite(store, "polygon add " + Quote(store) + " " + Quote(square) +
+                              " --surface terrain --mode erase");
+        }};
+    return recipe;
   }
 
   // Runs `export` with `args` (after the store); returns its --json report.
@@ -99,7 +117,7 @@ class ExportCliTest : public ::testing::Test {
 
   TempDir dir_;
   std::string store_, out_;
-  double bbox_[4] = {};
+  std::array<double, 4> bbox_{};
   double cx_ = 0, cy_ = 0;
 };
 

@@ -12,6 +12,7 @@
 #include "tests/support/cli_support.h"
 #include "tests/support/gdal_tools.h"
 #include "tests/support/store_target.h"
+#include "tests/support/store_template.h"
 #include "tests/support/test_support.h"
 
 namespace tinbase {
@@ -31,10 +32,7 @@ class HistoryCliTest : public ::testing::Test {
  protected:
   void SetUp() override {
     store_ = StoreTarget(dir_, "s.tinbase");
-    RunWrite(store_, "init " + Quote(store_));
-    RunWrite(store_,
-             "dem import " + Quote(store_) + " " + Quote(DataPath("geology/hamersley/dtm_rp.tif")));
-    RunWrite(store_, "tin build " + Quote(store_) + " --surface terrain --tolerance 10");
+    testing::CopyRecipeStore(testing::HamersleyTerrainRecipe(10), store_);
     auto info = Json(RunCli("info --json " + Quote(store_)));
     const auto& b = info["dems"][0]["bbox"];
     cx_ = (b[0].get<double>() + b[2].get<double>()) / 2;

@@ -19,6 +19,7 @@
 #include "db/sql/connection.h"
 #include "tests/support/cli_support.h"
 #include "tests/support/store_target.h"
+#include "tests/support/store_template.h"
 #include "tests/support/test_support.h"
 
 namespace tinbase {
@@ -117,10 +118,12 @@ class HostileCliTest : public ::testing::Test {
  protected:
   void SetUp() override {
     store_ = StoreTarget(dir_, "s.tinbase");
-    RunWrite(store_, "init " + Quote(store_));
-    RunWrite(store_, "dem import " + Quote(store_) + " " +
-                         Quote(DataPath("geology/hamersley/dtm_rp.tif")) + " --name ground");
-    RunWrite(store_, "tin build " + Quote(store_) + " --surface terrain --tolerance 10");
+    static const testing::StoreRecipe recipe{
+        "hostile_cli_test", [](const std::string& store, const TempDir&) {
+          testing::MakeDemStore(store, "geology/hamersley/dtm_rp.tif", " --name ground");
+          RunWrite(store, "tin build " + Quote(store) + " --surface terrain --tolerance 10");
+        }};
+    testing::CopyRecipeStore(recipe, store_);
     polygon_ = dir_.Path("p.geojson");
     WriteText(polygon_,
               R"({"type":"FeatureCollection","crs":{"type":"name","properties":{"name":)"

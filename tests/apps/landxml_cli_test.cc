@@ -24,6 +24,7 @@
 #include "tests/support/cli_support.h"
 #include "tests/support/polygon_files.h"
 #include "tests/support/store_target.h"
+#include "tests/support/store_template.h"
 #include "tests/support/test_support.h"
 
 namespace tinbase {
@@ -177,53 +178,49 @@ nlohmann::json SurfaceInfoJson(const std::string& store, const std::string& name
   return {};
 }
 
-// The store is built once for the suite (a DEM, a TIN, 97 features: a few seconds) and each
+// The store is made once per ctest run (a DEM, a TIN, 97 features: a few seconds) and each
 // test works on its own copy.
 class LandXmlCliTest : public ::testing::Test {
  protected:
-  static void SetUpTestSuite() {
-    suite_dir_ = new TempDir;
-    const std::string store = StoreTarget(*suite_dir_, "s.tinbase");
-    RunWrite(store, "init " + Quote(store));
-    RunWrite(store, "dem import " + Quote(store) + " " + Quote(Dem()));
-    RunWrite(store, "tin build " + Quote(store) + " --surface t --method greedy --tolerance 20");
-    RunWrite(store, "polygon add " + Quote(store) + " " +
-                        Quote(DataPath("geology/hamersley/geology.geojson")) +
-                        " --surface t --mode fill --tag-field unitname");
-    RunWrite(store, "polygon add " + Quote(store) + " " +
-                        Quote(DataPath("geology/hamersley/faults.geojson")) +
-                        " --surface t --mode breakline");
-    const std::string pit = testing::WritePolygons(*suite_dir_, "pit.geojson",
-                                                   {{{{530000, 7490000},
-                                                      {540000, 7490000},
-                                                      {540000, 7500000},
-                                                      {530000, 7500000},
-                                                      {530000, 7490000}},
-                                                     {{533000, 7493000},
-                                                      {533000, 7496000},
-                                                      {536000, 7496000},
-                                                      {536000, 7493000},
-                                                      {533000, 7493000}}}});
-    RunWrite(store, "polygon add " + Quote(store) + " " + Quote(pit) + " --surface t --mode erase");
-  }
-  static void TearDownTestSuite() {
-    delete suite_dir_;
-    suite_dir_ = nullptr;
-  }
   void SetUp() override {
     store_ = StoreTarget(dir_, "s.tinbase");
-    testing::CopyStore(StoreTarget(*suite_dir_, "s.tinbase"), store_);
+    testing::CopyRecipeStore(Recipe(), store_);
     xml_ = dir_.Path("t.xml");
     RunWrite(store_, "export " + Quote(store_) + " --surface t --format landxml -o " + Quote(xml_));
   }
+  static const testing::StoreRecipe& Recipe() {
+    static const testing::StoreRecipe recipe{
+        "landxml_cli_test", [](const std::string& store, const TempDir& scratch) {
+          testing::MakeDemStore(store, "geology/hamersley/dtm_rp.tif");
+          RunWrite(store,
+                   "tin build " + Quote(store) + " --surface t --method greedy --tolerance 20");
+          RunWrite(store, "polygon add " + Quote(store) + " " +
+                              Quote(DataPath("geology/hamersley/geology.geojson")) +
+                              " --surface t --mode fill --tag-field unitname");
+          RunWrite(store, "polygon add " + Quote(store) + " " +
+                              Quote(DataPath("geology/hamersley/faults.geojson")) +
+                              " --surface t --mode breakline");
+          const std::string pit = testing::WritePolygons(scratch, "pit.geojson",
+                                                         {{{{530000, 7490000},
+                                                            {540000, 7490000},
+                                                            {540000, 7500000},
+                                                            {530000, 7500000},
+                                                            {530000, 7490000}},
+                                                           {{533000, 7493000},
+                                                            {533000, 7496000},
+                                                            {536000, 7496000},
+                                                            {536000, 7493000},
+                                                            {533000, 7493000}}}});
+          RunWrite(store,
+                   "polygon add " + Quote(store) + " " + Quote(pit) + " --surface t --mode erase");
+        }};
+    return recipe;
+  }
   static std::string Dem() { return DataPath("geology/hamersley/dtm_rp.tif"); }
-  static TempDir* suite_dir_;
   TempDir dir_;
   std::string store_;
   std::string xml_;
 };
-
-TempDir* LandXmlCliTest::suite_dir_ = nullptr;
 
 TEST_F(LandXmlCliTest, RoundTripGivesAnIdenticalCheckedSurface) {
   const nlohmann::json t = SurfaceInfoJson(store_, "t");

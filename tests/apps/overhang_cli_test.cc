@@ -10,6 +10,7 @@
 
 #include "tests/support/cli_support.h"
 #include "tests/support/store_target.h"
+#include "tests/support/store_template.h"
 #include "tests/support/test_support.h"
 
 namespace tinbase {
@@ -28,9 +29,12 @@ class OverhangCliTest : public ::testing::Test {
  protected:
   void SetUp() override {
     store_ = StoreTarget(dir_, "s.tinbase");
-    RunWrite(store_, "init " + Quote(store_));
-    RunWrite(store_, "dem import " + Quote(store_) + " " + Quote(DataPath("dem/elev.tif")));
-    RunWrite(store_, "tin build " + Quote(store_) + " --surface t --tolerance 5");
+    static const testing::StoreRecipe recipe{
+        "overhang_cli_test", [](const std::string& store, const TempDir&) {
+          testing::MakeDemStore(store, "dem/elev.tif");
+          RunWrite(store, "tin build " + Quote(store) + " --surface t --tolerance 5");
+        }};
+    testing::CopyRecipeStore(recipe, store_);
   }
 
   // Two squares in EPSG:4326: one in Luxembourg, one in the Atlantic, far off the DEM.

@@ -14,6 +14,7 @@
 #include "core/raster/gdal_raster.h"
 #include "tests/support/cli_support.h"
 #include "tests/support/store_target.h"
+#include "tests/support/store_template.h"
 #include "tests/support/test_support.h"
 
 namespace tinbase {
@@ -33,10 +34,7 @@ class ResurveyCliTest : public ::testing::Test {
  protected:
   void SetUp() override {
     store_ = StoreTarget(dir_, "s.tinbase");
-    RunWrite(store_, "init " + Quote(store_));
-    RunWrite(store_,
-             "dem import " + Quote(store_) + " " + Quote(DataPath("geology/hamersley/dtm_rp.tif")));
-    RunWrite(store_, "tin build " + Quote(store_) + " --surface terrain --tolerance 10");
+    testing::CopyRecipeStore(testing::HamersleyTerrainRecipe(10), store_);
   }
 
   // `n` x `n` cells of the DEM from (col0, row0) with `raise` metres added (400 m off the DEM);

@@ -11,6 +11,7 @@
 #include "db/store.h"
 #include "tests/support/cli_support.h"
 #include "tests/support/store_target.h"
+#include "tests/support/store_template.h"
 #include "tests/support/test_support.h"
 
 namespace tinbase {
@@ -32,12 +33,7 @@ class PointsEditCli : public ::testing::Test {
  protected:
   void SetUp() override {
     store_ = StoreTarget(dir_, "s.tinbase");
-    ASSERT_EQ(RunCli("init " + Quote(store_)).exit_code, 0);
-    auto dem = RunCli("dem import " + Quote(store_) + " " +
-                      Quote(DataPath("geology/hamersley/dtm_rp.tif")));
-    ASSERT_EQ(dem.exit_code, 0) << dem.err;
-    auto tin = RunCli("tin build " + Quote(store_) + " --surface terrain --tolerance 5");
-    ASSERT_EQ(tin.exit_code, 0) << tin.err;
+    testing::CopyRecipeStore(testing::HamersleyTerrainRecipe(5), store_);
   }
 
   // A CSV of an n x n grid of shots 3.3 cells apart around the centre, z from the DEM + 2.

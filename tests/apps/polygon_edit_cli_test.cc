@@ -14,6 +14,7 @@
 #include "tests/support/cli_support.h"
 #include "tests/support/polygon_files.h"
 #include "tests/support/store_target.h"
+#include "tests/support/store_template.h"
 #include "tests/support/stored_feature.h"
 #include "tests/support/test_support.h"
 
@@ -40,12 +41,7 @@ class PolygonEditCli : public ::testing::Test {
   void SetUp() override {
     store_ = testing::StoreTarget(dir_, "s.tinbase");
     q_ = Quote(store_);
-    ASSERT_EQ(RunCli("init " + q_).exit_code, 0);
-    const auto dem =
-        RunCli("dem import " + q_ + " " + Quote(DataPath("geology/hamersley/dtm_rp.tif")));
-    ASSERT_EQ(dem.exit_code, 0) << dem.err;
-    const auto tin = RunCli("tin build " + q_ + " --surface terrain --tolerance 5");
-    ASSERT_EQ(tin.exit_code, 0) << tin.err;
+    testing::CopyRecipeStore(testing::HamersleyTerrainRecipe(5), store_);
   }
 
   double DemZ(double x, double y) {

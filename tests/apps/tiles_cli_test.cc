@@ -16,6 +16,7 @@
 #include "db/tiles/tile_store.h"
 #include "tests/support/cli_support.h"
 #include "tests/support/store_target.h"
+#include "tests/support/store_template.h"
 #include "tests/support/test_support.h"
 
 namespace tinbase {
@@ -118,9 +119,7 @@ class TilesCliTest : public ::testing::Test {
  protected:
   void SetUp() override {
     store_ = StoreTarget(dir_, "s.tinbase");
-    RunWrite(store_, "init " + Quote(store_));
-    RunWrite(store_, "dem import " + Quote(store_) + " " + Quote(DataPath("dem/N43E007.hgt")));
-    RunWrite(store_, "tin build " + Quote(store_) + " --surface t --tolerance 20");
+    testing::CopyRecipeStore(testing::DemoRecipe(), store_);
   }
   TempDir dir_;
   std::string store_;

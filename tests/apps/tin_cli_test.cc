@@ -10,6 +10,7 @@
 #include "tests/support/cli_support.h"
 #include "tests/support/make_contours.h"
 #include "tests/support/store_target.h"
+#include "tests/support/store_template.h"
 #include "tests/support/test_support.h"
 
 namespace tinbase {
@@ -41,9 +42,7 @@ class TinCliTest : public ::testing::Test {
  protected:
   void SetUp() override {
     store_ = StoreTarget(dir_, "s.tinbase");
-    RunWrite(store_, "init " + Quote(store_));
-    RunWrite(store_,
-             "dem import " + Quote(store_) + " " + Quote(DataPath("geology/hamersley/dtm_rp.tif")));
+    testing::CopyRecipeStore(testing::HamersleyDemRecipe(), store_);
   }
   TempDir dir_;
   std::string store_;

@@ -1,4 +1,4 @@
-// Helpers for the service's tests: a store made once per test binary and copied per test, and a
+// Helpers for the service's tests: a store made once per ctest run and copied per test, and a
 // service running on it in this process, on loopback at a free port, reached through a real
 // socket with cpp-httplib's client.
 #pragma once
@@ -17,50 +17,17 @@
 #include "tests/support/cli_support.h"
 #include "tests/support/polygon_files.h"
 #include "tests/support/store_target.h"
+#include "tests/support/store_template.h"
 #include "tests/support/test_support.h"
 
 namespace tinbase::testing {
-
-namespace internal {
-
-// Runs `args`, one step of making a shared original store, then `check --full` on `store`,
-// unless an earlier step failed. The failing command and its output go to `failed`: the original
-// is made once per test binary, and every test that copies it fails with that message.
-inline void RunSetupStep(const std::string& store, const std::string& args, std::string& failed) {
-  if (!failed.empty()) return;
-  const CliResult r = RunCli(args);
-  if (r.exit_code != 0) {
-    failed = args + "\n" + r.err;
-    return;
-  }
-  const CliResult check = RunCli("check --full " + Quote(store));
-  if (check.exit_code != 0) failed = "check after: " + args + "\n" + check.out + check.err;
-}
-
-}  // namespace internal
 
 // The copy helpers below fail fatally (with the failed setup step's message) when the shared
 // original could not be made: callers wrap them in ASSERT_NO_FATAL_FAILURE.
 
 // A copy, at `path`, of a store holding the DEM N43E007 (SRTM, 1201 x 1201) and the surface
-// "t" built on it with tolerance 20 m. The original is made once per test binary via the CLI.
-inline void CopyDemoStore(const std::string& path) {
-  static TempDir* shared = nullptr;
-  static std::string original;
-  static std::string failed;
-  if (shared == nullptr) {
-    shared = new TempDir();  // lives until the binary exits
-    original = StoreTarget(*shared, "demo.tinbase");
-    internal::RunSetupStep(original, "init " + Quote(original), failed);
-    internal::RunSetupStep(
-        original, "dem import " + Quote(original) + " " + Quote(DataPath("dem/N43E007.hgt")),
-        failed);
-    internal::RunSetupStep(original, "tin build " + Quote(original) + " --surface t --tolerance 20",
-                           failed);
-  }
-  ASSERT_TRUE(failed.empty()) << "making the shared demo store failed: " << failed;
-  CopyStore(original, path);
-}
+// "t" built on it with tolerance 20 m (DemoRecipe, made once per ctest run via the CLI).
+inline void CopyDemoStore(const std::string& path) { CopyRecipeStore(DemoRecipe(), path); }
 
 // Land of the demo store (EPSG:32632, about 7.26 E 43.9 N: ground some 550 m high) and the
 // square of the fill feature CopyDemoStoreWithFeature adds there, tagged "granite".
@@ -69,29 +36,21 @@ inline constexpr double kGraniteMinX = 358000, kGraniteMinY = 4860000;
 inline constexpr double kGraniteMaxX = 362000, kGraniteMaxY = 4864000;
 
 // CopyDemoStore with one fill polygon feature (the square above, attribute "unit": "u0"),
-// tagged "granite". Made once per test binary.
+// tagged "granite". Made once per ctest run.
 inline void CopyDemoStoreWithFeature(const std::string& path) {
-  static TempDir* shared = nullptr;
-  static std::string original;
-  static std::string failed;
-  if (shared == nullptr) {
-    shared = new TempDir();  // lives until the binary exits
-    original = StoreTarget(*shared, "feature.tinbase");
-    CopyDemoStore(original);
-    if (::testing::Test::HasFatalFailure()) failed = "the demo store it copies (above)";
-    const PointList square = {{kGraniteMinX, kGraniteMinY},
-                              {kGraniteMaxX, kGraniteMinY},
-                              {kGraniteMaxX, kGraniteMaxY},
-                              {kGraniteMinX, kGraniteMaxY},
-                              {kGraniteMinX, kGraniteMinY}};
-    const std::string file = WritePolygons(*shared, "granite.geojson", {{square}}, 32632);
-    internal::RunSetupStep(original,
-                           "polygon add " + Quote(original) + " " + Quote(file) +
-                               " --surface t --mode fill --tag granite",
-                           failed);
-  }
-  ASSERT_TRUE(failed.empty()) << "making the shared store with a feature failed: " << failed;
-  CopyStore(original, path);
+  static const StoreRecipe recipe{
+      "demo-granite", [](const std::string& store, const TempDir& scratch) {
+        CopyDemoStore(store);
+        const PointList square = {{kGraniteMinX, kGraniteMinY},
+                                  {kGraniteMaxX, kGraniteMinY},
+                                  {kGraniteMaxX, kGraniteMaxY},
+                                  {kGraniteMinX, kGraniteMaxY},
+                                  {kGraniteMinX, kGraniteMinY}};
+        const std::string file = WritePolygons(scratch, "granite.geojson", {{square}}, 32632);
+        RunWrite(store, "polygon add " + Quote(store) + " " + Quote(file) +
+                            " --surface t --mode fill --tag granite");
+      }};
+  CopyRecipeStore(recipe, path);
 }
 
 // Where CopyDemoStoreWithTiles puts its lake, in the store's CRS (EPSG:32632, metres): a fill
@@ -103,31 +62,20 @@ inline constexpr int kDemoTilesMaxZoom = 10;
 // A copy, at `path`, of CopyDemoStore's store with the lake added and the tile pyramid of
 // surface "t" built at levels 0-10 (of which 0-3 hold no tile: the surface is
 // too small to show there) with every extension (octvertexnormals, watermask with water
-// tag "water", metadata). The original is made once per test binary via the CLI.
+// tag "water", metadata). The original is made once per ctest run via the CLI.
 inline void CopyDemoStoreWithTiles(const std::string& path) {
-  static TempDir* shared = nullptr;
-  static std::string original;
-  static std::string failed;
-  if (shared == nullptr) {
-    shared = new TempDir();  // lives until the binary exits
-    original = StoreTarget(*shared, "demo-tiles.tinbase");
-    CopyDemoStore(original);
-    if (::testing::Test::HasFatalFailure()) failed = "the demo store it copies (above)";
-    const std::string lake = WritePolygons(
-        *shared, "lake.geojson", {{Ngon(kDemoLakeX, kDemoLakeY, kDemoLakeRadius, 12)}}, 32632);
-    internal::RunSetupStep(original,
-                           "polygon add " + Quote(original) + " " + Quote(lake) +
-                               " --surface t --mode fill --tag water",
-                           failed);
-    internal::RunSetupStep(
-        original,
-        "tiles build " + Quote(original) + " --surface t --max-zoom " +
-            std::to_string(kDemoTilesMaxZoom) +
-            " --extensions octvertexnormals,watermask,metadata --water-tag water",
-        failed);
-  }
-  ASSERT_TRUE(failed.empty()) << "making the shared store with tiles failed: " << failed;
-  CopyStore(original, path);
+  static const StoreRecipe recipe{
+      "demo-tiles", [](const std::string& store, const TempDir& scratch) {
+        CopyDemoStore(store);
+        const std::string lake = WritePolygons(
+            scratch, "lake.geojson", {{Ngon(kDemoLakeX, kDemoLakeY, kDemoLakeRadius, 12)}}, 32632);
+        RunWrite(store, "polygon add " + Quote(store) + " " + Quote(lake) +
+                            " --surface t --mode fill --tag water");
+        RunWrite(store, "tiles build " + Quote(store) + " --surface t --max-zoom " +
+                            std::to_string(kDemoTilesMaxZoom) +
+                            " --extensions octvertexnormals,watermask,metadata --water-tag water");
+      }};
+  CopyRecipeStore(recipe, path);
 }
 
 // A service running in this process until destroyed.
