@@ -127,11 +127,7 @@ Result<int64_t> SettledLastTransaction(Store& store) {
 }
 
 Result<int64_t> ChangeCount(Store& store) {
-  TB_ASSIGN_OR_RETURN(Statement * stmt, store.db().Cached("SELECT count(*) FROM changes"));
-  TB_ASSIGN_OR_RETURN(const bool row, stmt->Step());
-  const int64_t count = row ? stmt->ColumnInt(0) : 0;
-  stmt->Reset();
-  return count;
+  return store.db().QueryInt("SELECT count(*) FROM changes");
 }
 
 Result<Change> ChangeOf(Store& store, int64_t tx) {
