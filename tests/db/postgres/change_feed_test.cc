@@ -19,6 +19,7 @@
 #include "db/store.h"
 #include "tests/support/cli_support.h"
 #include "tests/support/postgres_support.h"
+#include "tests/support/store_template.h"
 #include "tests/support/test_support.h"
 
 namespace tinbase::testing {
@@ -29,9 +30,7 @@ class ChangeFeedTest : public ::testing::Test {
   void SetUp() override {
     store_ = FreshPostgresStore("feed");
     ASSERT_FALSE(store_.empty());
-    RunWrite(store_, "init " + Quote(store_));
-    RunWrite(store_,
-             "dem import " + Quote(store_) + " " + Quote(DataPath("geology/hamersley/dtm_rp.tif")));
+    MakeDemStore(store_, "geology/hamersley/dtm_rp.tif");
     RunWrite(store_, "tin build " + Quote(store_) + " --surface terrain --tolerance 10");
     RunWrite(store_, "tiles build " + Quote(store_) + " --surface terrain --max-zoom 11");
     auto db = Connection::Open(store_, Connection::Mode::kReadOnly);
